@@ -1,0 +1,104 @@
+/// \file json.hpp
+/// A small JSON value, reader and writer (RFC 8259) for the project's own files: fitted
+/// regressors, protocol files, pose logs (JSON Lines), session journals and reports.
+/// Objects keep their insertion order so that written files are stable and diff well.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace caliper {
+
+/// Thrown by parse_json() and by typed accessors. `line` and `column` are 1-based (0 when the
+/// error is not about a position in text).
+class JsonError : public std::runtime_error {
+ public:
+  JsonError(const std::string& what, int line_number = 0, int column_number = 0)
+      : std::runtime_error(what), line(line_number), column(column_number) {}
+  int line;
+  int column;
+};
+
+class Json {
+ public:
+  enum class Type { Null, Bool, Number, String, Array, Object };
+  using Array = std::vector<Json>;
+  using Object = std::vector<std::pair<std::string, Json>>;
+
+  Json() = default;                           ///< null
+  Json(std::nullptr_t) {}                     ///< null
+  Json(bool b) : type_(Type::Bool), bool_(b) {}
+  Json(double d) : type_(Type::Number), number_(d) {}
+  Json(int i) : type_(Type::Number), number_(i) {}
+  Json(long i) : type_(Type::Number), number_(static_cast<double>(i)) {}
+  Json(long long i) : type_(Type::Number), number_(static_cast<double>(i)) {}
+  Json(unsigned i) : type_(Type::Number), number_(i) {}
+  Json(unsigned long i) : type_(Type::Number), number_(static_cast<double>(i)) {}
+  Json(const char* s) : type_(Type::String), string_(s) {}
+  Json(std::string s) : type_(Type::String), string_(std::move(s)) {}
+  Json(Array a) : type_(Type::Array), array_(std::move(a)) {}
+  Json(const std::vector<double>& v);
+  static Json object() { Json j; j.type_ = Type::Object; return j; }
+  static Json array() { Json j; j.type_ = Type::Array; return j; }
+
+  Type type() const { return type_; }
+  bool is_null() const { return type_ == Type::Null; }
+  bool is_bool() const { return type_ == Type::Bool; }
+  bool is_number() const { return type_ == Type::Number; }
+  bool is_string() const { return type_ == Type::String; }
+  bool is_array() const { return type_ == Type::Array; }
+  bool is_object() const { return type_ == Type::Object; }
+
+  /// Typed access; throws JsonError("expected a number, found a string") on a type mismatch.
+  bool as_bool() const;
+  double as_number() const;
+  int as_int() const;  ///< a number that is an integer in int range
+  const std::string& as_string() const;
+  const Array& as_array() const;
+  Array& as_array();
+  const Object& as_object() const;
+  std::vector<double> as_numbers() const;  ///< an array of numbers
+
+  /// Object access. `at` throws JsonError naming the missing key; `find` returns nullptr.
+  const Json& at(const std::string& key) const;
+  const Json* find(const std::string& key) const;
+  bool contains(const std::string& key) const { return find(key) != nullptr; }
+  /// Inserts or replaces `key` (turns a null into an object).
+  Json& set(const std::string& key, Json value);
+  /// Appends to an array (turns a null into an array).
+  void push_back(Json value);
+  /// Array element or object member count; 0 for scalars.
+  size_t size() const;
+  const Json& operator[](size_t i) const;
+
+  /// Serialises. indent < 0: one line with no spaces (for JSON Lines); otherwise pretty-printed.
+  /// Numbers are written with 17 significant digits so that doubles round-trip exactly.
+  /// NaN and infinity cannot be represented in JSON: dump() throws JsonError for them.
+  std::string dump(int indent = -1) const;
+
+ private:
+  void dump_to(std::string& out, int indent, int depth) const;
+  Type type_ = Type::Null;
+  bool bool_ = false;
+  double number_ = 0.0;
+  std::string string_;
+  Array array_;
+  Object object_;
+};
+
+/// Parses one JSON text (surrounding white space allowed, nothing else after it). Throws
+/// JsonError with the 1-based line and column of the problem.
+Json parse_json(const std::string& text);
+
+/// Reads and parses a whole file; errors name the file (and line, column).
+Json read_json_file(const std::string& path);
+
+/// Writes `value.dump(2)` to `path` atomically (temporary file, then rename). Throws JsonError.
+void write_json_file(const std::string& path, const Json& value);
+
+}  // namespace caliper

@@ -1,0 +1,53 @@
+/// \file gltf.hpp
+/// glTF 2.0 export of a rigged, skinned avatar (Khronos glTF 2.0 specification): one skinned mesh
+/// (POSITION, NORMAL, JOINTS_0, WEIGHTS_0 with at most 4 renormalised influences), the joint
+/// hierarchy with joint names, inverse bind matrices, the shape baked in, optional pose-corrective
+/// morph targets. Only this target includes tiny_gltf.h.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "smpl/body_model.hpp"
+
+namespace smpl {
+
+struct GltfOptions {
+  bool stand_on_floor = true;      ///< translate so that the mesh's min y is 0.
+  bool pose_correctives = false;   ///< add posedirs as morph targets (P targets).
+  std::string name = "avatar";     ///< mesh and scene name.
+  /// Extra key/values written to asset.extras (e.g. measurements, betas); never personal data
+  /// beyond what the caller passes.
+  std::map<std::string, std::string> extras;
+};
+
+/// Exports the avatar of `model` with `betas` baked in. `.glb` writes binary glTF, `.gltf` writes
+/// JSON with an embedded buffer. Throws ModelError on failure.
+void write_gltf(const std::string& path, const BodyModel& model,
+                const Eigen::Ref<const Eigen::VectorXd>& betas, const GltfOptions& options = {});
+
+/// The same avatar as GLB bytes in memory (no disk I/O).
+std::vector<std::uint8_t> glb_bytes(const BodyModel& model,
+                                    const Eigen::Ref<const Eigen::VectorXd>& betas,
+                                    const GltfOptions& options = {});
+
+/// What read_gltf() gives back: the baked mesh and its skin.
+struct GltfAvatar {
+  Vertices vertices;
+  Faces faces;
+  Joints joints;  ///< rest joint positions from the node hierarchy.
+  std::vector<std::string> joint_names;
+  std::vector<int> parents;
+  Eigen::Matrix<int, Eigen::Dynamic, 4, Eigen::RowMajor> joint_ids;  ///< V x 4 JOINTS_0
+  Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor> joint_weights;  ///< V x 4 WEIGHTS_0
+};
+
+/// Reads back a GLB/glTF written by write_gltf() (or any single-skinned-mesh glTF). Throws
+/// ModelError naming the file and the problem; tinygltf warnings are reported in the message.
+GltfAvatar read_gltf(const std::string& path);
+
+}  // namespace smpl

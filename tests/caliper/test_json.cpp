@@ -1,0 +1,82 @@
+// JSON reader and writer: round trips, exact doubles, and errors that name line and column.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "caliper/json.hpp"
+
+namespace {
+
+using caliper::Json;
+using caliper::JsonError;
+using caliper::parse_json;
+
+TEST(Json, ParsesNestedDocument) {
+  const Json j = parse_json(R"({"a": [1, 2.5, -3e2], "b": {"c": "x\ny", "d": null, "e": true}})");
+  EXPECT_EQ(j.at("a").as_numbers(), (std::vector<double>{1, 2.5, -300}));
+  EXPECT_EQ(j.at("b").at("c").as_string(), "x\ny");
+  EXPECT_TRUE(j.at("b").at("d").is_null());
+  EXPECT_TRUE(j.at("b").at("e").as_bool());
+}
+
+TEST(Json, DoublesRoundTripExactly) {
+  const std::vector<double> values = {0.1, 1.0 / 3.0, -2.718281828459045, 1e-300, 6.02214076e23,
+                                      std::nextafter(1.0, 2.0)};
+  const Json parsed = parse_json(Json(values).dump());
+  EXPECT_EQ(parsed.as_numbers(), values);
+}
+
+TEST(Json, UnicodeEscapes) {
+  EXPECT_EQ(parse_json(R"("M\u00e9tis \ud83d\ude00")").as_string(), "M\xC3\xA9tis \xF0\x9F\x98\x80");
+  const Json s(std::string("tab\there \"q\" \x01"));
+  EXPECT_EQ(parse_json(s.dump()).as_string(), s.as_string());
+}
+
+TEST(Json, ObjectKeepsInsertionOrderAndReplaces) {
+  Json o = Json::object();
+  o.set("z", 1);
+  o.set("a", 2);
+  o.set("z", 3);
+  EXPECT_EQ(o.dump(), R"({"z":3,"a":2})");
+}
+
+TEST(Json, ErrorsNameLineAndColumn) {
+  try {
+    parse_json("{\n  \"a\": 1,\n  \"b\": [1, 2,, 3]\n}");
+    FAIL() << "expected JsonError";
+  } catch (const JsonError& e) {
+    EXPECT_EQ(e.line, 3);
+    EXPECT_EQ(e.column, 14);  // the second comma
+    EXPECT_NE(std::string(e.what()).find("line 3"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Json, RefusesMalformedInput) {
+  for (const char* bad : {"", "{", "[1 2]", "{\"a\" 1}", "nul", "01", "1.", "\"abc", "NaN",
+                          "[1] x", "\"\\q\"", "{\"a\":1,}"}) {
+    EXPECT_THROW(parse_json(bad), JsonError) << bad;
+  }
+}
+
+TEST(Json, RefusesDeepNesting) {
+  EXPECT_THROW(parse_json(std::string(10000, '[')), JsonError);
+}
+
+TEST(Json, TypedAccessErrorsSayWhatWasFound) {
+  const Json j = parse_json(R"({"n": "seven"})");
+  try {
+    j.at("n").as_number();
+    FAIL();
+  } catch (const JsonError& e) {
+    EXPECT_STREQ(e.what(), "expected a number, found a string");
+  }
+  EXPECT_THROW(j.at("missing"), JsonError);
+  EXPECT_THROW(parse_json("2.5").as_int(), JsonError);
+}
+
+TEST(Json, DumpRefusesNaN) {
+  EXPECT_THROW(Json(std::numeric_limits<double>::quiet_NaN()).dump(), JsonError);
+}
+
+}  // namespace
