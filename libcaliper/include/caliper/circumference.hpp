@@ -1,0 +1,61 @@
+/// \file circumference.hpp
+/// Circumferences by slicing the triangle mesh with a horizontal plane y = h: the crossing
+/// segments are chained into loops (polylines) and a loop, or a group of loops, is measured as
+/// the perimeter of its convex hull in the xz plane (a tape measure spans concavities) or as its
+/// length. The paper does not use circumferences; the evaluation (ANSUR II) does.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "caliper/measurements.hpp"
+#include "smpl/body_model.hpp"
+
+namespace caliper {
+
+/// One chained polyline of a plane slice, points (x, z) in order.
+struct SliceLoop {
+  std::vector<Eigen::Vector2d> points;  ///< (x, z), metres
+  bool closed = false;                  ///< false if the chain ended at a mesh boundary
+  double length = 0.0;                  ///< polyline length (closing segment included if closed)
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();  ///< mean of the points
+};
+
+/// Slices the mesh with the plane y = `height`. Vertices exactly on the plane are nudged by
+/// 1e-12 m up (so each edge crosses at most once). Returns every loop (possibly none).
+std::vector<SliceLoop> slice_mesh(const smpl::Vertices& vertices, const smpl::Faces& faces,
+                                  double height);
+
+/// Perimeter of the convex hull of `points` (x, z); 0 for fewer than 2 points, twice the
+/// length for colinear points.
+double convex_hull_perimeter(const std::vector<Eigen::Vector2d>& points);
+
+/// True if (x, z) `p` lies inside the closed polygon `loop` (even-odd rule).
+bool loop_contains(const SliceLoop& loop, const Eigen::Vector2d& p);
+
+/// Circumference of the loops at height `height` whose centroid x lies within [x_min, x_max]
+/// (for the torso: between the two side landmarks, which excludes T-pose arms and hands).
+/// `convex_hull` true: perimeter of the convex hull of all points of the selected loops; false:
+/// the sum of their lengths. std::nullopt when no loop qualifies.
+std::optional<double> circumference_between(const smpl::Vertices& vertices,
+                                            const smpl::Faces& faces, double height, double x_min,
+                                            double x_max, bool convex_hull = true);
+
+/// The four circumferences, metres, for a rest-pose body (T-pose), each left out when its
+/// landmarks are missing or no loop qualifies:
+/// - chest_circumference at left_nipple height, loops between right_chest.x and left_chest.x;
+/// - waist_circumference at navel height, loops between right_waist.x and left_waist.x;
+/// - hip_circumference at left_hip height, loops between right_hip.x and left_hip.x
+///   (both legs together when the plane is below the crotch);
+/// - thigh_circumference `thigh_drop` metres below the crotch, the loop whose centroid has the
+///   smallest x greater than crotch.x (the left leg).
+MeasurementMap circumferences(const smpl::Vertices& vertices, const smpl::Faces& faces,
+                              const LandmarkTable& landmarks, bool convex_hull = true,
+                              double thigh_drop = 0.02);
+
+/// Ids of the circumference measurements, in the order above.
+const std::vector<std::string>& circumference_ids();
+
+}  // namespace caliper

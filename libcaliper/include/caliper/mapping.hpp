@@ -1,0 +1,74 @@
+/// \file mapping.hpp
+/// Learned real-to-virtual mappings (Pujades et al., The Virtual Caliper, TVCG 2019, Sec. 3.3,
+/// the "L" regressor variants): per measurement, virtual = a * real + b, fitted by least squares
+/// from paired values; identity for every measurement that was not fitted.
+///
+/// CSV format (docs/regressors.md): a header line naming at least the columns `measurement`,
+/// `real` and `virtual` (any order, other columns ignored), then one pair per line; values in
+/// metres (weight in kg); blank lines and lines starting with '#' are skipped.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "caliper/json.hpp"
+#include "caliper/measurements.hpp"
+
+namespace caliper {
+
+/// One paired observation.
+struct PairedValue {
+  std::string measurement;     ///< measurement id
+  double real = 0.0;           ///< measured on the person (e.g. with the controllers)
+  double virtual_value = 0.0;  ///< the same measurement on the reference virtual body
+};
+
+/// Reads pairs from a CSV file. Throws InvalidInputError naming the file and line for a missing
+/// column, an unparsable or non-finite number, or an empty file.
+std::vector<PairedValue> read_paired_csv(const std::string& path);
+
+/// virtual = a * real + b for one measurement, with its fit report.
+struct LinearMap {
+  double a = 1.0;
+  double b = 0.0;
+  int count = 0;              ///< pairs used (0: identity, not fitted)
+  double fit_rms = 0.0;       ///< RMS residual of the fit, same unit as the values
+  double loo_mae = 0.0;       ///< leave-one-out mean absolute error of the mapped value
+  double loo_max = 0.0;       ///< leave-one-out max absolute error
+  double identity_mae = 0.0;  ///< mean |real - virtual| (the error without mapping)
+
+  double apply(double real) const { return a * real + b; }
+};
+
+class MeasurementMapping {
+ public:
+  /// The identity mapping.
+  MeasurementMapping() = default;
+
+  /// Fits one LinearMap per measurement present in `pairs`. Each needs at least 3 pairs (for
+  /// leave-one-out) and two distinct real values, else InvalidInputError naming the
+  /// measurement.
+  static MeasurementMapping fit(const std::vector<PairedValue>& pairs);
+
+  /// Mapped value (identity if `id` was not fitted).
+  double apply(const std::string& id, double real) const;
+  /// Maps every value of `real` (unfitted ids pass through unchanged).
+  MeasurementMap apply(const MeasurementMap& real) const;
+
+  bool is_identity() const { return maps_.empty(); }
+  /// The fitted maps by measurement id.
+  const std::map<std::string, LinearMap>& maps() const { return maps_; }
+
+  /// {"format": "caliper-mapping", "version": 1, "maps": {"hip_width": {"a":..,"b":..,...}}}
+  Json to_json() const;
+  /// Throws InvalidInputError (or JsonError) for a malformed document.
+  static MeasurementMapping from_json(const Json& json);
+  void save(const std::string& path) const;
+  static MeasurementMapping load(const std::string& path);
+
+ private:
+  std::map<std::string, LinearMap> maps_;
+};
+
+}  // namespace caliper
