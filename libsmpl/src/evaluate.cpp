@@ -1,0 +1,218 @@
+// The SMPL forward pass: Loper, Mahmood, Romero, Pons-Moll, Black, "SMPL: A Skinned Multi-Person
+// Linear Model", SIGGRAPH Asia 2015, eqs. (1)-(4) and section 3: shape blend shapes, joint
+// regression, pose blend shapes, Rodrigues, kinematic chain, linear blend skinning.
+#include "smpl/evaluate.hpp"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace smpl {
+namespace {
+
+// Below this angle (radians) Rodrigues' coefficients come from their Taylor series. At 1e-3 the
+// first omitted terms (t^6/5040, t^6/40320) are below 1e-21, far under double rounding.
+constexpr double kSmallAngle = 1e-3;
+
+void check_betas(const BodyModel& model, Eigen::Index n) {
+  if (n > model.num_betas()) {
+    throw std::invalid_argument("smpl::evaluate: " + std::to_string(n) +
+                                " betas given but the model has only " +
+                                std::to_string(model.num_betas()) +
+                                " shape components; load it with more betas or pass fewer");
+  }
+}
+
+// v_shaped = v_template + shapedirs[:, :n] * betas (missing betas are zero), then the joints.
+void shaped_rest(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& betas,
+                 Vertices& v_shaped, Joints& joints) {
+  check_betas(model, betas.size());
+  const Eigen::Index V = model.v_template.rows();
+  v_shaped.resize(V, 3);
+  Eigen::Map<Eigen::VectorXd> flat(v_shaped.data(), 3 * V);
+  const Eigen::Map<const Eigen::VectorXd> tmpl(model.v_template.data(), 3 * V);
+  flat = tmpl;
+  if (betas.size() > 0) flat.noalias() += model.shapedirs.leftCols(betas.size()) * betas;
+  // J = J_regressor * v_shaped, row by row over the sparse regressor (no temporaries).
+  const Eigen::Index K = model.j_regressor.rows();
+  joints.resize(K, 3);
+  for (Eigen::Index k = 0; k < K; ++k) {
+    Eigen::RowVector3d j = Eigen::RowVector3d::Zero();
+    for (SparseMatrix::InnerIterator it(model.j_regressor, k); it; ++it) {
+      j += it.value() * v_shaped.row(it.col());
+    }
+    joints.row(k) = j;
+  }
+}
+
+// v += posedirs[:, cols] * feature[cols] for each run of consecutive joints that are rotated.
+template <typename Matrix, typename Vector>
+void add_pose_blend_shapes(
+    const Matrix& posedirs, const Vector& feature,
+    const std::vector<Eigen::Matrix3d, Eigen::aligned_allocator<Eigen::Matrix3d>>& rot,
+    Eigen::Map<Eigen::VectorXd>& v) {
+  using Scalar = typename Matrix::Scalar;
+  const int K = static_cast<int>(rot.size());
+  int k = 1;
+  while (k < K) {
+    if (rot[static_cast<size_t>(k)].isIdentity(0.0)) {
+      ++k;
+      continue;
+    }
+    int end = k + 1;
+    while (end < K && !rot[static_cast<size_t>(end)].isIdentity(0.0)) ++end;
+    const Eigen::Index c0 = 9 * (k - 1), nc = 9 * (end - k);
+    if constexpr (std::is_same_v<Scalar, double>) {
+      v.noalias() += posedirs.middleCols(c0, nc) * feature.segment(c0, nc);
+    } else {
+      // Single precision: stream float columns, accumulate in double, in blocks of rows that stay
+      // in L1 cache.
+      constexpr Eigen::Index kBlock = 512;
+      const Eigen::Index rows = posedirs.rows();
+      for (Eigen::Index r0 = 0; r0 < rows; r0 += kBlock) {
+        const Eigen::Index nr = std::min(kBlock, rows - r0);
+        Eigen::Matrix<float, kBlock, 1> acc;
+        acc.head(nr).setZero();
+        for (Eigen::Index c = c0; c < c0 + nc; ++c) {
+          acc.head(nr) += feature[c] * posedirs.col(c).segment(r0, nr);
+        }
+        v.segment(r0, nr) += acc.head(nr).template cast<double>();
+      }
+    }
+    k = end;
+  }
+}
+
+}  // namespace
+
+Eigen::Matrix3d rodrigues(const Eigen::Vector3d& r) {
+  const double t2 = r.squaredNorm();
+  const double t = std::sqrt(t2);
+  double a, b;  // R = I + a K + b K^2, a = sin t / t, b = (1 - cos t) / t^2
+  if (t < kSmallAngle) {
+    a = 1.0 - t2 / 6.0 * (1.0 - t2 / 20.0);
+    b = 0.5 * (1.0 - t2 / 12.0 * (1.0 - t2 / 30.0));
+  } else {
+    const double s = std::sin(0.5 * t);
+    a = std::sin(t) / t;
+    b = 2.0 * s * s / t2;
+  }
+  Eigen::Matrix3d K;
+  K << 0.0, -r.z(), r.y(), r.z(), 0.0, -r.x(), -r.y(), r.x(), 0.0;
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity() + a * K + b * (K * K);
+  return R;
+}
+
+void shape(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& betas, Body& out) {
+  shaped_rest(model, betas, out.vertices, out.joints);
+  const auto K = static_cast<size_t>(model.num_joints());
+  out.transforms.resize(K);
+  for (size_t k = 0; k < K; ++k) {
+    out.transforms[k].setIdentity();
+    out.transforms[k].topRightCorner<3, 1>() =
+        out.joints.row(static_cast<Eigen::Index>(k)).transpose();
+  }
+}
+
+Body shape(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& betas) {
+  Body body;
+  shape(model, betas, body);
+  return body;
+}
+
+void evaluate(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& betas,
+              const Eigen::Ref<const Eigen::VectorXd>& pose, const Eigen::Vector3d& translation,
+              Workspace& ws, Body& out) {
+  const int K = model.num_joints();
+  if (pose.size() != 0 && pose.size() != 3 * K) {
+    throw std::invalid_argument("smpl::evaluate: pose has " + std::to_string(pose.size()) +
+                                " values, expected 0 (rest pose) or 3 x " + std::to_string(K) +
+                                " = " + std::to_string(3 * K) + " axis-angle values");
+  }
+  // 1-2. Shape blend shapes and joint regression.
+  shaped_rest(model, betas, ws.v_shaped, ws.rest_joints);
+  const Eigen::Index V = ws.v_shaped.rows();
+
+  // 3. Local rotations.
+  const auto Ks = static_cast<size_t>(K);
+  ws.rotations.resize(Ks);
+  for (size_t k = 0; k < Ks; ++k) {
+    ws.rotations[k] = pose.size() == 0
+                          ? Eigen::Matrix3d::Identity()
+                          : rodrigues(pose.segment<3>(3 * static_cast<Eigen::Index>(k)));
+  }
+
+  // 4-5. Pose blend shapes: feature 9 (k - 1) + 3 row + col = (R_k - I)(row, col).
+  if (model.has_pose_blend_shapes()) {
+    const Eigen::Index P = model.num_pose_features();
+    ws.pose_feature.resize(P);
+    for (int k = 1; k < K; ++k) {
+      const Eigen::Matrix3d d = ws.rotations[static_cast<size_t>(k)] - Eigen::Matrix3d::Identity();
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) ws.pose_feature[9 * (k - 1) + 3 * i + j] = d(i, j);
+      }
+    }
+    Eigen::Map<Eigen::VectorXd> flat(ws.v_shaped.data(), 3 * V);
+    if (ws.single_precision_pose_blend_shapes) {
+      if (ws.posedirs_f_source != model.posedirs.data() ||
+          ws.posedirs_f.rows() != model.posedirs.rows() ||
+          ws.posedirs_f.cols() != model.posedirs.cols()) {
+        ws.posedirs_f = model.posedirs.cast<float>();
+        ws.posedirs_f_source = model.posedirs.data();
+      }
+      ws.pose_feature_f.resize(P);
+      ws.pose_feature_f = ws.pose_feature.cast<float>();
+      add_pose_blend_shapes(ws.posedirs_f, ws.pose_feature_f, ws.rotations, flat);
+    } else {
+      add_pose_blend_shapes(model.posedirs, ws.pose_feature, ws.rotations, flat);
+    }
+  }
+
+  // 6. Kinematic chain: G_0 = [R_0 | J_0], G_k = G_parent [R_k | J_k - J_parent].
+  out.transforms.resize(Ks);
+  ws.skinning.resize(Ks);
+  for (int k = 0; k < K; ++k) {
+    const auto ks = static_cast<size_t>(k);
+    Eigen::Matrix4d local = Eigen::Matrix4d::Identity();
+    local.topLeftCorner<3, 3>() = ws.rotations[ks];
+    const int p = model.parents[ks];
+    const Eigen::Vector3d jk = ws.rest_joints.row(k).transpose();
+    if (p < 0) {
+      local.topRightCorner<3, 1>() = jk;
+      out.transforms[ks] = local;
+    } else {
+      local.topRightCorner<3, 1>() = jk - ws.rest_joints.row(p).transpose();
+      out.transforms[ks] = out.transforms[static_cast<size_t>(p)] * local;
+    }
+    // 7. Remove the rest pose: A_k = G_k * translation(-J_k).
+    ws.skinning[ks] = out.transforms[ks];
+    ws.skinning[ks].topRightCorner<3, 1>() -= out.transforms[ks].topLeftCorner<3, 3>() * jk;
+  }
+
+  // 8. Linear blend skinning, then the global translation.
+  out.vertices.resize(V, 3);
+  for (Eigen::Index v = 0; v < V; ++v) {
+    Eigen::Matrix<double, 3, 4> T = Eigen::Matrix<double, 3, 4>::Zero();
+    for (SparseMatrix::InnerIterator it(model.weights, v); it; ++it) {
+      T.noalias() += it.value() * ws.skinning[static_cast<size_t>(it.col())].topRows<3>();
+    }
+    const Eigen::Vector3d x = ws.v_shaped.row(v).transpose();
+    out.vertices.row(v) = (T.leftCols<3>() * x + T.col(3) + translation).transpose();
+  }
+  out.joints.resize(K, 3);
+  for (int k = 0; k < K; ++k) {
+    auto& G = out.transforms[static_cast<size_t>(k)];
+    G.topRightCorner<3, 1>() += translation;
+    out.joints.row(k) = G.topRightCorner<3, 1>().transpose();
+  }
+}
+
+Body evaluate(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& betas,
+              const Eigen::Ref<const Eigen::VectorXd>& pose, const Eigen::Vector3d& translation) {
+  Workspace ws;
+  Body body;
+  evaluate(model, betas, pose, translation, ws, body);
+  return body;
+}
+
+}  // namespace smpl
