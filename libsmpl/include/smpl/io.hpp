@@ -7,9 +7,12 @@
 /// Facts on the formats: shared/reference/smpl-format.md and docs/file-formats.md.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <string>
 
 #include "smpl/body_model.hpp"
+#include "smpl/npz.hpp"
 
 namespace smpl {
 
@@ -27,10 +30,25 @@ struct LoadOptions {
 /// The result passes validate().
 BodyModel load_model(const std::string& path, const LoadOptions& options = {});
 
+/// load_model() on file bytes already in memory; `context` (e.g. the path) starts every error
+/// message. The format is chosen by content ("PK" zip: .npz; 0x80 PROTO: pickle).
+BodyModel load_model_from_memory(const std::uint8_t* bytes, std::size_t size,
+                                 const std::string& context, const LoadOptions& options = {});
+
+/// Options for save_model().
+struct SaveOptions {
+  /// Deflate the members (like np.savez_compressed): about 2x smaller, slower to load.
+  bool compress = false;
+};
+
+/// The arrays save_model() writes, by key (see docs/file-formats.md for the layout).
+NpzArchive model_arrays(const BodyModel& model);
+
 /// Saves in the project's `.npz` format (SMPL keys: v_template, f, shapedirs, posedirs,
 /// J_regressor (dense), weights, kintree_table, J, vert_sym_idxs; plus landmark_names,
 /// landmark_offsets, landmark_vertices, joint_names, meta_*). The output is byte-for-byte
-/// deterministic for the same model. Throws ModelError when the file cannot be written.
-void save_model(const BodyModel& model, const std::string& path);
+/// deterministic for the same model. Throws ModelError when the model fails validate() or the
+/// file cannot be written.
+void save_model(const BodyModel& model, const std::string& path, const SaveOptions& options = {});
 
 }  // namespace smpl

@@ -1,0 +1,68 @@
+/// \file pickle.hpp
+/// A restricted unpickler for SMPL-family model files (Python pickle protocols 2 to 5; the opcode
+/// semantics of CPython's Lib/pickletools.py). It interprets a fixed set of opcodes and builds only
+/// a fixed set of classes, as data, and never executes anything:
+/// - numpy arrays: `numpy.core.multiarray._reconstruct` / `numpy._core.multiarray._reconstruct`
+///   with `numpy.ndarray` + BUILD state, and `numpy.core.numeric._frombuffer` /
+///   `numpy._core.numeric._frombuffer` (protocol 5); numpy scalars (`multiarray.scalar`);
+/// - dtypes: `numpy.dtype` (byte order from its BUILD state);
+/// - sparse matrices: `scipy.sparse.csc.csc_matrix`, `scipy.sparse._csc.csc_matrix`, and the same
+///   for csr (also `*_array` classes);
+/// - chumpy `chumpy.ch.Ch` objects (the array is `state['x']`);
+/// - `set` / `frozenset` from `__builtin__` or `builtins`; plain dict, list, tuple, str, bytes,
+///   int, float, bool, None.
+/// Any other GLOBAL / STACK_GLOBAL is refused with an error naming the module and the name.
+/// Limits: at most 2^24 objects, 2^20 memo entries' worth of distinct indices, 64 levels of
+/// container nesting in what is converted; the input bounds everything else.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "smpl/npz.hpp"
+
+namespace smpl {
+
+/// A scipy.sparse csc or csr matrix as its three arrays.
+struct SparseNpy {
+  std::string format;  ///< "csc" (indptr runs over columns) or "csr" (over rows).
+  std::size_t rows = 0;
+  std::size_t cols = 0;
+  NpyArray data;     ///< nnz values.
+  NpyArray indices;  ///< nnz row (csc) or column (csr) indices.
+  NpyArray indptr;   ///< cols + 1 (csc) or rows + 1 (csr) offsets into data.
+};
+
+/// One value of the pickle's top-level dictionary (or one member of an npz).
+struct PickleValue {
+  enum class Kind {
+    kArray,   ///< numpy array, or a chumpy Ch object's array (`array`).
+    kSparse,  ///< scipy csc/csr matrix (`sparse`).
+    kText,    ///< str / bytes (`text`, raw bytes for Python-2 str).
+    kNumber,  ///< int, float or bool (`number`).
+    kOther    ///< anything else (dict, list, None, ...): kept only by its type name.
+  };
+  Kind kind = Kind::kOther;
+  NpyArray array;
+  SparseNpy sparse;
+  std::string text;
+  double number = 0.0;
+  std::string type_name;  ///< "ndarray", "chumpy.ch.Ch", "csc_matrix", "dict", "str", ...
+};
+
+/// The top-level dictionary of a model pickle, by key.
+using PickleDict = std::map<std::string, PickleValue>;
+
+/// Parses a pickle whose top-level object is a dict with str (or Python-2 str) keys. `context`
+/// (usually the file path) starts every error message. Throws ModelError for truncated or
+/// malformed data, unsupported opcodes and protocols, refused classes (naming them), bad array
+/// states, limits exceeded. Never crashes, never executes anything.
+PickleDict parse_pickle(const std::uint8_t* bytes, std::size_t size, const std::string& context);
+
+/// Reads and parses a pickle file; errors name `path`.
+PickleDict read_pickle(const std::string& path);
+
+}  // namespace smpl
