@@ -17,16 +17,22 @@
 namespace smpl {
 
 struct GltfOptions {
-  bool stand_on_floor = true;      ///< translate so that the mesh's min y is 0.
-  bool pose_correctives = false;   ///< add posedirs as morph targets (P targets).
-  std::string name = "avatar";     ///< mesh and scene name.
+  bool stand_on_floor = true;     ///< translate so that the mesh's min y is 0.
+  bool pose_correctives = false;  ///< add posedirs as morph targets (P targets).
+  std::string name = "avatar";    ///< mesh and scene name.
   /// Extra key/values written to asset.extras (e.g. measurements, betas); never personal data
   /// beyond what the caller passes.
   std::map<std::string, std::string> extras;
 };
 
-/// Exports the avatar of `model` with `betas` baked in. `.glb` writes binary glTF, `.gltf` writes
-/// JSON with an embedded buffer. Throws ModelError on failure.
+/// Exports the avatar of `model` with `betas` baked in (rest T-pose). The file holds one skinned
+/// mesh: POSITION and NORMAL (float), JOINTS_0 (unsigned short) and WEIGHTS_0 (float, the 4
+/// largest skinning weights of each vertex renormalised to sum 1), uint32 indices; one node per
+/// joint named from model.joint_names, translated relative to its parent; inverse bind matrices
+/// translation(-J_shaped); with options.pose_correctives, 9 (K - 1) morph targets (posedirs
+/// columns, named in mesh.extras.targetNames; target weight = (R_k - I)(r, c), may be negative).
+/// `.glb` writes binary glTF, `.gltf` writes JSON with an embedded buffer. Throws ModelError on
+/// failure.
 void write_gltf(const std::string& path, const BodyModel& model,
                 const Eigen::Ref<const Eigen::VectorXd>& betas, const GltfOptions& options = {});
 
@@ -42,8 +48,13 @@ struct GltfAvatar {
   Joints joints;  ///< rest joint positions from the node hierarchy.
   std::vector<std::string> joint_names;
   std::vector<int> parents;
-  Eigen::Matrix<int, Eigen::Dynamic, 4, Eigen::RowMajor> joint_ids;  ///< V x 4 JOINTS_0
+  Eigen::Matrix<int, Eigen::Dynamic, 4, Eigen::RowMajor> joint_ids;         ///< V x 4 JOINTS_0
   Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor> joint_weights;  ///< V x 4 WEIGHTS_0
+  /// Position displacements (V x 3) of the mesh's morph targets, in order (empty when none).
+  std::vector<Vertices> morph_targets;
+  std::string generator;                      ///< asset.generator
+  std::map<std::string, std::string> extras;  ///< asset.extras entries that are strings
+  std::vector<std::string> warnings;          ///< tinygltf's warnings on a file that still loaded.
 };
 
 /// Reads back a GLB/glTF written by write_gltf() (or any single-skinned-mesh glTF). Throws

@@ -1,0 +1,139 @@
+// OBJ and PLY export and vertex normals.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "caliper_test/matrix_compare.hpp"
+#include "caliper_test/random_model.hpp"
+#include "smpl/export.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Whole file as bytes (C stdio: GCC 12 warns falsely on istreambuf_iterator under -O3).
+std::string slurp(const fs::path& p) {
+  std::string s;
+  if (FILE* f = std::fopen(p.string().c_str(), "rb")) {
+    char buf[65536];
+    size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) s.append(buf, n);
+    std::fclose(f);
+  }
+  return s;
+}
+
+fs::path out_dir() {
+  const fs::path d = fs::path(CALIPER_TEST_DATA_DIR) / "export";
+  fs::create_directories(d);
+  return d;
+}
+
+// A unit cube, 8 vertices, 12 outward triangles.
+void cube(smpl::Vertices& v, smpl::Faces& f) {
+  v.resize(8, 3);
+  for (int i = 0; i < 8; ++i) v.row(i) = Eigen::RowVector3d(i & 1, (i >> 1) & 1, (i >> 2) & 1);
+  f.resize(12, 3);
+  f << 0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1,
+      3, 5, 3, 7, 5;
+}
+
+TEST(Export, NormalsOfACubePointOutwardAlongTheDiagonals) {
+  smpl::Vertices v;
+  smpl::Faces f;
+  cube(v, f);
+  const smpl::Vertices n = smpl::vertex_normals(v, f);
+  for (int i = 0; i < 8; ++i) {
+    EXPECT_NEAR(n.row(i).norm(), 1.0, 1e-12);
+    const Eigen::RowVector3d out = (v.row(i).array() - 0.5).matrix().normalized();
+    EXPECT_GT(n.row(i).dot(out), 0.5) << "vertex " << i;  // outward, near the diagonal
+  }
+}
+
+TEST(Export, NormalsOfTheRandomModelPointAwayFromItsAxis) {
+  const auto m = caliper::test::make_random_model(1, 24, false);
+  const smpl::Vertices n = smpl::vertex_normals(m.v_template, m.faces);
+  int outward = 0;
+  for (Eigen::Index i = 0; i < n.rows(); ++i) {
+    Eigen::RowVector3d radial = m.v_template.row(i);
+    radial.y() += 0.26;  // the ellipsoid's centre
+    outward += n.row(i).dot(radial) > 0;
+  }
+  EXPECT_EQ(outward, n.rows());
+}
+
+TEST(Export, ObjHasVerticesNormalsAndOneBasedFaces) {
+  smpl::Vertices v;
+  smpl::Faces f;
+  cube(v, f);
+  const fs::path p = out_dir() / "cube.obj";
+  smpl::write_obj(p.string(), v, f);
+  std::ifstream in(p);
+  std::string line;
+  int nv = 0, nn = 0, nf = 0;
+  smpl::Vertices back(8, 3);
+  while (std::getline(in, line)) {
+    std::istringstream s(line);
+    std::string tag;
+    s >> tag;
+    if (tag == "v") {
+      s >> back(nv, 0) >> back(nv, 1) >> back(nv, 2);
+      ++nv;
+    }
+    nn += tag == "vn";
+    if (tag == "f") {
+      std::string a;
+      s >> a;
+      EXPECT_EQ(a, std::to_string(f(nf, 0) + 1) + "//" + std::to_string(f(nf, 0) + 1));
+      ++nf;
+    }
+  }
+  EXPECT_EQ(nv, 8);
+  EXPECT_EQ(nn, 8);
+  EXPECT_EQ(nf, 12);
+  EXPECT_MATRIX_NEAR(back, v, 0.0);
+}
+
+TEST(Export, PlyIsBinaryLittleEndianWithNormals) {
+  const auto m = caliper::test::make_random_model(1, 24, false);
+  const fs::path p = out_dir() / "model.ply";
+  smpl::write_ply(p.string(), m.v_template, m.faces);
+  const std::string bytes = slurp(p);
+  const std::string end = "end_header\n";
+  const size_t body = bytes.find(end) + end.size();
+  ASSERT_NE(bytes.find("format binary_little_endian 1.0"), std::string::npos);
+  ASSERT_NE(bytes.find("element vertex 6890"), std::string::npos);
+  ASSERT_NE(bytes.find("element face 13776"), std::string::npos);
+  ASSERT_NE(bytes.find("property float nx"), std::string::npos);
+  ASSERT_EQ(bytes.size(), body + 6890 * 24 + 13776 * 13);
+  // Vertex 100 and face 7 read back.
+  float xyz[3];
+  std::memcpy(xyz, bytes.data() + body + 100 * 24, 12);
+  for (int c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(xyz[c], static_cast<float>(m.v_template(100, c)));
+  const size_t f7 = body + 6890 * 24 + 7 * 13;
+  EXPECT_EQ(bytes[f7], 3);
+  std::int32_t ids[3];
+  std::memcpy(ids, bytes.data() + f7 + 1, 12);
+  for (int c = 0; c < 3; ++c) EXPECT_EQ(ids[c], m.faces(7, c));
+}
+
+TEST(Export, ErrorsNameTheFile) {
+  smpl::Vertices v;
+  smpl::Faces f;
+  cube(v, f);
+  try {
+    smpl::write_obj("/nonexistent-dir/x.obj", v, f);
+    FAIL();
+  } catch (const smpl::ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent-dir/x.obj"), std::string::npos);
+  }
+  f(3, 1) = 8;  // out of range
+  EXPECT_THROW(smpl::write_ply((out_dir() / "bad.ply").string(), v, f), smpl::ModelError);
+}
+
+}  // namespace
