@@ -1,0 +1,13 @@
+/// \file shader_sources.hpp
+/// GLSL sources from shaders/*.glsl, embedded at build time
+/// (apps/render/cmake/embed_shaders.cmake).
+#pragma once
+
+namespace caliper::render::shaders {
+extern const char* const kMeshVert;
+extern const char* const kMeshFrag;
+extern const char* const kFlatVert;
+extern const char* const kFlatFrag;
+extern const char* const kOverlayVert;
+extern const char* const kOverlayFrag;
+}  // namespace caliper::render::shaders

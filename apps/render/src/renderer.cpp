@@ -1,0 +1,629 @@
+// The OpenGL 3.3 core renderer. Sections: shader helpers, mesh upload, per-frame drawing
+// (grid, meshes, boxes, quads, depth-tested lines), screen-space overlay (lines drawn on top,
+// landmark dots, labels, legend).
+#include "render/renderer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <string>
+
+#include "render/camera.hpp"
+#include "render/colour_map.hpp"
+#include "render/shader_sources.hpp"
+#include "render/text.hpp"
+
+namespace caliper::render {
+
+// ---------------------------------------------------------------------------------------------
+// Shader helpers
+namespace {
+
+GLuint compile_shader(const GlFunctions& gl, GLenum type, const char* source, const char* name) {
+  GLuint s = gl.CreateShader(type);
+  gl.ShaderSource(s, 1, &source, nullptr);
+  gl.CompileShader(s);
+  GLint ok = 0;
+  gl.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[2048] = {0};
+    gl.GetShaderInfoLog(s, sizeof log, nullptr, log);
+    gl.DeleteShader(s);
+    throw RenderError(std::string("shader ") + name + " failed to compile: " + log);
+  }
+  return s;
+}
+
+GLuint link_program(const GlFunctions& gl, const char* vs, const char* fs, const char* name) {
+  GLuint v = compile_shader(gl, GL_VERTEX_SHADER, vs, name);
+  GLuint f = compile_shader(gl, GL_FRAGMENT_SHADER, fs, name);
+  GLuint p = gl.CreateProgram();
+  gl.AttachShader(p, v);
+  gl.AttachShader(p, f);
+  gl.LinkProgram(p);
+  gl.DeleteShader(v);
+  gl.DeleteShader(f);
+  GLint ok = 0;
+  gl.GetProgramiv(p, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[2048] = {0};
+    gl.GetProgramInfoLog(p, sizeof log, nullptr, log);
+    gl.DeleteProgram(p);
+    throw RenderError(std::string("shader program ") + name + " failed to link: " + log);
+  }
+  return p;
+}
+
+Mat4 normal_matrix(const Mat4& model) {
+  Mat4 n = Mat4::Identity();
+  n.block<3, 3>(0, 0) = model.block<3, 3>(0, 0).inverse().transpose();
+  return n;
+}
+
+}  // namespace
+
+std::vector<float> vertex_normals(const std::vector<float>& positions,
+                                  const std::vector<std::uint32_t>& indices) {
+  std::vector<float> n(positions.size(), 0.0f);
+  for (size_t f = 0; f + 2 < indices.size(); f += 3) {
+    const std::uint32_t i0 = indices[f], i1 = indices[f + 1], i2 = indices[f + 2];
+    const Vec3 a(&positions[3 * i0]), b(&positions[3 * i1]), c(&positions[3 * i2]);
+    const Vec3 fn = (b - a).cross(c - a);  // length = 2 area: area weighting
+    for (std::uint32_t i : {i0, i1, i2}) {
+      n[3 * i] += fn.x();
+      n[3 * i + 1] += fn.y();
+      n[3 * i + 2] += fn.z();
+    }
+  }
+  for (size_t v = 0; v + 2 < n.size(); v += 3) {
+    const float len = std::sqrt(n[v] * n[v] + n[v + 1] * n[v + 1] + n[v + 2] * n[v + 2]);
+    if (len > 0) {
+      n[v] /= len;
+      n[v + 1] /= len;
+      n[v + 2] /= len;
+    } else {
+      n[v] = 0;
+      n[v + 1] = 1;
+      n[v + 2] = 0;
+    }
+  }
+  return n;
+}
+
+// ---------------------------------------------------------------------------------------------
+// GPU objects
+struct GpuMesh {
+  GLuint vao = 0, positions = 0, normals = 0, colours = 0, indices = 0;
+  GLsizei index_count = 0;
+  size_t vertex_count = 0;
+  bool has_colours = false;
+  std::vector<std::uint32_t> cpu_indices;  // kept to recompute normals on update_positions
+};
+
+struct Renderer::Impl {
+  GLuint mesh_program = 0, flat_program = 0, overlay_program = 0;
+  std::map<MeshHandle, GpuMesh> meshes;
+  std::map<TextureHandle, GLuint> textures;
+  MeshHandle next_mesh = 1;
+  TextureHandle next_texture = 1;
+  MeshHandle cube = 0;
+  GLuint flat_vao = 0, flat_vbo = 0;        // pos3 colour4 uv2
+  GLuint overlay_vao = 0, overlay_vbo = 0;  // pos2 uv2 colour4
+  std::vector<float> flat_vertices, overlay_vertices;
+};
+
+namespace {
+
+void check_mesh(const MeshData& m) {
+  if (m.positions.size() % 3 != 0) {
+    throw RenderError("mesh positions: expected 3V floats, got " +
+                      std::to_string(m.positions.size()));
+  }
+  const size_t v = m.positions.size() / 3;
+  if (!m.normals.empty() && m.normals.size() != m.positions.size()) {
+    throw RenderError("mesh normals: expected " + std::to_string(3 * v) + " floats or none, got " +
+                      std::to_string(m.normals.size()));
+  }
+  if (!m.colours.empty() && m.colours.size() != m.positions.size()) {
+    throw RenderError("mesh colours: expected " + std::to_string(3 * v) + " floats or none, got " +
+                      std::to_string(m.colours.size()));
+  }
+  if (m.indices.size() % 3 != 0) {
+    throw RenderError("mesh indices: expected 3F values, got " + std::to_string(m.indices.size()));
+  }
+  for (std::uint32_t i : m.indices) {
+    if (i >= v) {
+      throw RenderError("mesh indices: vertex index " + std::to_string(i) +
+                        " out of range (V = " + std::to_string(v) + ")");
+    }
+  }
+}
+
+void fill_buffer(const GlFunctions& gl, GLuint buffer, GLenum target, const void* data,
+                 size_t bytes) {
+  gl.BindBuffer(target, buffer);
+  gl.BufferData(target, static_cast<GLsizeiptr>(bytes), data, GL_DYNAMIC_DRAW);
+}
+
+void set_mesh_data(const GlFunctions& gl, GpuMesh& g, const MeshData& m) {
+  g.vertex_count = m.positions.size() / 3;
+  g.index_count = static_cast<GLsizei>(m.indices.size());
+  g.cpu_indices = m.indices;
+  g.has_colours = !m.colours.empty();
+  gl.BindVertexArray(g.vao);
+  fill_buffer(gl, g.positions, GL_ARRAY_BUFFER, m.positions.data(), m.positions.size() * 4);
+  gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+  gl.EnableVertexAttribArray(0);
+  const std::vector<float> normals =
+      m.normals.empty() ? vertex_normals(m.positions, m.indices) : m.normals;
+  fill_buffer(gl, g.normals, GL_ARRAY_BUFFER, normals.data(), normals.size() * 4);
+  gl.VertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+  gl.EnableVertexAttribArray(1);
+  const std::vector<float> colours =
+      m.colours.empty() ? std::vector<float>(m.positions.size(), 1.0f) : m.colours;
+  fill_buffer(gl, g.colours, GL_ARRAY_BUFFER, colours.data(), colours.size() * 4);
+  gl.VertexAttribPointer(2, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+  gl.EnableVertexAttribArray(2);
+  fill_buffer(gl, g.indices, GL_ELEMENT_ARRAY_BUFFER, m.indices.data(), m.indices.size() * 4);
+  gl.BindVertexArray(0);
+}
+
+MeshData cube_mesh() {
+  MeshData m;
+  // 6 faces with their own vertices so that normals are flat.
+  const int axes[6][3] = {{0, 1, 2}, {0, 1, 2}, {1, 2, 0}, {1, 2, 0}, {2, 0, 1}, {2, 0, 1}};
+  for (int f = 0; f < 6; ++f) {
+    const float sign = (f % 2 == 0) ? 1.0f : -1.0f;
+    const int n = axes[f][2], u = axes[f][0], v = axes[f][1];
+    const float corners[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+    const auto base = static_cast<std::uint32_t>(m.positions.size() / 3);
+    for (auto& c : corners) {
+      float p[3];
+      p[n] = sign;
+      p[u] = c[0];
+      p[v] = c[1] * sign;
+      m.positions.insert(m.positions.end(), p, p + 3);
+      float nn[3] = {0, 0, 0};
+      nn[n] = sign;
+      m.normals.insert(m.normals.end(), nn, nn + 3);
+    }
+    for (std::uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) m.indices.push_back(base + i);
+  }
+  return m;
+}
+
+void setup_interleaved(const GlFunctions& gl, GLuint vao, GLuint vbo,
+                       std::initializer_list<int> sizes) {
+  gl.BindVertexArray(vao);
+  gl.BindBuffer(GL_ARRAY_BUFFER, vbo);
+  int stride = 0;
+  for (int s : sizes) stride += s;
+  int offset = 0, index = 0;
+  for (int s : sizes) {
+    gl.VertexAttribPointer(static_cast<GLuint>(index), s, GL_FLOAT, GL_FALSE, stride * 4,
+                           reinterpret_cast<const void*>(static_cast<std::uintptr_t>(offset * 4)));
+    gl.EnableVertexAttribArray(static_cast<GLuint>(index));
+    offset += s;
+    ++index;
+  }
+  gl.BindVertexArray(0);
+}
+
+}  // namespace
+
+Renderer::Renderer(const GlFunctions& gl) : gl_(gl), impl_(std::make_unique<Impl>()) {
+  impl_->mesh_program = link_program(gl, shaders::kMeshVert, shaders::kMeshFrag, "mesh");
+  impl_->flat_program = link_program(gl, shaders::kFlatVert, shaders::kFlatFrag, "flat");
+  impl_->overlay_program =
+      link_program(gl, shaders::kOverlayVert, shaders::kOverlayFrag, "overlay");
+  gl.GenVertexArrays(1, &impl_->flat_vao);
+  gl.GenBuffers(1, &impl_->flat_vbo);
+  setup_interleaved(gl, impl_->flat_vao, impl_->flat_vbo, {3, 4, 2});
+  gl.GenVertexArrays(1, &impl_->overlay_vao);
+  gl.GenBuffers(1, &impl_->overlay_vbo);
+  setup_interleaved(gl, impl_->overlay_vao, impl_->overlay_vbo, {2, 2, 4});
+  impl_->cube = upload_mesh(cube_mesh());
+  gl.check("Renderer setup");
+}
+
+Renderer::~Renderer() {
+  const GlFunctions& gl = gl_;
+  for (auto& [h, g] : impl_->meshes) {
+    GLuint buffers[4] = {g.positions, g.normals, g.colours, g.indices};
+    gl.DeleteBuffers(4, buffers);
+    gl.DeleteVertexArrays(1, &g.vao);
+  }
+  for (auto& [h, t] : impl_->textures) gl.DeleteTextures(1, &t);
+  gl.DeleteBuffers(1, &impl_->flat_vbo);
+  gl.DeleteVertexArrays(1, &impl_->flat_vao);
+  gl.DeleteBuffers(1, &impl_->overlay_vbo);
+  gl.DeleteVertexArrays(1, &impl_->overlay_vao);
+  gl.DeleteProgram(impl_->mesh_program);
+  gl.DeleteProgram(impl_->flat_program);
+  gl.DeleteProgram(impl_->overlay_program);
+}
+
+MeshHandle Renderer::upload_mesh(const MeshData& mesh) {
+  check_mesh(mesh);
+  GpuMesh g;
+  gl_.GenVertexArrays(1, &g.vao);
+  GLuint buffers[4];
+  gl_.GenBuffers(4, buffers);
+  g.positions = buffers[0];
+  g.normals = buffers[1];
+  g.colours = buffers[2];
+  g.indices = buffers[3];
+  set_mesh_data(gl_, g, mesh);
+  const MeshHandle h = impl_->next_mesh++;
+  impl_->meshes.emplace(h, std::move(g));
+  return h;
+}
+
+namespace {
+GpuMesh& find_mesh(std::map<MeshHandle, GpuMesh>& meshes, MeshHandle h) {
+  auto it = meshes.find(h);
+  if (it == meshes.end()) throw RenderError("unknown mesh handle " + std::to_string(h));
+  return it->second;
+}
+}  // namespace
+
+void Renderer::update_mesh(MeshHandle handle, const MeshData& mesh) {
+  check_mesh(mesh);
+  set_mesh_data(gl_, find_mesh(impl_->meshes, handle), mesh);
+}
+
+void Renderer::update_positions(MeshHandle handle, const std::vector<float>& positions) {
+  GpuMesh& g = find_mesh(impl_->meshes, handle);
+  if (positions.size() != 3 * g.vertex_count) {
+    throw RenderError("update_positions: expected " + std::to_string(3 * g.vertex_count) +
+                      " floats, got " + std::to_string(positions.size()));
+  }
+  const std::vector<float> normals = vertex_normals(positions, g.cpu_indices);
+  gl_.BindBuffer(GL_ARRAY_BUFFER, g.positions);
+  gl_.BufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(positions.size() * 4),
+                    positions.data());
+  gl_.BindBuffer(GL_ARRAY_BUFFER, g.normals);
+  gl_.BufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(normals.size() * 4),
+                    normals.data());
+}
+
+void Renderer::update_colours(MeshHandle handle, const std::vector<float>& colours) {
+  GpuMesh& g = find_mesh(impl_->meshes, handle);
+  if (!colours.empty() && colours.size() != 3 * g.vertex_count) {
+    throw RenderError("update_colours: expected " + std::to_string(3 * g.vertex_count) +
+                      " floats, got " + std::to_string(colours.size()));
+  }
+  g.has_colours = !colours.empty();
+  if (colours.empty()) return;
+  gl_.BindBuffer(GL_ARRAY_BUFFER, g.colours);
+  gl_.BufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(colours.size() * 4),
+                    colours.data());
+}
+
+void Renderer::release_mesh(MeshHandle handle) {
+  auto it = impl_->meshes.find(handle);
+  if (it == impl_->meshes.end()) return;
+  GLuint buffers[4] = {it->second.positions, it->second.normals, it->second.colours,
+                       it->second.indices};
+  gl_.DeleteBuffers(4, buffers);
+  gl_.DeleteVertexArrays(1, &it->second.vao);
+  impl_->meshes.erase(it);
+}
+
+TextureHandle Renderer::upload_texture(const Image& image) {
+  GLuint t = 0;
+  gl_.GenTextures(1, &t);
+  const TextureHandle h = impl_->next_texture++;
+  impl_->textures[h] = t;
+  update_texture(h, image);
+  return h;
+}
+
+void Renderer::update_texture(TextureHandle handle, const Image& image) {
+  auto it = impl_->textures.find(handle);
+  if (it == impl_->textures.end()) throw RenderError("unknown texture " + std::to_string(handle));
+  gl_.BindTexture(GL_TEXTURE_2D, it->second);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  gl_.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  gl_.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  gl_.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, image.width, image.height, 0, GL_RGBA,
+                 GL_UNSIGNED_BYTE, image.rgba.data());
+}
+
+void Renderer::release_texture(TextureHandle handle) {
+  auto it = impl_->textures.find(handle);
+  if (it == impl_->textures.end()) return;
+  gl_.DeleteTextures(1, &it->second);
+  impl_->textures.erase(it);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Per-frame drawing
+namespace {
+
+void push_flat(std::vector<float>& v, const Vec3& p, const Rgba& c, float u = 0, float w = 0) {
+  v.insert(v.end(), {p.x(), p.y(), p.z(), c.r, c.g, c.b, c.a, u, w});
+}
+
+void push_overlay(std::vector<float>& v, float x, float y, float u, float w, const Rgba& c) {
+  v.insert(v.end(), {x, y, u, w, c.r, c.g, c.b, c.a});
+}
+
+void overlay_rect(std::vector<float>& v, float x0, float y0, float x1, float y1, const Rgba& c) {
+  push_overlay(v, x0, y0, -1, -1, c);
+  push_overlay(v, x1, y0, 1, -1, c);
+  push_overlay(v, x1, y1, 1, 1, c);
+  push_overlay(v, x0, y0, -1, -1, c);
+  push_overlay(v, x1, y1, 1, 1, c);
+  push_overlay(v, x0, y1, -1, 1, c);
+}
+
+void overlay_text(std::vector<float>& v, const std::string& text, float x, float y, float scale,
+                  const Rgba& c) {
+  std::vector<float> xy;
+  text_triangles(text, x, y, scale, xy);
+  for (size_t i = 0; i + 1 < xy.size(); i += 2) push_overlay(v, xy[i], xy[i + 1], 0, 0, c);
+}
+
+/// Projects a world point to viewport pixels (y down); false when behind the camera.
+bool project(const Mat4& view_projection, const Vec3& p, int w, int h, float& x, float& y) {
+  const Eigen::Vector4f c = view_projection * Eigen::Vector4f(p.x(), p.y(), p.z(), 1);
+  if (c.w() <= 1e-6f) return false;
+  x = (c.x() / c.w() + 1) * 0.5f * static_cast<float>(w);
+  y = (1 - c.y() / c.w()) * 0.5f * static_cast<float>(h);
+  return true;
+}
+
+struct OverlayBatch {
+  int mode;
+  size_t first, count;
+};
+
+}  // namespace
+
+void Renderer::draw(const Scene& scene, const std::vector<View>& views) {
+  for (const View& v : views) draw(scene, v);
+}
+
+void Renderer::draw(const Scene& scene, const View& view) {
+  const GlFunctions& gl = gl_;
+  Impl& im = *impl_;
+  const Viewport& vp = view.viewport;
+  if (vp.width <= 0 || vp.height <= 0) return;
+  gl.Viewport(vp.x, vp.y, vp.width, vp.height);
+  gl.Enable(GL_SCISSOR_TEST);
+  gl.Scissor(vp.x, vp.y, vp.width, vp.height);
+  if (view.clear) {
+    gl.ClearColor(scene.background.r, scene.background.g, scene.background.b, scene.background.a);
+    gl.ClearDepth(1.0);
+    gl.DepthMask(GL_TRUE);
+    gl.Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  }
+  const float aspect = static_cast<float>(vp.width) / static_cast<float>(vp.height);
+  const Mat4 view_m = view_matrix(view.camera);
+  const Mat4 proj = projection_matrix(view.camera, aspect);
+  const Mat4 vp_m = proj * view_m;
+  const Vec3 eye = view_m.block<3, 3>(0, 0).transpose() * (-view_m.block<3, 1>(0, 3));
+
+  gl.Enable(GL_DEPTH_TEST);
+  gl.DepthFunc(GL_LEQUAL);
+  gl.Disable(GL_CULL_FACE);
+  gl.Enable(GL_BLEND);
+  gl.BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+
+  // Meshes and boxes.
+  gl.UseProgram(im.mesh_program);
+  const GLint u_model = gl.GetUniformLocation(im.mesh_program, "u_model");
+  const GLint u_normal = gl.GetUniformLocation(im.mesh_program, "u_normal_matrix");
+  const GLint u_vp = gl.GetUniformLocation(im.mesh_program, "u_view_projection");
+  const GLint u_colour = gl.GetUniformLocation(im.mesh_program, "u_colour");
+  const GLint u_vc = gl.GetUniformLocation(im.mesh_program, "u_vertex_colours");
+  const GLint u_flat = gl.GetUniformLocation(im.mesh_program, "u_flat");
+  const GLint u_light = gl.GetUniformLocation(im.mesh_program, "u_light_direction");
+  const GLint u_eye = gl.GetUniformLocation(im.mesh_program, "u_eye");
+  gl.UniformMatrix4fv(u_vp, 1, GL_FALSE, vp_m.data());
+  const Vec3 light = scene.light_direction.normalized();
+  gl.Uniform3fv(u_light, 1, light.data());
+  gl.Uniform3fv(u_eye, 1, eye.data());
+  auto draw_mesh = [&](const GpuMesh& g, const Mat4& model, const Rgba& colour, bool vc, bool wire,
+                       const Rgba& wire_colour) {
+    gl.UniformMatrix4fv(u_model, 1, GL_FALSE, model.data());
+    const Mat4 n = normal_matrix(model);
+    gl.UniformMatrix4fv(u_normal, 1, GL_FALSE, n.data());
+    const float c[4] = {colour.r, colour.g, colour.b, colour.a};
+    gl.Uniform4fv(u_colour, 1, c);
+    gl.Uniform1i(u_vc, vc && g.has_colours ? 1 : 0);
+    gl.Uniform1i(u_flat, 0);
+    gl.BindVertexArray(g.vao);
+    if (wire) {
+      gl.Enable(GL_POLYGON_OFFSET_FILL);
+      gl.PolygonOffset(1.0f, 1.0f);
+    }
+    gl.DrawElements(GL_TRIANGLES, g.index_count, GL_UNSIGNED_INT, nullptr);
+    if (wire) {
+      gl.Disable(GL_POLYGON_OFFSET_FILL);
+      gl.PolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+      const float wc[4] = {wire_colour.r, wire_colour.g, wire_colour.b, wire_colour.a};
+      gl.Uniform4fv(u_colour, 1, wc);
+      gl.Uniform1i(u_flat, 1);
+      gl.DrawElements(GL_TRIANGLES, g.index_count, GL_UNSIGNED_INT, nullptr);
+      gl.PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    }
+  };
+  for (const MeshInstance& m : scene.meshes) {
+    auto it = im.meshes.find(m.mesh);
+    if (it == im.meshes.end()) continue;
+    draw_mesh(it->second, m.model, m.colour, m.vertex_colours, m.wireframe, m.wireframe_colour);
+  }
+  const GpuMesh& cube = im.meshes.at(im.cube);
+  for (const Box& b : scene.boxes) {
+    Mat4 s = Mat4::Identity();
+    s.diagonal().head<3>() = b.half_extents;
+    draw_mesh(cube, b.transform * s, b.colour, false, false, b.colour);
+  }
+
+  // Flat geometry: floor grid and depth-tested lines, then textured quads.
+  im.flat_vertices.clear();
+  if (scene.grid.visible && scene.grid.spacing > 0) {
+    const FloorGrid& g = scene.grid;
+    const int n = static_cast<int>(std::floor(g.extent / g.spacing + 1e-4f));
+    for (int i = -n; i <= n; ++i) {
+      const float t = static_cast<float>(i) * g.spacing;
+      Rgba c = g.colour;
+      c.a = (i % 10 == 0) ? 0.9f : 0.45f;
+      if (i == 0) c = {0.35f, 0.35f, 0.4f, 1.0f};
+      push_flat(im.flat_vertices, Vec3(t, g.height, -g.extent), c);
+      push_flat(im.flat_vertices, Vec3(t, g.height, g.extent), c);
+      push_flat(im.flat_vertices, Vec3(-g.extent, g.height, t), c);
+      push_flat(im.flat_vertices, Vec3(g.extent, g.height, t), c);
+    }
+  }
+  for (const Line& l : scene.lines) {
+    if (l.on_top) continue;
+    push_flat(im.flat_vertices, l.a, l.colour);
+    push_flat(im.flat_vertices, l.b, l.colour);
+  }
+  const size_t line_vertices = im.flat_vertices.size() / 9;
+  for (const TexturedQuad& q : scene.quads) {
+    const Rgba white;
+    const Vec3 p00 = q.centre - q.right - q.up, p10 = q.centre + q.right - q.up;
+    const Vec3 p11 = q.centre + q.right + q.up, p01 = q.centre - q.right + q.up;
+    push_flat(im.flat_vertices, p00, white, 0, 1);
+    push_flat(im.flat_vertices, p10, white, 1, 1);
+    push_flat(im.flat_vertices, p11, white, 1, 0);
+    push_flat(im.flat_vertices, p00, white, 0, 1);
+    push_flat(im.flat_vertices, p11, white, 1, 0);
+    push_flat(im.flat_vertices, p01, white, 0, 0);
+  }
+  if (!im.flat_vertices.empty()) {
+    gl.UseProgram(im.flat_program);
+    gl.UniformMatrix4fv(gl.GetUniformLocation(im.flat_program, "u_view_projection"), 1, GL_FALSE,
+                        vp_m.data());
+    gl.Uniform1i(gl.GetUniformLocation(im.flat_program, "u_texture"), 0);
+    const GLint u_tex = gl.GetUniformLocation(im.flat_program, "u_textured");
+    gl.BindVertexArray(im.flat_vao);
+    gl.BindBuffer(GL_ARRAY_BUFFER, im.flat_vbo);
+    gl.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(im.flat_vertices.size() * 4),
+                  im.flat_vertices.data(), GL_STREAM_DRAW);
+    gl.Uniform1i(u_tex, 0);
+    if (line_vertices > 0) gl.DrawArrays(GL_LINES, 0, static_cast<GLsizei>(line_vertices));
+    gl.Uniform1i(u_tex, 1);
+    gl.ActiveTexture(GL_TEXTURE0);
+    size_t first = line_vertices;
+    for (const TexturedQuad& q : scene.quads) {
+      auto it = im.textures.find(q.texture);
+      if (it != im.textures.end()) {
+        gl.BindTexture(GL_TEXTURE_2D, it->second);
+        gl.DrawArrays(GL_TRIANGLES, static_cast<GLint>(first), 6);
+      }
+      first += 6;
+    }
+  }
+
+  // Screen-space overlay.
+  std::vector<float>& ov = im.overlay_vertices;
+  ov.clear();
+  std::vector<OverlayBatch> batches;
+  auto begin_batch = [&](int mode) { batches.push_back({mode, ov.size() / 8, 0}); };
+  auto end_batch = [&]() { batches.back().count = ov.size() / 8 - batches.back().first; };
+  const int w = vp.width, h = vp.height;
+  begin_batch(0);
+  for (const Line& l : scene.lines) {
+    if (!l.on_top) continue;
+    float ax, ay, bx, by;
+    if (!project(vp_m, l.a, w, h, ax, ay) || !project(vp_m, l.b, w, h, bx, by)) continue;
+    float dx = bx - ax, dy = by - ay;
+    const float len = std::sqrt(dx * dx + dy * dy);
+    if (len < 1e-3f) continue;
+    const float half = 1.5f;
+    const float nx = -dy / len * half, ny = dx / len * half;
+    push_overlay(ov, ax + nx, ay + ny, 0, 0, l.colour);
+    push_overlay(ov, bx + nx, by + ny, 0, 0, l.colour);
+    push_overlay(ov, bx - nx, by - ny, 0, 0, l.colour);
+    push_overlay(ov, ax + nx, ay + ny, 0, 0, l.colour);
+    push_overlay(ov, bx - nx, by - ny, 0, 0, l.colour);
+    push_overlay(ov, ax - nx, ay - ny, 0, 0, l.colour);
+  }
+  end_batch();
+  begin_batch(1);
+  for (const Point& p : scene.points) {
+    float x, y;
+    if (!project(vp_m, p.position, w, h, x, y)) continue;
+    const float r = p.size_px / 2;
+    overlay_rect(ov, x - r - 1, y - r - 1, x + r + 1, y + r + 1, Rgba{1, 1, 1, 1});
+    overlay_rect(ov, x - r, y - r, x + r, y + r, p.colour);
+  }
+  end_batch();
+  begin_batch(0);
+  for (const Label& l : scene.labels) {
+    float x = l.anchor.x(), y = l.anchor.y();
+    if (!l.screen && !project(vp_m, l.anchor, w, h, x, y)) continue;
+    if (!l.screen) {  // centre world labels vertically on their anchor, a little to the right
+      x += 6;
+      y -= text_height(l.text, l.scale) / 2;
+    }
+    if (l.background) {
+      const float tw = text_width(l.text, l.scale), th = text_height(l.text, l.scale);
+      overlay_rect(ov, x - 3, y - 3, x + tw + 3, y + th + 1, Rgba{1, 1, 1, 0.8f});
+    }
+    overlay_text(ov, l.text, x, y, l.scale, l.colour);
+  }
+  if (scene.legend.visible) {
+    const Legend& lg = scene.legend;
+    const float scale = 2.0f;
+    const float bar_w = 22, bar_h = std::min(220.0f, static_cast<float>(h) * 0.4f);
+    const float x0 = static_cast<float>(w) - 130, y0 = 16;
+    overlay_rect(ov, x0 - 10, y0 - 8, static_cast<float>(w) - 6, y0 + bar_h + 34,
+                 Rgba{1, 1, 1, 0.85f});
+    overlay_text(ov, lg.title, x0 - 4, y0, scale, Rgba{0, 0, 0, 1});
+    const float by0 = y0 + 20;
+    const int steps = 32;
+    for (int i = 0; i < steps; ++i) {
+      // top = max value
+      const float t0 = 1 - static_cast<float>(i) / steps,
+                  t1 = 1 - static_cast<float>(i + 1) / steps;
+      const Rgba c0 = colour_at(lg.colour_map, t0), c1 = colour_at(lg.colour_map, t1);
+      const float ya = by0 + bar_h * static_cast<float>(i) / steps;
+      const float yb = by0 + bar_h * static_cast<float>(i + 1) / steps;
+      push_overlay(ov, x0, ya, 0, 0, c0);
+      push_overlay(ov, x0 + bar_w, ya, 0, 0, c0);
+      push_overlay(ov, x0 + bar_w, yb, 0, 0, c1);
+      push_overlay(ov, x0, ya, 0, 0, c0);
+      push_overlay(ov, x0 + bar_w, yb, 0, 0, c1);
+      push_overlay(ov, x0, yb, 0, 0, c1);
+    }
+    for (int k = 0; k <= 2; ++k) {
+      const float value = lg.max_value + (lg.min_value - lg.max_value) * static_cast<float>(k) / 2;
+      char text[32];
+      std::snprintf(text, sizeof text, "%.3g", static_cast<double>(value));
+      const float y = by0 + bar_h * static_cast<float>(k) / 2 - 6;
+      overlay_text(ov, text, x0 + bar_w + 8, y, scale, Rgba{0, 0, 0, 1});
+    }
+  }
+  end_batch();
+  if (!ov.empty()) {
+    gl.Disable(GL_DEPTH_TEST);
+    gl.UseProgram(im.overlay_program);
+    gl.Uniform2f(gl.GetUniformLocation(im.overlay_program, "u_viewport_size"),
+                 static_cast<float>(w), static_cast<float>(h));
+    const GLint u_mode = gl.GetUniformLocation(im.overlay_program, "u_mode");
+    gl.BindVertexArray(im.overlay_vao);
+    gl.BindBuffer(GL_ARRAY_BUFFER, im.overlay_vbo);
+    gl.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(ov.size() * 4), ov.data(),
+                  GL_STREAM_DRAW);
+    for (const OverlayBatch& b : batches) {
+      if (b.count == 0) continue;
+      gl.Uniform1i(u_mode, b.mode);
+      gl.DrawArrays(GL_TRIANGLES, static_cast<GLint>(b.first), static_cast<GLsizei>(b.count));
+    }
+    gl.Enable(GL_DEPTH_TEST);
+  }
+  gl.BindVertexArray(0);
+  gl.UseProgram(0);
+  gl.Disable(GL_SCISSOR_TEST);
+}
+
+}  // namespace caliper::render

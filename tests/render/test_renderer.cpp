@@ -1,0 +1,214 @@
+// Renderer tests that need no reference picture: the OSMesa context and loader, the camera
+// maths, and analytic properties of rendered images (background where nothing is drawn, the
+// mesh colour where the mesh is, left-right symmetry of a symmetric mesh).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "render/camera.hpp"
+#include "render/colour_map.hpp"
+#include "render/context.hpp"
+#include "render/render_mesh.hpp"
+#include "render/renderer.hpp"
+#include "render/text.hpp"
+
+namespace cr = caliper::render;
+
+namespace {
+
+/// A closed box mesh [-w, w] x [0, h] x [-d, d] (12 triangles, outward winding).
+smpl::Vertices box_vertices(double w, double h, double d) {
+  smpl::Vertices v(8, 3);
+  for (int i = 0; i < 8; ++i) {
+    v(i, 0) = (i & 1) ? w : -w;
+    v(i, 1) = (i & 2) ? h : 0;
+    v(i, 2) = (i & 4) ? d : -d;
+  }
+  return v;
+}
+smpl::Faces box_faces() {
+  smpl::Faces f(12, 3);
+  f << 0, 2, 1, 1, 2, 3,  // z = -d
+      4, 5, 6, 5, 7, 6,   // z = +d
+      0, 1, 4, 1, 5, 4,   // y = 0
+      2, 6, 3, 3, 6, 7,   // y = h
+      0, 4, 2, 2, 4, 6,   // x = -w
+      1, 3, 5, 3, 7, 5;   // x = +w
+  return f;
+}
+
+int channel_distance(const std::uint8_t* p, const cr::Rgba& c) {
+  const int r = std::abs(p[0] - static_cast<int>(std::lround(c.r * 255)));
+  const int g = std::abs(p[1] - static_cast<int>(std::lround(c.g * 255)));
+  const int b = std::abs(p[2] - static_cast<int>(std::lround(c.b * 255)));
+  return std::max(r, std::max(g, b));
+}
+
+}  // namespace
+
+TEST(OsMesa, CreatesCoreContextAndLoadsFunctions) {
+  auto ctx = cr::make_osmesa_context(64, 32);
+  EXPECT_EQ(ctx->width(), 64);
+  EXPECT_EQ(ctx->height(), 32);
+  GLint major = 0, minor = 0;
+  ctx->gl().GetIntegerv(GL_MAJOR_VERSION, &major);
+  ctx->gl().GetIntegerv(GL_MINOR_VERSION, &minor);
+  EXPECT_GE(major * 10 + minor, 33);
+  ASSERT_NE(ctx->gl().Clear, nullptr);
+}
+
+TEST(OsMesa, ClearColourIsReadBackExactly) {
+  auto ctx = cr::make_osmesa_context(16, 8);
+  const auto& gl = ctx->gl();
+  gl.ClearColor(1.0f, 0.0f, 0.0f, 1.0f);
+  gl.Clear(GL_COLOR_BUFFER_BIT);
+  // Bottom half green via scissor: checks that read_pixels puts the top row first.
+  gl.Enable(GL_SCISSOR_TEST);
+  gl.Scissor(0, 0, 16, 4);
+  gl.ClearColor(0.0f, 1.0f, 0.0f, 1.0f);
+  gl.Clear(GL_COLOR_BUFFER_BIT);
+  gl.Disable(GL_SCISSOR_TEST);
+  const cr::Image img = ctx->read_pixels();
+  ASSERT_EQ(img.width, 16);
+  ASSERT_EQ(img.height, 8);
+  EXPECT_EQ(img.pixel(0, 0)[0], 255);  // top row: red
+  EXPECT_EQ(img.pixel(0, 0)[1], 0);
+  EXPECT_EQ(img.pixel(5, 7)[0], 0);  // bottom row: green
+  EXPECT_EQ(img.pixel(5, 7)[1], 255);
+}
+
+TEST(OsMesa, RejectsAbsurdSize) {
+  EXPECT_THROW(cr::make_osmesa_context(0, 10), cr::RenderError);
+}
+
+TEST(Camera, LookAtMapsTargetToNegativeZAxis) {
+  const cr::Mat4 v = cr::look_at(cr::Vec3(0, 1, 5), cr::Vec3(0, 1, 0), cr::Vec3(0, 1, 0));
+  const Eigen::Vector4f t = v * Eigen::Vector4f(0, 1, 0, 1);
+  EXPECT_NEAR(t.x(), 0, 1e-6);
+  EXPECT_NEAR(t.y(), 0, 1e-6);
+  EXPECT_NEAR(t.z(), -5, 1e-5);
+}
+
+TEST(Camera, FrameBoxKeepsEveryCornerInsideTheImage) {
+  const cr::Vec3 lo(-0.3f, 0, -0.15f), hi(0.3f, 1.8f, 0.15f);
+  for (float az : {0.0f, 35.0f, 90.0f, 180.0f}) {
+    const cr::Camera c = cr::frame_box(lo, hi, az, 0.75f);
+    const cr::Mat4 m = cr::projection_matrix(c, 0.75f) * cr::view_matrix(c);
+    for (int i = 0; i < 8; ++i) {
+      const Eigen::Vector4f p((i & 1) ? hi.x() : lo.x(), (i & 2) ? hi.y() : lo.y(),
+                              (i & 4) ? hi.z() : lo.z(), 1);
+      const Eigen::Vector4f q = m * p;
+      EXPECT_LT(std::abs(q.x() / q.w()), 1.0f) << "azimuth " << az << " corner " << i;
+      EXPECT_LT(std::abs(q.y() / q.w()), 1.0f) << "azimuth " << az << " corner " << i;
+    }
+  }
+}
+
+TEST(Camera, ParsesStandardViews) {
+  EXPECT_EQ(cr::parse_standard_view("side"), cr::StandardView::Side);
+  EXPECT_FLOAT_EQ(cr::view_azimuth_degrees(cr::parse_standard_view("three_quarter")), 35.0f);
+  EXPECT_THROW(cr::parse_standard_view("top"), std::invalid_argument);
+}
+
+TEST(ColourMap, EndpointsAndClampingAndNaN) {
+  const cr::Rgba lo = cr::colour_at(cr::kColourMapTraffic, 0),
+                 hi = cr::colour_at(cr::kColourMapTraffic, 1);
+  EXPECT_GT(lo.g, lo.r);  // green for plausible
+  EXPECT_GT(hi.r, hi.g);  // red for implausible
+  const cr::Rgba over = cr::colour_at(cr::kColourMapTraffic, 5);
+  EXPECT_FLOAT_EQ(over.r, hi.r);
+  const auto c = cr::colours_from_values({0.0f, std::nanf(""), 1.0f}, 0, 1, cr::kColourMapHeat);
+  ASSERT_EQ(c.size(), 9u);
+  EXPECT_FLOAT_EQ(c[3], 0.5f);  // NaN is grey
+}
+
+TEST(Text, WidthGrowsWithLengthAndScale) {
+  EXPECT_GT(cr::text_width("170.0 cm", 2), cr::text_width("17", 2));
+  EXPECT_FLOAT_EQ(cr::text_width("abc", 2), 2 * cr::text_width("abc", 1));
+  std::vector<float> xy;
+  cr::text_triangles("A", 0, 0, 1, xy);
+  EXPECT_GT(xy.size(), 0u);
+  EXPECT_EQ(xy.size() % 6, 0u);
+}
+
+TEST(Renderer, BackgroundOutsideAndMeshColourInsideABox) {
+  cr::RenderOptions o;
+  o.width = 120;
+  o.height = 160;
+  o.floor_grid = false;
+  o.samples = 1;
+  o.colour = {0.2f, 0.4f, 0.9f, 1};
+  const cr::Image img = cr::render_mesh_image(box_vertices(0.2, 1.0, 0.1), box_faces(), o);
+  ASSERT_EQ(img.width, 120);
+  // Corners are background, exactly (nothing is drawn there).
+  EXPECT_EQ(channel_distance(img.pixel(0, 0), o.background), 0);
+  EXPECT_EQ(channel_distance(img.pixel(119, 159), o.background), 0);
+  // The centre shows the front face: the blue base colour, shaded (blue channel dominant).
+  const std::uint8_t* c = img.pixel(60, 80);
+  EXPECT_GT(c[2], c[0]);
+  EXPECT_GT(c[2], c[1]);
+  EXPECT_GT(channel_distance(c, o.background), 40);
+}
+
+TEST(Renderer, SymmetricMeshGivesMirrorSymmetricFrontImage) {
+  cr::RenderOptions o;
+  o.width = 100;
+  o.height = 140;
+  o.floor_grid = false;
+  o.samples = 1;
+  const cr::Image img = cr::render_mesh_image(box_vertices(0.25, 1.0, 0.1), box_faces(), o);
+  // Coverage (non-background pixels) must be mirror symmetric to within one pixel column of
+  // rasterisation rounding per row.
+  int asym = 0;
+  for (int y = 0; y < img.height; ++y) {
+    for (int x = 0; x < img.width / 2; ++x) {
+      const bool a = channel_distance(img.pixel(x, y), o.background) > 0;
+      const bool b = channel_distance(img.pixel(img.width - 1 - x, y), o.background) > 0;
+      asym += a != b;
+    }
+  }
+  EXPECT_LE(asym, img.height);
+}
+
+TEST(Renderer, RejectsBadMeshes) {
+  auto ctx = cr::make_osmesa_context(8, 8);
+  cr::Renderer r(ctx->gl());
+  cr::MeshData m;
+  m.positions = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  m.indices = {0, 1, 3};  // index 3 out of range
+  EXPECT_THROW(r.upload_mesh(m), cr::RenderError);
+  m.indices = {0, 1};  // not a multiple of 3
+  EXPECT_THROW(r.upload_mesh(m), cr::RenderError);
+  m.indices = {0, 1, 2};
+  m.colours = {1, 1};  // wrong colour count
+  EXPECT_THROW(r.upload_mesh(m), cr::RenderError);
+  m.colours.clear();
+  const cr::MeshHandle h = r.upload_mesh(m);
+  EXPECT_THROW(r.update_positions(h, {0, 0, 0}), cr::RenderError);
+  EXPECT_THROW(r.update_positions(h + 100, m.positions), cr::RenderError);
+}
+
+TEST(Renderer, StereoViewsDrawIntoTheirOwnHalves) {
+  cr::OffscreenRenderer off(80, 40, 1);
+  cr::Scene scene;
+  scene.grid.visible = false;
+  scene.background = {0, 0, 0, 1};
+  cr::Box box;
+  box.half_extents = {0.5f, 0.5f, 0.5f};
+  box.colour = {1, 1, 1, 1};
+  scene.boxes.push_back(box);
+  cr::View left, right;
+  left.viewport = {0, 0, 40, 40};
+  right.viewport = {40, 0, 40, 40};
+  left.camera.eye = {0, 0, 3};
+  left.camera.target = {0, 0, 0};
+  right.camera = left.camera;
+  right.camera.eye = {3, 0, 0};  // looks at the box from its side
+  right.clear = true;
+  const cr::Image img = off.render(scene, {left, right});
+  EXPECT_GT(img.pixel(20, 20)[0], 30);  // box in the middle of the left eye
+  EXPECT_GT(img.pixel(60, 20)[0], 30);  // and of the right eye
+  EXPECT_EQ(img.pixel(1, 1)[0], 0);     // background in the corners
+  EXPECT_EQ(img.pixel(78, 38)[0], 0);
+}
