@@ -1,0 +1,167 @@
+// Session journal: append-only JSON Lines that survives being cut at any byte.
+#include "caliper/journal.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include <unistd.h>
+
+namespace caliper {
+namespace {
+
+constexpr const char* kJournalFormat = "caliper-session-journal";
+
+}  // namespace
+
+Json journal_record_json(const JournalRecord& r) {
+  Json j = Json::object();
+  j.set("type", r.type);
+  if (!r.step.empty()) j.set("step", r.step);
+  if (r.index >= 0) j.set("index", r.index);
+  if (!r.points.empty()) {
+    Json pts = Json::array();
+    for (const Eigen::Vector3d& p : r.points)
+      pts.push_back(Json(std::vector<double>{p.x(), p.y(), p.z()}));
+    j.set("points", pts);
+  }
+  if (r.type == "sample" || (r.type == "typed" && r.text.empty())) j.set("value", r.value);
+  if (!r.text.empty()) j.set("text", r.text);
+  j.set("time", r.time);
+  return j;
+}
+
+JournalRecord journal_record_from_json(const Json& j) {
+  JournalRecord r;
+  r.type = j.at("type").as_string();
+  if (const Json* s = j.find("step")) r.step = s->as_string();
+  if (const Json* s = j.find("index")) r.index = s->as_int();
+  if (const Json* s = j.find("points")) {
+    for (const Json& p : s->as_array()) {
+      const std::vector<double> v = p.as_numbers();
+      if (v.size() != 3) throw JsonError("a journal point must have 3 coordinates");
+      r.points.emplace_back(v[0], v[1], v[2]);
+    }
+  }
+  if (const Json* s = j.find("value")) r.value = s->as_number();
+  if (const Json* s = j.find("text")) r.text = s->as_string();
+  if (const Json* s = j.find("time")) r.time = s->as_number();
+  static const char* kTypes[] = {"start", "floor_sample", "floor_retry", "sample",
+                                 "redo",  "skip",         "typed"};
+  bool known = false;
+  for (const char* t : kTypes) known = known || r.type == t;
+  if (!known) throw JsonError("unknown journal record type \"" + r.type + "\"");
+  return r;
+}
+
+JournalContents parse_journal(const std::string& text, const std::string& name) {
+  JournalContents c;
+  size_t pos = 0;
+  int line_no = 0;
+  while (pos < text.size()) {
+    const size_t end = text.find('\n', pos);
+    if (end == std::string::npos) {  // a cut last line: ignored
+      c.torn_tail = true;
+      break;
+    }
+    ++line_no;
+    const std::string line = text.substr(pos, end - pos);
+    const bool last_line = end + 1 == text.size();
+    Json j;
+    bool ok = true;
+    std::string why;
+    try {
+      j = parse_json(line);
+      if (!c.has_header) {
+        if (!j.is_object() || !j.contains("format") || !j.at("format").is_string() ||
+            j.at("format").as_string() != kJournalFormat)
+          throw JournalError(name + ":1: not a session journal (expected {\"format\": \"" +
+                             std::string(kJournalFormat) + "\", ...})");
+        c.header = j;
+        c.has_header = true;
+      } else {
+        c.records.push_back(journal_record_from_json(j));
+      }
+    } catch (const JsonError& e) {
+      ok = false;
+      why = e.what();
+    }
+    if (!ok) {
+      // A line that ends with a newline but does not parse can only be the last one if the cut
+      // happened inside a multi-byte write; anywhere else the journal is corrupt.
+      if (last_line) {
+        c.torn_tail = true;
+        break;
+      }
+      throw JournalError(name + ":" + std::to_string(line_no) + ": corrupt journal record (" + why +
+                         "); the records before this line are intact");
+    }
+    pos = end + 1;
+    c.valid_bytes = pos;
+  }
+  return c;
+}
+
+JournalContents read_journal(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw JournalError(path + ": cannot open the session journal (does the file exist?)");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse_journal(ss.str(), path);
+}
+
+JournalWriter JournalWriter::create(const std::string& path, Json header) {
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f)
+    throw JournalError(path + ": cannot create the session journal (is the folder writable?)");
+  JournalWriter w(path, f);
+  Json h = Json::object();
+  h.set("format", kJournalFormat);
+  h.set("version", 1);
+  if (header.is_object())
+    for (const auto& kv : header.as_object()) h.set(kv.first, kv.second);
+  w.write_line(h.dump());
+  return w;
+}
+
+JournalWriter JournalWriter::resume(const std::string& path, const JournalContents& contents,
+                                    Json header) {
+  if (!contents.has_header) return create(path, std::move(header));
+  if (truncate(path.c_str(), static_cast<off_t>(contents.valid_bytes)) != 0)
+    throw JournalError(path + ": cannot cut the torn last line off the session journal");
+  std::FILE* f = std::fopen(path.c_str(), "ab");
+  if (!f) throw JournalError(path + ": cannot open the session journal for appending");
+  return JournalWriter(path, f);
+}
+
+JournalWriter::~JournalWriter() {
+  if (file_) std::fclose(file_);
+}
+
+JournalWriter::JournalWriter(JournalWriter&& o) noexcept
+    : path_(std::move(o.path_)), file_(o.file_) {
+  o.file_ = nullptr;
+}
+
+JournalWriter& JournalWriter::operator=(JournalWriter&& o) noexcept {
+  if (this != &o) {
+    if (file_) std::fclose(file_);
+    path_ = std::move(o.path_);
+    file_ = o.file_;
+    o.file_ = nullptr;
+  }
+  return *this;
+}
+
+void JournalWriter::write_line(const std::string& line) {
+  const std::string l = line + "\n";
+  if (!file_ || std::fwrite(l.data(), 1, l.size(), file_) != l.size() || std::fflush(file_) != 0)
+    throw JournalError(path_ + ": cannot append to the session journal (disk full?)");
+  fsync(fileno(file_));
+}
+
+void JournalWriter::append(const JournalRecord& record) {
+  write_line(journal_record_json(record).dump());
+}
+
+}  // namespace caliper
