@@ -66,8 +66,9 @@ const LandmarkTable& smpl_landmarks();
 /// Adds left_waist/right_waist (body sides at navel height), left_chest/right_chest (body sides
 /// at nipple height) and torso_back (back midline at navel height) to `table` when they are
 /// missing and navel / left_nipple / right_nipple are present. Rule, on `template_vertices`
-/// (rest pose): among vertices within +/- `band` metres of the reference height and with |x|
-/// below 0.9 times the shoulder half-width (which excludes T-pose arms), the side landmark is
+/// (rest pose): among vertices within +/- `band` metres of the reference height and with
+/// |x - mid| below the shoulder half-width (mid and half-width from left/right_shoulder when
+/// present; this excludes T-pose arms), the side landmark is
 /// the vertex of largest (left) or smallest (right) x; torso_back is the vertex of smallest z
 /// among those with |x - navel.x| < `band`. Existing entries are never replaced. Throws
 /// LandmarkError if a landmark vertex id is out of range.
@@ -145,13 +146,14 @@ struct MeasurementRange {
 /// Throws InvalidInputError for an unknown id.
 MeasurementRange measurement_range(const std::string& id);
 
-/// Checks input measurements: NaN/infinite or non-positive values and unknown ids are errors;
+/// Checks input measurements: NaN/infinite or non-positive values are errors, unknown ids are
+/// warnings (they are ignored by the regressors);
 /// values outside measurement_range() are errors or warnings (e.g. height 0.5-2.5 m is the error
 /// range, 1.4-2.1 m the warning range); inconsistent pairs are checked when both are present:
 /// arm_span_fingertips/height (error outside 0.7-1.3, warning outside 0.9-1.12),
-/// inseam_height/height (error outside 0.3-0.6), arm_length/height (error outside 0.2-0.45),
-/// hip_width/height (error outside 0.1-0.35), BMI from weight and height (error outside 10-80,
-/// warning outside 15-45 kg/m^2). Returns an empty vector when all is well.
+/// inseam_height/height (0.3-0.6; 0.38-0.52), arm_length/height (0.2-0.45; 0.27-0.38),
+/// hip_width/height (0.1-0.35; 0.14-0.28) and the BMI from weight and height (id "bmi": error
+/// outside 10-80, warning outside 15-45 kg/m^2). Returns an empty vector when all is well.
 std::vector<ValidationMessage> validate_measurements(const MeasurementMap& values);
 
 /// True when any message is an Error.

@@ -52,7 +52,7 @@ struct FloorCalibration {
 /// takes five): the median height, and a total-least-squares plane through the samples
 /// (normal = direction of least spread) with its tilt and residuals. Throws CalibrationError
 /// for fewer than 3 samples, a NaN/inf sample, or samples that are (nearly) colinear or
-/// coincident (horizontal spread below 1 cm in the second direction).
+/// coincident (RMS spread below 1 cm across their main direction).
 FloorCalibration calibrate_floor(const std::vector<Eigen::Vector3d>& tip_positions);
 
 /// A tracked controller pose: grip frame to tracking space, p_world = R * p_grip + position.

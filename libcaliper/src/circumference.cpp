@@ -1,0 +1,198 @@
+// Circumferences by horizontal plane slicing of a triangle mesh.
+#include "caliper/circumference.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <unordered_map>
+#include <utility>
+
+#include "caliper/errors.hpp"
+
+namespace caliper {
+
+namespace {
+
+std::uint64_t edge_key(int a, int b) {
+  if (a > b) std::swap(a, b);
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
+         static_cast<std::uint32_t>(b);
+}
+
+double cross2(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+}
+
+}  // namespace
+
+std::vector<SliceLoop> slice_mesh(const smpl::Vertices& v, const smpl::Faces& faces,
+                                  double height) {
+  const auto nv = v.rows();
+  const auto above = [&](int i) { return v(i, 1) - height >= 0.0; };  // on-plane counts as above
+  std::unordered_map<std::uint64_t, Eigen::Vector2d> points;
+  std::unordered_map<std::uint64_t, std::vector<int>> incident;  // key -> segment ids
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> segments;
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+    int idx[3] = {faces(f, 0), faces(f, 1), faces(f, 2)};
+    for (int k = 0; k < 3; ++k) {
+      if (idx[k] < 0 || idx[k] >= nv) {
+        throw InvalidInputError("slice_mesh: face " + std::to_string(f) +
+                                " has a vertex index out of range");
+      }
+    }
+    std::uint64_t keys[2];
+    int n = 0;
+    for (int k = 0; k < 3; ++k) {
+      const int a = idx[k], b = idx[(k + 1) % 3];
+      if (above(a) == above(b)) continue;
+      const std::uint64_t key = edge_key(a, b);
+      if (points.find(key) == points.end()) {
+        // Interpolate from the lower-index vertex so both faces get the identical point.
+        const int lo = std::min(a, b), hi = std::max(a, b);
+        const double ya = v(lo, 1) - height, yb = v(hi, 1) - height;
+        const double t = ya / (ya - yb);
+        points[key] = Eigen::Vector2d(v(lo, 0) + t * (v(hi, 0) - v(lo, 0)),
+                                      v(lo, 2) + t * (v(hi, 2) - v(lo, 2)));
+      }
+      if (n < 2) keys[n] = key;
+      ++n;
+    }
+    if (n != 2) continue;
+    const int s = static_cast<int>(segments.size());
+    segments.emplace_back(keys[0], keys[1]);
+    incident[keys[0]].push_back(s);
+    incident[keys[1]].push_back(s);
+  }
+  std::vector<char> used(segments.size(), 0);
+  std::vector<SliceLoop> loops;
+  const auto other_end = [&](int s, std::uint64_t key) {
+    return segments[s].first == key ? segments[s].second : segments[s].first;
+  };
+  const auto next_segment = [&](std::uint64_t key) {
+    for (int s : incident[key]) {
+      if (!used[s]) return s;
+    }
+    return -1;
+  };
+  // Start open chains at their ends (degree-1 points) first, then the closed loops.
+  std::vector<std::uint64_t> starts;
+  for (const auto& [key, segs] : incident) {
+    if (segs.size() == 1) starts.push_back(key);
+  }
+  std::sort(starts.begin(), starts.end());
+  for (std::size_t s0 = 0; s0 < segments.size(); ++s0) starts.push_back(segments[s0].first);
+  for (std::uint64_t start : starts) {
+    int s = next_segment(start);
+    if (s < 0) continue;
+    SliceLoop loop;
+    std::uint64_t key = start;
+    loop.points.push_back(points[key]);
+    while (s >= 0) {
+      used[s] = 1;
+      key = other_end(s, key);
+      if (key == start) {
+        loop.closed = true;
+        break;
+      }
+      loop.points.push_back(points[key]);
+      s = next_segment(key);
+    }
+    const std::size_t m = loop.points.size();
+    for (std::size_t i = 0; i + 1 < m; ++i)
+      loop.length += (loop.points[i + 1] - loop.points[i]).norm();
+    if (loop.closed && m > 1) loop.length += (loop.points.front() - loop.points.back()).norm();
+    for (const auto& p : loop.points) loop.centroid += p;
+    loop.centroid /= static_cast<double>(m);
+    loops.push_back(std::move(loop));
+  }
+  return loops;
+}
+
+double convex_hull_perimeter(const std::vector<Eigen::Vector2d>& input) {
+  if (input.size() < 2) return 0.0;
+  std::vector<Eigen::Vector2d> p = input;
+  std::sort(p.begin(), p.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  std::vector<Eigen::Vector2d> hull(2 * p.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {  // lower hull
+    while (k >= 2 && cross2(hull[k - 2], hull[k - 1], p[i]) <= 0.0) --k;
+    hull[k++] = p[i];
+  }
+  for (std::size_t i = p.size() - 1, t = k + 1; i-- > 0;) {  // upper hull
+    while (k >= t && cross2(hull[k - 2], hull[k - 1], p[i]) <= 0.0) --k;
+    hull[k++] = p[i];
+  }
+  hull.resize(k);  // last point equals the first
+  double per = 0.0;
+  for (std::size_t i = 0; i + 1 < hull.size(); ++i) per += (hull[i + 1] - hull[i]).norm();
+  return per;
+}
+
+bool loop_contains(const SliceLoop& loop, const Eigen::Vector2d& p) {
+  bool inside = false;
+  const auto& q = loop.points;
+  for (std::size_t i = 0, j = q.size() - 1; i < q.size(); j = i++) {
+    if ((q[i].y() > p.y()) != (q[j].y() > p.y()) &&
+        p.x() < (q[j].x() - q[i].x()) * (p.y() - q[i].y()) / (q[j].y() - q[i].y()) + q[i].x()) {
+      inside = !inside;
+    }
+  }
+  return inside;
+}
+
+std::optional<double> circumference_between(const smpl::Vertices& vertices,
+                                            const smpl::Faces& faces, double height, double x_min,
+                                            double x_max, bool convex_hull) {
+  const auto loops = slice_mesh(vertices, faces, height);
+  std::vector<Eigen::Vector2d> pts;
+  double length = 0.0;
+  bool any = false;
+  for (const auto& l : loops) {
+    if (l.centroid.x() < x_min || l.centroid.x() > x_max) continue;
+    any = true;
+    length += l.length;
+    pts.insert(pts.end(), l.points.begin(), l.points.end());
+  }
+  if (!any) return std::nullopt;
+  return convex_hull ? convex_hull_perimeter(pts) : length;
+}
+
+const std::vector<std::string>& circumference_ids() {
+  static const std::vector<std::string> ids = {"chest_circumference", "waist_circumference",
+                                               "hip_circumference", "thigh_circumference"};
+  return ids;
+}
+
+MeasurementMap circumferences(const smpl::Vertices& vertices, const smpl::Faces& faces,
+                              const LandmarkTable& landmarks, bool convex_hull, double thigh_drop) {
+  MeasurementMap out;
+  const auto has = [&](const char* n) { return landmarks.count(n) > 0; };
+  const auto pt = [&](const char* n) { return landmark_point(vertices, landmarks.at(n)); };
+  const auto torso = [&](const char* id, double y, const char* left, const char* right) {
+    if (!has(left) || !has(right)) return;
+    const double xl = pt(left).x(), xr = pt(right).x();
+    const auto c =
+        circumference_between(vertices, faces, y, std::min(xl, xr), std::max(xl, xr), convex_hull);
+    if (c) out[id] = *c;
+  };
+  if (has("left_nipple"))
+    torso("chest_circumference", pt("left_nipple").y(), "left_chest", "right_chest");
+  if (has("navel")) torso("waist_circumference", pt("navel").y(), "left_waist", "right_waist");
+  if (has("left_hip")) torso("hip_circumference", pt("left_hip").y(), "left_hip", "right_hip");
+  if (has("crotch")) {
+    const Eigen::Vector3d crotch = pt("crotch");
+    const auto loops = slice_mesh(vertices, faces, crotch.y() - thigh_drop);
+    const SliceLoop* best = nullptr;
+    for (const auto& l : loops) {
+      if (l.centroid.x() <= crotch.x()) continue;
+      if (!best || l.centroid.x() < best->centroid.x()) best = &l;
+    }
+    if (best)
+      out["thigh_circumference"] = convex_hull ? convex_hull_perimeter(best->points) : best->length;
+  }
+  return out;
+}
+
+}  // namespace caliper

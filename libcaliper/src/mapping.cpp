@@ -1,0 +1,243 @@
+// Learned real-to-virtual mappings: Pujades et al., The Virtual Caliper, TVCG 2019, Sec. 3.3.
+#include "caliper/mapping.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "caliper/errors.hpp"
+
+namespace caliper {
+
+namespace {
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r\n");
+  if (b == std::string::npos) return "";
+  const auto e = s.find_last_not_of(" \t\r\n");
+  return s.substr(b, e - b + 1);
+}
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream ss(line);
+  std::string cell;
+  while (std::getline(ss, cell, ',')) out.push_back(trim(cell));
+  if (!line.empty() && line.back() == ',') out.push_back("");
+  return out;
+}
+
+struct Fit {
+  double a, b;
+};
+
+/// Least squares y = a x + b; `ok` false if the x are all equal.
+bool fit_line(const std::vector<double>& x, const std::vector<double>& y, std::size_t skip,
+              Fit& out) {
+  double n = 0, sx = 0, sy = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (i == skip) continue;
+    n += 1;
+    sx += x[i];
+    sy += y[i];
+  }
+  const double mx = sx / n, my = sy / n;
+  double sxx = 0, sxy = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (i == skip) continue;
+    sxx += (x[i] - mx) * (x[i] - mx);
+    sxy += (x[i] - mx) * (y[i] - my);
+  }
+  if (!(sxx > 1e-18 * (1.0 + mx * mx) * n)) return false;
+  out.a = sxy / sxx;
+  out.b = my - out.a * mx;
+  return true;
+}
+
+}  // namespace
+
+std::vector<PairedValue> read_paired_csv(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InvalidInputError("cannot open mapping CSV '" + path + "'");
+  std::string line;
+  int line_no = 0;
+  int col_m = -1, col_r = -1, col_v = -1;
+  std::size_t ncols = 0;
+  std::vector<PairedValue> out;
+  while (std::getline(in, line)) {
+    ++line_no;
+    const std::string t = trim(line);
+    if (t.empty() || t[0] == '#') continue;
+    const auto cells = split(t);
+    if (col_m < 0) {
+      for (std::size_t i = 0; i < cells.size(); ++i) {
+        if (cells[i] == "measurement") col_m = static_cast<int>(i);
+        if (cells[i] == "real") col_r = static_cast<int>(i);
+        if (cells[i] == "virtual") col_v = static_cast<int>(i);
+      }
+      if (col_m < 0 || col_r < 0 || col_v < 0) {
+        throw InvalidInputError(path + ":" + std::to_string(line_no) +
+                                ": the header must name the columns measurement, real and "
+                                "virtual (found: " +
+                                t + ")");
+      }
+      ncols = cells.size();
+      continue;
+    }
+    if (cells.size() < ncols) {
+      throw InvalidInputError(path + ":" + std::to_string(line_no) + ": expected " +
+                              std::to_string(ncols) + " columns, found " +
+                              std::to_string(cells.size()));
+    }
+    PairedValue p;
+    p.measurement = cells[static_cast<std::size_t>(col_m)];
+    const auto number = [&](int col, const char* what) {
+      const std::string& c = cells[static_cast<std::size_t>(col)];
+      char* end = nullptr;
+      const double v = std::strtod(c.c_str(), &end);
+      if (c.empty() || end != c.c_str() + c.size() || !std::isfinite(v)) {
+        throw InvalidInputError(path + ":" + std::to_string(line_no) + ": the " + what +
+                                " value '" + c + "' is not a finite number");
+      }
+      return v;
+    };
+    p.real = number(col_r, "real");
+    p.virtual_value = number(col_v, "virtual");
+    if (p.measurement.empty()) {
+      throw InvalidInputError(path + ":" + std::to_string(line_no) + ": empty measurement id");
+    }
+    out.push_back(p);
+  }
+  if (col_m < 0) throw InvalidInputError("mapping CSV '" + path + "' is empty (no header)");
+  if (out.empty()) throw InvalidInputError("mapping CSV '" + path + "' has no data rows");
+  return out;
+}
+
+MeasurementMapping MeasurementMapping::fit(const std::vector<PairedValue>& pairs) {
+  std::map<std::string, std::pair<std::vector<double>, std::vector<double>>> by_id;
+  for (const auto& p : pairs) {
+    if (!std::isfinite(p.real) || !std::isfinite(p.virtual_value)) {
+      throw InvalidInputError("mapping pair for '" + p.measurement + "' is not a number");
+    }
+    by_id[p.measurement].first.push_back(p.real);
+    by_id[p.measurement].second.push_back(p.virtual_value);
+  }
+  MeasurementMapping m;
+  for (const auto& [id, xy] : by_id) {
+    const auto& x = xy.first;
+    const auto& y = xy.second;
+    if (x.size() < 3) {
+      throw InvalidInputError("mapping for '" + id +
+                              "' needs at least 3 pairs (leave-one-out), "
+                              "got " +
+                              std::to_string(x.size()));
+    }
+    LinearMap lm;
+    Fit all{};
+    if (!fit_line(x, y, x.size(), all)) {
+      throw InvalidInputError("mapping for '" + id +
+                              "': all real values are equal, so no line "
+                              "can be fitted");
+    }
+    lm.a = all.a;
+    lm.b = all.b;
+    lm.count = static_cast<int>(x.size());
+    double ss = 0, idsum = 0, loo_sum = 0, loo_max = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      const double r = lm.apply(x[i]) - y[i];
+      ss += r * r;
+      idsum += std::abs(x[i] - y[i]);
+      Fit loo{};
+      if (!fit_line(x, y, i, loo)) {
+        throw InvalidInputError("mapping for '" + id + "': leaving out pair " +
+                                std::to_string(i + 1) +
+                                " leaves all real values equal; "
+                                "give more distinct pairs");
+      }
+      const double e = std::abs(loo.a * x[i] + loo.b - y[i]);
+      loo_sum += e;
+      loo_max = std::max(loo_max, e);
+    }
+    const auto n = static_cast<double>(x.size());
+    lm.fit_rms = std::sqrt(ss / n);
+    lm.identity_mae = idsum / n;
+    lm.loo_mae = loo_sum / n;
+    lm.loo_max = loo_max;
+    m.maps_[id] = lm;
+  }
+  return m;
+}
+
+double MeasurementMapping::apply(const std::string& id, double real) const {
+  const auto it = maps_.find(id);
+  return it == maps_.end() ? real : it->second.apply(real);
+}
+
+MeasurementMap MeasurementMapping::apply(const MeasurementMap& real) const {
+  MeasurementMap out;
+  for (const auto& [id, v] : real) out[id] = apply(id, v);
+  return out;
+}
+
+Json MeasurementMapping::to_json() const {
+  Json j = Json::object();
+  j.set("format", "caliper-mapping");
+  j.set("version", 1);
+  Json maps = Json::object();
+  for (const auto& [id, m] : maps_) {
+    Json e = Json::object();
+    e.set("a", m.a);
+    e.set("b", m.b);
+    e.set("count", m.count);
+    e.set("fit_rms", m.fit_rms);
+    e.set("loo_mae", m.loo_mae);
+    e.set("loo_max", m.loo_max);
+    e.set("identity_mae", m.identity_mae);
+    maps.set(id, e);
+  }
+  j.set("maps", maps);
+  return j;
+}
+
+MeasurementMapping MeasurementMapping::from_json(const Json& j) {
+  if (!j.is_object() || !j.contains("format") || !j.at("format").is_string() ||
+      j.at("format").as_string() != "caliper-mapping") {
+    throw InvalidInputError("not a mapping file: expected \"format\": \"caliper-mapping\"");
+  }
+  if (j.at("version").as_int() != 1) {
+    throw InvalidInputError("mapping file version " + std::to_string(j.at("version").as_int()) +
+                            " is not supported (this build reads version 1)");
+  }
+  MeasurementMapping m;
+  for (const auto& [id, e] : j.at("maps").as_object()) {
+    LinearMap lm;
+    lm.a = e.at("a").as_number();
+    lm.b = e.at("b").as_number();
+    if (const Json* c = e.find("count")) lm.count = c->as_int();
+    if (const Json* c = e.find("fit_rms")) lm.fit_rms = c->as_number();
+    if (const Json* c = e.find("loo_mae")) lm.loo_mae = c->as_number();
+    if (const Json* c = e.find("loo_max")) lm.loo_max = c->as_number();
+    if (const Json* c = e.find("identity_mae")) lm.identity_mae = c->as_number();
+    m.maps_[id] = lm;
+  }
+  return m;
+}
+
+void MeasurementMapping::save(const std::string& path) const {
+  write_json_file(path, to_json());
+}
+
+MeasurementMapping MeasurementMapping::load(const std::string& path) {
+  const Json j = read_json_file(path);
+  try {
+    return from_json(j);
+  } catch (const CaliperError& e) {
+    throw InvalidInputError(path + ": " + e.what());
+  } catch (const JsonError& e) {
+    throw InvalidInputError(path + ": " + e.what());
+  }
+}
+
+}  // namespace caliper

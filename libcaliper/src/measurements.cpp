@@ -1,0 +1,370 @@
+// Body measurements as data: Pujades et al., The Virtual Caliper, TVCG 2019, Sec. 3.1.2.
+// Sections: definitions and landmark tables; derived torso landmarks; measuring; validation.
+#include "caliper/measurements.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+
+#include "caliper/circumference.hpp"
+#include "caliper/errors.hpp"
+#include "caliper/volume.hpp"
+#include "caliper/weight.hpp"
+
+namespace caliper {
+
+namespace {
+
+std::string fmt(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.4g", v);
+  return buf;
+}
+std::string fmt3(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Definitions and landmark tables
+
+const std::vector<MeasurementDef>& paper_measurements() {
+  static const std::vector<MeasurementDef> defs = {
+      {"height", MeasurementKind::Height, "head_top", "", "Overall height"},
+      {"nipple_height", MeasurementKind::Height, "left_nipple", "", "Nipple height"},
+      {"navel_height", MeasurementKind::Height, "navel", "", "Navel height"},
+      {"inseam_height", MeasurementKind::Height, "crotch", "", "Inseam height"},
+      {"shoulder_width", MeasurementKind::Distance, "left_shoulder", "right_shoulder",
+       "Shoulder width"},
+      {"chest_width", MeasurementKind::Distance, "left_chest", "right_chest", "Chest width"},
+      {"waist_width", MeasurementKind::Distance, "left_waist", "right_waist", "Waist width"},
+      {"torso_depth", MeasurementKind::Distance, "navel", "torso_back", "Torso depth"},
+      {"hip_width", MeasurementKind::Distance, "left_hip", "right_hip", "Hip width"},
+      {"arm_span_fingertips", MeasurementKind::Distance, "left_fingertip", "right_fingertip",
+       "Arm span (fingertips)"},
+      {"arm_span_wrists", MeasurementKind::Distance, "left_wrist", "right_wrist",
+       "Arm span (wrists)"},
+      {"arm_length", MeasurementKind::Distance, "left_shoulder", "left_wrist",
+       "Arm length (shoulder to wrist)"},
+      {"forearm_length", MeasurementKind::Distance, "left_elbow", "left_wrist",
+       "Forearm length (inner elbow to wrist)"},
+  };
+  return defs;
+}
+
+const MeasurementDef& measurement_def(const std::string& id) {
+  for (const auto& d : paper_measurements()) {
+    if (d.id == id) return d;
+  }
+  std::string known;
+  for (const auto& d : paper_measurements()) known += (known.empty() ? "" : ", ") + d.id;
+  throw InvalidInputError("unknown measurement id '" + id + "'; known ids: " + known);
+}
+
+const std::vector<std::string>& landmark_names() {
+  static const std::vector<std::string> names = {
+      "head_top",      "left_fingertip", "right_fingertip", "left_wrist",   "right_wrist",
+      "left_shoulder", "right_shoulder", "left_elbow",      "right_elbow",  "crotch",
+      "left_hip",      "right_hip",      "left_nipple",     "right_nipple", "navel",
+      "left_waist",    "right_waist",    "left_chest",      "right_chest",  "torso_back",
+      "left_heel",     "right_heel",     "left_sole",       "right_sole"};
+  return names;
+}
+
+const LandmarkTable& smpl_landmarks() {
+  // 0-based ids on the SMPL topology; see docs/measurements.md for which ones are verified.
+  static const LandmarkTable table = {
+      {"head_top", {411}},        {"left_fingertip", {2445}}, {"right_fingertip", {5905}},
+      {"left_wrist", {2241}},     {"right_wrist", {5702}},    {"left_shoulder", {3011}},
+      {"right_shoulder", {5290}}, {"left_elbow", {1657}},     {"right_elbow", {5129}},
+      {"crotch", {1209}},         {"left_hip", {3129}},       {"right_hip", {6550}},
+      {"left_nipple", {3042}},    {"right_nipple", {6488}},   {"navel", {3500}},
+      {"left_heel", {3387}},      {"right_heel", {6787}},     {"left_sole", {3264}},
+      {"right_sole", {6664}},
+  };
+  return table;
+}
+
+Eigen::Vector3d landmark_point(const smpl::Vertices& vertices, const std::vector<int>& ids) {
+  if (ids.empty()) throw LandmarkError("landmark has no vertices");
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  for (int id : ids) {
+    if (id < 0 || id >= vertices.rows()) {
+      throw LandmarkError("landmark vertex id " + std::to_string(id) + " is out of range [0, " +
+                          std::to_string(vertices.rows()) +
+                          "); the landmark table does not fit this mesh");
+    }
+    p += vertices.row(id).transpose();
+  }
+  return p / static_cast<double>(ids.size());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Derived torso landmarks
+
+void derive_torso_landmarks(const smpl::Vertices& v, LandmarkTable& table, double band) {
+  const auto has = [&](const char* n) { return table.count(n) > 0; };
+  double mid = 0.0;
+  double half = std::numeric_limits<double>::infinity();
+  if (has("left_shoulder") && has("right_shoulder")) {
+    const Eigen::Vector3d l = landmark_point(v, table.at("left_shoulder"));
+    const Eigen::Vector3d r = landmark_point(v, table.at("right_shoulder"));
+    mid = 0.5 * (l.x() + r.x());
+    half = 0.5 * std::abs(l.x() - r.x());
+  } else if (has("navel")) {
+    mid = landmark_point(v, table.at("navel")).x();
+  }
+  const auto sides = [&](double y, const char* left, const char* right) {
+    int best_l = -1, best_r = -1;
+    for (Eigen::Index i = 0; i < v.rows(); ++i) {
+      if (std::abs(v(i, 1) - y) > band || std::abs(v(i, 0) - mid) >= half) continue;
+      if (best_l < 0 || v(i, 0) > v(best_l, 0)) best_l = static_cast<int>(i);
+      if (best_r < 0 || v(i, 0) < v(best_r, 0)) best_r = static_cast<int>(i);
+    }
+    if (best_l >= 0 && !has(left)) table[left] = {best_l};
+    if (best_r >= 0 && !has(right)) table[right] = {best_r};
+  };
+  if (has("navel")) {
+    const Eigen::Vector3d navel = landmark_point(v, table.at("navel"));
+    sides(navel.y(), "left_waist", "right_waist");
+    if (!has("torso_back")) {
+      int best = -1;
+      for (Eigen::Index i = 0; i < v.rows(); ++i) {
+        if (std::abs(v(i, 1) - navel.y()) > band || std::abs(v(i, 0) - navel.x()) > band) continue;
+        if (best < 0 || v(i, 2) < v(best, 2)) best = static_cast<int>(i);
+      }
+      if (best >= 0) table["torso_back"] = {best};
+    }
+  }
+  if (has("left_nipple") && has("right_nipple")) {
+    const double y = 0.5 * (landmark_point(v, table.at("left_nipple")).y() +
+                            landmark_point(v, table.at("right_nipple")).y());
+    sides(y, "left_chest", "right_chest");
+  }
+}
+
+LandmarkTable landmarks_for(const smpl::BodyModel& model) {
+  LandmarkTable table;
+  if (model.num_vertices() == kSmplVertexCount) table = smpl_landmarks();
+  for (const auto& [name, ids] : model.landmarks) table[name] = ids;
+  for (const auto& [name, ids] : table) {
+    if (ids.empty())
+      throw LandmarkError("landmark '" + name + "' of model '" + model.meta.name +
+                          "' has no vertices");
+    for (int id : ids) {
+      if (id < 0 || id >= model.num_vertices()) {
+        throw LandmarkError("landmark '" + name + "' of model '" + model.meta.name +
+                            "' uses vertex " + std::to_string(id) + ", out of range [0, " +
+                            std::to_string(model.num_vertices()) + ")");
+      }
+    }
+  }
+  if (model.v_template.rows() > 0) derive_torso_landmarks(model.v_template, table);
+  return table;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Measuring
+
+double floor_height(const smpl::Vertices& vertices) {
+  if (vertices.rows() == 0) throw InvalidInputError("floor_height: the mesh has no vertices");
+  return vertices.col(1).minCoeff();
+}
+
+bool is_available(const MeasurementDef& def, const LandmarkTable& landmarks) {
+  if (landmarks.count(def.from) == 0) return false;
+  return def.kind == MeasurementKind::Height || landmarks.count(def.to) > 0;
+}
+
+std::vector<MeasurementDef> available_measurements(const LandmarkTable& landmarks,
+                                                   const std::vector<MeasurementDef>& defs) {
+  std::vector<MeasurementDef> out;
+  for (const auto& d : defs) {
+    if (is_available(d, landmarks)) out.push_back(d);
+  }
+  return out;
+}
+
+namespace {
+const std::vector<int>& lookup(const LandmarkTable& landmarks, const std::string& name,
+                               const std::string& measurement) {
+  const auto it = landmarks.find(name);
+  if (it == landmarks.end()) {
+    throw LandmarkError("measurement '" + measurement + "' needs landmark '" + name +
+                        "', which the model does not define; add it to the model's landmarks");
+  }
+  return it->second;
+}
+}  // namespace
+
+double measure(const smpl::Vertices& vertices, const LandmarkTable& landmarks,
+               const MeasurementDef& def) {
+  const Eigen::Vector3d a = landmark_point(vertices, lookup(landmarks, def.from, def.id));
+  if (def.kind == MeasurementKind::Height) return a.y() - floor_height(vertices);
+  const Eigen::Vector3d b = landmark_point(vertices, lookup(landmarks, def.to, def.id));
+  return (a - b).norm();
+}
+
+MeasurementMap measure(const smpl::Vertices& vertices, const LandmarkTable& landmarks,
+                       const std::vector<MeasurementDef>& defs) {
+  MeasurementMap out;
+  for (const auto& d : defs) {
+    if (is_available(d, landmarks)) out[d.id] = measure(vertices, landmarks, d);
+  }
+  return out;
+}
+
+MeasurementMap measure_all(const smpl::BodyModel& model, const smpl::Vertices& vertices,
+                           const MeasureOptions& options) {
+  if (vertices.rows() != model.num_vertices()) {
+    throw InvalidInputError("measure_all: " + std::to_string(vertices.rows()) +
+                            " vertices given, the model '" + model.meta.name + "' has " +
+                            std::to_string(model.num_vertices()));
+  }
+  const LandmarkTable landmarks = landmarks_for(model);
+  MeasurementMap out = measure(vertices, landmarks);
+  const double volume = mesh_volume(vertices, model.faces);
+  out["volume"] = volume;
+  out["weight"] = weight_from_volume(volume, weight_formula_for(model.meta.gender));
+  if (options.circumferences) {
+    for (const auto& [id, value] :
+         circumferences(vertices, model.faces, landmarks, options.convex_hull)) {
+      out[id] = value;
+    }
+  }
+  return out;
+}
+
+smpl::Vertices shaped_vertices(const smpl::BodyModel& model, const Eigen::VectorXd& betas) {
+  if (betas.size() > model.num_betas()) {
+    throw InvalidInputError(std::to_string(betas.size()) + " betas given, the model '" +
+                            model.meta.name + "' has only " + std::to_string(model.num_betas()));
+  }
+  if (!betas.allFinite()) throw InvalidInputError("betas contain NaN or infinity");
+  smpl::Vertices v = model.v_template;
+  if (betas.size() > 0) {
+    const Eigen::VectorXd d = model.shapedirs.leftCols(betas.size()) * betas;
+    for (Eigen::Index i = 0; i < v.rows(); ++i) {
+      v(i, 0) += d(3 * i);
+      v(i, 1) += d(3 * i + 1);
+      v(i, 2) += d(3 * i + 2);
+    }
+  }
+  return v;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Validation
+
+MeasurementRange measurement_range(const std::string& id) {
+  static const std::map<std::string, MeasurementRange> ranges = {
+      {"height", {0.5, 2.5, 1.4, 2.1}},
+      {"weight", {10.0, 300.0, 40.0, 150.0}},
+      {"nipple_height", {0.3, 2.0, 1.0, 1.55}},
+      {"navel_height", {0.25, 1.7, 0.85, 1.3}},
+      {"inseam_height", {0.2, 1.3, 0.6, 0.98}},
+      {"shoulder_width", {0.15, 0.7, 0.28, 0.48}},
+      {"chest_width", {0.12, 0.7, 0.22, 0.45}},
+      {"waist_width", {0.1, 0.8, 0.2, 0.45}},
+      {"torso_depth", {0.08, 0.7, 0.15, 0.4}},
+      {"hip_width", {0.12, 0.8, 0.26, 0.48}},
+      {"arm_span_fingertips", {0.5, 2.6, 1.35, 2.15}},
+      {"arm_span_wrists", {0.4, 2.2, 1.0, 1.85}},
+      {"arm_length", {0.2, 1.0, 0.42, 0.75}},
+      {"forearm_length", {0.1, 0.6, 0.18, 0.35}},
+      {"chest_circumference", {0.4, 2.0, 0.7, 1.35}},
+      {"waist_circumference", {0.35, 2.2, 0.55, 1.35}},
+      {"hip_circumference", {0.45, 2.2, 0.78, 1.4}},
+      {"thigh_circumference", {0.2, 1.2, 0.4, 0.78}},
+  };
+  const auto it = ranges.find(id);
+  if (it == ranges.end()) throw InvalidInputError("no plausible range known for '" + id + "'");
+  return it->second;
+}
+
+std::vector<ValidationMessage> validate_measurements(const MeasurementMap& values) {
+  std::vector<ValidationMessage> out;
+  const auto unit = [](const std::string& id) { return id == "weight" ? " kg" : " m"; };
+  for (const auto& [id, value] : values) {
+    MeasurementRange r{};
+    try {
+      r = measurement_range(id);
+    } catch (const InvalidInputError&) {
+      out.push_back(
+          {Severity::Warning, id, value, 0.0, 0.0, "unknown measurement '" + id + "' is ignored"});
+      continue;
+    }
+    const std::string u = unit(id);
+    if (!std::isfinite(value)) {
+      out.push_back(
+          {Severity::Error, id, value, r.error_min, r.error_max,
+           id + " is not a number; expected " + fmt(r.error_min) + " to " + fmt(r.error_max) + u});
+    } else if (value <= 0.0) {
+      out.push_back({Severity::Error, id, value, r.error_min, r.error_max,
+                     id + " = " + fmt(value) + u + " must be positive; expected " +
+                         fmt(r.error_min) + " to " + fmt(r.error_max) + u});
+    } else if (value < r.error_min || value > r.error_max) {
+      out.push_back({Severity::Error, id, value, r.error_min, r.error_max,
+                     id + " = " + fmt(value) + u + " is outside the plausible range " +
+                         fmt(r.error_min) + " to " + fmt(r.error_max) + u +
+                         " (check the unit: metres and kilograms)"});
+    } else if (value < r.warning_min || value > r.warning_max) {
+      out.push_back({Severity::Warning, id, value, r.warning_min, r.warning_max,
+                     id + " = " + fmt(value) + u + " is unusual for an adult (typical " +
+                         fmt(r.warning_min) + " to " + fmt(r.warning_max) + u + ")"});
+    }
+  }
+  const auto good = [&](const char* id) {
+    const auto it = values.find(id);
+    return it != values.end() && std::isfinite(it->second) && it->second > 0.0;
+  };
+  struct Ratio {
+    const char* num;
+    const char* den;
+    double emin, emax, wmin, wmax;
+  };
+  static const Ratio ratios[] = {
+      {"arm_span_fingertips", "height", 0.7, 1.3, 0.9, 1.12},
+      {"inseam_height", "height", 0.3, 0.6, 0.38, 0.52},
+      {"arm_length", "height", 0.2, 0.45, 0.27, 0.38},
+      {"hip_width", "height", 0.1, 0.35, 0.14, 0.28},
+  };
+  for (const auto& q : ratios) {
+    if (!good(q.num) || !good(q.den)) continue;
+    const double ratio = values.at(q.num) / values.at(q.den);
+    const std::string id = std::string(q.num) + "/" + q.den;
+    const std::string what = std::string(q.num) + " = " + fmt(values.at(q.num)) + " m is " +
+                             fmt3(ratio) + " times " + q.den + " = " + fmt(values.at(q.den)) + " m";
+    if (ratio < q.emin || ratio > q.emax) {
+      out.push_back({Severity::Error, id, ratio, q.emin, q.emax,
+                     what + "; expected " + fmt(q.emin) + " to " + fmt(q.emax) + " times"});
+    } else if (ratio < q.wmin || ratio > q.wmax) {
+      out.push_back({Severity::Warning, id, ratio, q.wmin, q.wmax,
+                     what + "; typical " + fmt(q.wmin) + " to " + fmt(q.wmax) + " times"});
+    }
+  }
+  if (good("weight") && good("height")) {
+    const double h = values.at("height");
+    const double bmi = values.at("weight") / (h * h);
+    const std::string what = "weight " + fmt(values.at("weight")) + " kg at height " + fmt(h) +
+                             " m gives a BMI of " + fmt3(bmi) + " kg/m^2";
+    if (bmi < 10.0 || bmi > 80.0) {
+      out.push_back({Severity::Error, "bmi", bmi, 10.0, 80.0, what + "; expected 10 to 80"});
+    } else if (bmi < 15.0 || bmi > 45.0) {
+      out.push_back({Severity::Warning, "bmi", bmi, 15.0, 45.0, what + "; typical 15 to 45"});
+    }
+  }
+  return out;
+}
+
+bool has_errors(const std::vector<ValidationMessage>& messages) {
+  return std::any_of(messages.begin(), messages.end(),
+                     [](const ValidationMessage& m) { return m.severity == Severity::Error; });
+}
+
+}  // namespace caliper

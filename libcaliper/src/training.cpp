@@ -1,0 +1,354 @@
+// Training sets for the shape regressors: Pujades et al., The Virtual Caliper, TVCG 2019,
+// Sec. 3.4.3 (2^10 corners at +/-2 SD over the first 10 betas).
+//
+// Sections: beta sets (corners, seeded Gaussian); ShapeMeasurer (affine landmarks, exact floor
+// candidates, volume as a cubic polynomial in beta); training sets.
+//
+// The volume cubic: with b~ = (1, beta) and every vertex x_v = X_v b~ (X_v: 3 x (k+1), column 0
+// the template, columns 1..k the shape directions), a face contributes
+// det(x_a, x_b, x_c) = sum_{i,j,l} b~_i b~_j b~_l det(A_i, B_j, C_l). Summing over faces once
+// gives T[i][(j,l)] = sum_f A_i . (B_j x C_l + B_l x C_j) (j < l; j == l without the swap),
+// evaluated as a matrix product over blocks of faces; then V(beta) = 1/6 b~' T w(b~) with
+// w(b~)_(j,l) = b~_j b~_l.
+#include "caliper/training.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <string>
+
+#include "caliper/errors.hpp"
+
+namespace caliper {
+
+// ---------------------------------------------------------------------------------------------
+// Beta sets
+
+Eigen::MatrixXd corner_betas(int num_betas, double sd) {
+  if (num_betas < 1 || num_betas > 20) {
+    throw InvalidInputError("corner_betas: number of betas must be 1 to 20, got " +
+                            std::to_string(num_betas));
+  }
+  if (!std::isfinite(sd) || sd <= 0.0) throw InvalidInputError("corner_betas: sd must be > 0");
+  const long n = 1L << num_betas;
+  Eigen::MatrixXd b(n, num_betas);
+  for (long r = 0; r < n; ++r) {
+    for (int i = 0; i < num_betas; ++i) b(r, i) = (r >> i) & 1 ? sd : -sd;
+  }
+  return b;
+}
+
+namespace {
+
+// xoshiro256** (Blackman and Vigna), seeded through splitmix64.
+class Xoshiro256 {
+ public:
+  explicit Xoshiro256(std::uint64_t seed) {
+    for (auto& s : s_) {
+      seed += 0x9e3779b97f4a7c15ULL;
+      std::uint64_t z = seed;
+      z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+      z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+      s = z ^ (z >> 31);
+    }
+  }
+  std::uint64_t next() {
+    const std::uint64_t result = rotl(s_[1] * 5, 7) * 9;
+    const std::uint64_t t = s_[1] << 17;
+    s_[2] ^= s_[0];
+    s_[3] ^= s_[1];
+    s_[1] ^= s_[2];
+    s_[0] ^= s_[3];
+    s_[2] ^= t;
+    s_[3] = rotl(s_[3], 45);
+    return result;
+  }
+  /// Uniform in (0, 1].
+  double uniform() { return (static_cast<double>(next() >> 11) + 1.0) * 0x1.0p-53; }
+
+ private:
+  static std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+  std::uint64_t s_[4];
+};
+
+constexpr double kTwoPi = 6.283185307179586476925;
+
+}  // namespace
+
+Eigen::MatrixXd gaussian_betas(int count, int num_betas, std::uint64_t seed) {
+  if (count < 1 || num_betas < 1) {
+    throw InvalidInputError("gaussian_betas: count and number of betas must be >= 1, got " +
+                            std::to_string(count) + " and " + std::to_string(num_betas));
+  }
+  Xoshiro256 rng(seed);
+  Eigen::MatrixXd b(count, num_betas);
+  const Eigen::Index total = b.size();
+  for (Eigen::Index i = 0; i < total; i += 2) {
+    const double r = std::sqrt(-2.0 * std::log(rng.uniform()));
+    const double t = kTwoPi * rng.uniform();
+    b(i / num_betas, i % num_betas) = r * std::cos(t);
+    if (i + 1 < total) b((i + 1) / num_betas, (i + 1) % num_betas) = r * std::sin(t);
+  }
+  return b;
+}
+
+// ---------------------------------------------------------------------------------------------
+// ShapeMeasurer
+
+ShapeMeasurer::ShapeMeasurer(const smpl::BodyModel& model, const LandmarkTable& landmarks,
+                             std::vector<MeasurementDef> defs, int num_betas)
+    : defs_(std::move(defs)) {
+  const int B = model.num_betas();
+  const int V = model.num_vertices();
+  num_betas_ = num_betas <= 0 ? std::min(10, B) : num_betas;
+  if (num_betas_ > B || num_betas_ > kMaxTrainingBetas || num_betas_ < 1) {
+    throw InvalidInputError("ShapeMeasurer: " + std::to_string(num_betas_) +
+                            " betas asked, the model '" + model.meta.name + "' has " +
+                            std::to_string(B) + " (at most " + std::to_string(kMaxTrainingBetas) +
+                            " are supported, at least 1)");
+  }
+  if (V == 0 || model.faces.rows() == 0) {
+    throw InvalidInputError("ShapeMeasurer: the model '" + model.meta.name + "' has no mesh");
+  }
+  if (model.shapedirs.rows() != 3 * V) {
+    throw InvalidInputError("ShapeMeasurer: shapedirs has " +
+                            std::to_string(model.shapedirs.rows()) + " rows, expected 3 x " +
+                            std::to_string(V));
+  }
+  const int k = num_betas_;
+  // Landmarks as affine maps of beta.
+  std::map<std::string, int> index;
+  const auto landmark = [&](const std::string& name, const std::string& id) {
+    const auto it = index.find(name);
+    if (it != index.end()) return it->second;
+    const auto lm = landmarks.find(name);
+    if (lm == landmarks.end()) {
+      throw LandmarkError("measurement '" + id + "' needs landmark '" + name +
+                          "', which the model '" + model.meta.name + "' does not define");
+    }
+    Affine a;
+    a.p0.setZero();
+    a.P = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, k);
+    if (lm->second.empty()) throw LandmarkError("landmark '" + name + "' has no vertices");
+    for (int v : lm->second) {
+      if (v < 0 || v >= V) {
+        throw LandmarkError("landmark '" + name + "' uses vertex " + std::to_string(v) +
+                            ", out of range for the model '" + model.meta.name + "'");
+      }
+      a.p0 += model.v_template.row(v).transpose();
+      a.P += model.shapedirs.block(3 * v, 0, 3, k);
+    }
+    a.p0 /= static_cast<double>(lm->second.size());
+    a.P /= static_cast<double>(lm->second.size());
+    points_.push_back(a);
+    index[name] = static_cast<int>(points_.size()) - 1;
+    return index[name];
+  };
+  for (const auto& d : defs_) {
+    from_.push_back(landmark(d.from, d.id));
+    to_.push_back(d.kind == MeasurementKind::Distance ? landmark(d.to, d.id) : -1);
+  }
+  // Heights for the floor.
+  y0_ = model.v_template.col(1);
+  ydirs_.resize(V, k);
+  for (int v = 0; v < V; ++v) ydirs_.row(v) = model.shapedirs.block(3 * v + 1, 0, 1, k);
+  ydir_norms_ = ydirs_.rowwise().norm();
+  prepared_radius_ = std::max(2.0 * std::sqrt(static_cast<double>(k)), 5.0);
+  candidates_ = floor_candidates(prepared_radius_);
+  // Volume cubic.
+  const int K1 = k + 1;
+  const int npairs = K1 * (K1 + 1) / 2;
+  cubic_ = Eigen::MatrixXd::Zero(K1, npairs);
+  const auto X = [&](int v, int i) -> Eigen::Vector3d {
+    if (i == 0) return model.v_template.row(v).transpose();
+    return model.shapedirs.block(3 * v, i - 1, 3, 1);
+  };
+  const int F = model.num_faces();
+  constexpr int kBlock = 512;
+  Eigen::MatrixXd Ablk(3 * kBlock, K1), Yblk(3 * kBlock, npairs);
+  std::vector<Eigen::Vector3d> Bv(K1), Cv(K1);
+  for (int f0 = 0; f0 < F; f0 += kBlock) {
+    const int nf = std::min(kBlock, F - f0);
+    for (int q = 0; q < nf; ++q) {
+      const int f = f0 + q;
+      const int ia = model.faces(f, 0), ib = model.faces(f, 1), ic = model.faces(f, 2);
+      if (ia < 0 || ib < 0 || ic < 0 || ia >= V || ib >= V || ic >= V) {
+        throw InvalidInputError("ShapeMeasurer: face " + std::to_string(f) +
+                                " has a vertex index out of range");
+      }
+      for (int i = 0; i < K1; ++i) {
+        Ablk.block(3 * q, i, 3, 1) = X(ia, i);
+        Bv[i] = X(ib, i);
+        Cv[i] = X(ic, i);
+      }
+      int pair = 0;
+      for (int j = 0; j < K1; ++j) {
+        for (int l = j; l < K1; ++l, ++pair) {
+          Eigen::Vector3d y = Bv[j].cross(Cv[l]);
+          if (l != j) y += Bv[l].cross(Cv[j]);
+          Yblk.block(3 * q, pair, 3, 1) = y;
+        }
+      }
+    }
+    cubic_.noalias() += Ablk.topRows(3 * nf).transpose() * Yblk.topRows(3 * nf);
+  }
+  cubic_ /= 6.0;
+}
+
+std::vector<int> ShapeMeasurer::floor_candidates(double radius) const {
+  // y_v(beta) lies in [y0 - |S_v| R, y0 + |S_v| R] for |beta| <= R (Cauchy-Schwarz): every
+  // vertex whose lower bound is below the smallest upper bound can be the lowest one.
+  const Eigen::VectorXd upper = y0_ + radius * ydir_norms_;
+  const double best_upper = upper.minCoeff();
+  std::vector<int> out;
+  for (Eigen::Index v = 0; v < y0_.size(); ++v) {
+    if (y0_(v) - radius * ydir_norms_(v) <= best_upper) out.push_back(static_cast<int>(v));
+  }
+  return out;
+}
+
+double ShapeMeasurer::floor_over(const Eigen::VectorXd& b, const std::vector<int>& cand) const {
+  double lowest = std::numeric_limits<double>::infinity();
+  const int n = static_cast<int>(b.size());
+  for (int v : cand) {
+    const double y = y0_(v) + ydirs_.row(v).head(n).dot(b);
+    lowest = std::min(lowest, y);
+  }
+  return lowest;
+}
+
+namespace {
+void check_betas(const Eigen::VectorXd& b, int k) {
+  if (b.size() > k) {
+    throw InvalidInputError(std::to_string(b.size()) + " betas given, the measurer handles " +
+                            std::to_string(k));
+  }
+  if (!b.allFinite()) throw InvalidInputError("betas contain NaN or infinity");
+}
+}  // namespace
+
+double ShapeMeasurer::floor(const Eigen::VectorXd& betas) const {
+  check_betas(betas, num_betas_);
+  const double r = betas.norm();
+  if (r <= prepared_radius_) return floor_over(betas, candidates_);
+  return floor_over(betas, floor_candidates(r));
+}
+
+double ShapeMeasurer::volume(const Eigen::VectorXd& betas) const {
+  check_betas(betas, num_betas_);
+  const int K1 = num_betas_ + 1;
+  Eigen::VectorXd bt = Eigen::VectorXd::Zero(K1);
+  bt.head(1).setOnes();
+  bt.segment(1, betas.size()) = betas;
+  Eigen::VectorXd w(cubic_.cols());
+  int pair = 0;
+  for (int j = 0; j < K1; ++j) {
+    for (int l = j; l < K1; ++l) w(pair++) = bt(j) * bt(l);
+  }
+  return bt.dot(cubic_ * w);
+}
+
+Eigen::VectorXd ShapeMeasurer::measure(const Eigen::VectorXd& betas) const {
+  check_betas(betas, num_betas_);
+  const Eigen::Index n = betas.size();
+  std::vector<Eigen::Vector3d> pts(points_.size());
+  for (std::size_t i = 0; i < points_.size(); ++i) {
+    pts[i] = points_[i].p0 + points_[i].P.leftCols(n) * betas;
+  }
+  bool need_floor = false;
+  for (int t : to_) need_floor = need_floor || t < 0;
+  const double fl = need_floor ? floor(betas) : 0.0;
+  Eigen::VectorXd m(defs_.size());
+  for (std::size_t d = 0; d < defs_.size(); ++d) {
+    m(d) = to_[d] < 0 ? pts[from_[d]].y() - fl : (pts[from_[d]] - pts[to_[d]]).norm();
+  }
+  return m;
+}
+
+void ShapeMeasurer::measure_batch(const Eigen::MatrixXd& betas, Eigen::MatrixXd& measurements,
+                                  Eigen::VectorXd& volumes) const {
+  const Eigen::Index N = betas.rows(), k = betas.cols();
+  if (k > num_betas_) {
+    throw InvalidInputError("measure_batch: " + std::to_string(k) +
+                            " beta columns, the measurer handles " + std::to_string(num_betas_));
+  }
+  if (!betas.allFinite()) throw InvalidInputError("measure_batch: betas contain NaN or infinity");
+  const int K1 = num_betas_ + 1;
+  Eigen::MatrixXd bt = Eigen::MatrixXd::Zero(N, K1);
+  bt.col(0).setOnes();
+  bt.middleCols(1, k) = betas;
+  // Volumes: W (N x pairs) * cubic' -> N x K1, row-dot with b~.
+  Eigen::MatrixXd W(N, cubic_.cols());
+  int pair = 0;
+  for (int j = 0; j < K1; ++j) {
+    for (int l = j; l < K1; ++l) W.col(pair++) = bt.col(j).cwiseProduct(bt.col(l));
+  }
+  const Eigen::MatrixXd G = W * cubic_.transpose();
+  volumes = G.cwiseProduct(bt).rowwise().sum();
+  // Floors: candidate heights for every body.
+  bool need_floor = false;
+  for (int t : to_) need_floor = need_floor || t < 0;
+  Eigen::VectorXd floors = Eigen::VectorXd::Zero(N);
+  if (need_floor && N > 0) {
+    const double r = betas.rowwise().norm().maxCoeff();
+    const std::vector<int> cand = r <= prepared_radius_ ? candidates_ : floor_candidates(r);
+    Eigen::MatrixXd Yc(cand.size(), k);
+    Eigen::VectorXd y0c(cand.size());
+    for (std::size_t c = 0; c < cand.size(); ++c) {
+      Yc.row(c) = ydirs_.row(cand[c]).head(k);
+      y0c(c) = y0_(cand[c]);
+    }
+    const Eigen::MatrixXd H = (Yc * betas.transpose()).colwise() + y0c;  // cand x N
+    floors = H.colwise().minCoeff().transpose();
+  }
+  // Landmark points for every body.
+  std::vector<Eigen::MatrixXd> pts(points_.size());  // each N x 3
+  for (std::size_t i = 0; i < points_.size(); ++i) {
+    pts[i] = (betas * points_[i].P.leftCols(k).transpose()).rowwise() + points_[i].p0.transpose();
+  }
+  measurements.resize(N, static_cast<Eigen::Index>(defs_.size()));
+  for (std::size_t d = 0; d < defs_.size(); ++d) {
+    const auto col = static_cast<Eigen::Index>(d);
+    if (to_[d] < 0) {
+      measurements.col(col) = pts[from_[d]].col(1) - floors;
+    } else {
+      measurements.col(col) = (pts[from_[d]] - pts[to_[d]]).rowwise().norm();
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Training sets
+
+Eigen::VectorXd TrainingSet::column(const std::string& id) const {
+  if (id == "weight") return weights;
+  if (id == "volume") return volumes;
+  if (id == "weight_feature") return volumes.unaryExpr([](double v) { return std::cbrt(v); });
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    if (ids[i] == id) return measurements.col(static_cast<Eigen::Index>(i));
+  }
+  std::string known = "weight, volume, weight_feature";
+  for (const auto& s : ids) known += ", " + s;
+  throw InvalidInputError("the training set has no column '" + id + "'; it has " + known);
+}
+
+TrainingSet make_training_set(const ShapeMeasurer& measurer, const Eigen::MatrixXd& betas,
+                              const WeightFormula& formula) {
+  TrainingSet t;
+  t.betas = betas;
+  for (const auto& d : measurer.definitions()) t.ids.push_back(d.id);
+  measurer.measure_batch(betas, t.measurements, t.volumes);
+  t.weight_formula = formula;
+  t.weights = (formula.coefficient * t.volumes).array() + formula.intercept;
+  return t;
+}
+
+TrainingSet paper_training_set(const smpl::BodyModel& model) {
+  const LandmarkTable landmarks = landmarks_for(model);
+  const ShapeMeasurer measurer(model, landmarks, available_measurements(landmarks));
+  return make_training_set(measurer, corner_betas(measurer.num_betas(), 2.0),
+                           weight_formula_for(model.meta.gender));
+}
+
+}  // namespace caliper
