@@ -1,0 +1,121 @@
+// libsmpl benchmarks on a full-size SMPL-shaped model (6890 vertices, 13776 faces, 24 joints,
+// 10 betas, 207 pose features; tests/support make_random_model). Run on one core:
+//   taskset -c 1 build/bin/bench_smpl --benchmark_repetitions=10
+//     --benchmark_report_aggregates_only=true   (one line)
+// The pose blend shapes are a 20670 x 207 double matrix (34 MB) read once per posed evaluation;
+// BM_StreamSum measures how fast this machine reads an array of that size in the same run, so the
+// posed evaluation can be compared with the memory (or last-level cache) bandwidth.
+#include <benchmark/benchmark.h>
+
+#include <string>
+#include <vector>
+
+#include "caliper_test/random_model.hpp"
+#include "smpl/evaluate.hpp"
+#include "smpl/gltf.hpp"
+
+namespace {
+
+const smpl::BodyModel& model() {
+  static const smpl::BodyModel m = caliper::test::make_random_model(10, 24, true, 1);
+  return m;
+}
+
+// Plain sum over an array as large as posedirs (double) or its float copy: the bandwidth bound.
+template <typename T>
+void BM_StreamSum(benchmark::State& state) {
+  const size_t n = 20670 * 207;
+  std::vector<T> a(n);
+  for (size_t i = 0; i < n; ++i) a[i] = static_cast<T>(i % 7);
+  for (auto _ : state) {
+    // Four independent accumulators so the adds are not latency bound (no -ffast-math).
+    T s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+    for (size_t i = 0; i < n; i += 4) {
+      s0 += a[i];
+      s1 += a[i + 1];
+      s2 += a[i + 2];
+      s3 += a[i + 3];
+    }
+    T s = s0 + s1 + s2 + s3;
+    benchmark::DoNotOptimize(s);
+  }
+  state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) *
+                          static_cast<int64_t>(n * sizeof(T)));
+}
+BENCHMARK_TEMPLATE(BM_StreamSum, double)->Name("BM_StreamSum/posedirs_f64_34MB");
+BENCHMARK_TEMPLATE(BM_StreamSum, float)->Name("BM_StreamSum/posedirs_f32_17MB");
+
+void BM_Shape(benchmark::State& state) {
+  const auto& m = model();
+  const Eigen::VectorXd betas = caliper::test::random_betas(10, 1.0, 2);
+  smpl::Body body;
+  for (auto _ : state) {
+    smpl::shape(m, betas, body);
+    benchmark::DoNotOptimize(body.vertices.data());
+    benchmark::ClobberMemory();
+  }
+}
+BENCHMARK(BM_Shape)->Unit(benchmark::kMicrosecond);
+
+void BM_ShapeReturningBody(benchmark::State& state) {
+  const auto& m = model();
+  const Eigen::VectorXd betas = caliper::test::random_betas(10, 1.0, 2);
+  for (auto _ : state) {
+    smpl::Body body = smpl::shape(m, betas);
+    benchmark::DoNotOptimize(body.vertices.data());
+  }
+}
+BENCHMARK(BM_ShapeReturningBody)->Unit(benchmark::kMicrosecond);
+
+// Full posed evaluation; range(0) = 1 for the single-precision pose blend shapes, range(1) = how
+// many joints are rotated (23 = all but the root: every pose-blend-shape column is read).
+void BM_Evaluate(benchmark::State& state) {
+  const auto& m = model();
+  const Eigen::VectorXd betas = caliper::test::random_betas(10, 1.0, 3);
+  Eigen::VectorXd pose = caliper::test::random_pose(24, 1.0, 4);
+  for (int k = 1 + static_cast<int>(state.range(1)); k < 24; ++k) pose.segment<3>(3 * k).setZero();
+  smpl::Workspace ws;
+  ws.single_precision_pose_blend_shapes = state.range(0) == 1;
+  smpl::Body body;
+  smpl::evaluate(m, betas, pose, Eigen::Vector3d::Zero(), ws, body);  // sizes the buffers
+  for (auto _ : state) {
+    smpl::evaluate(m, betas, pose, Eigen::Vector3d::Zero(), ws, body);
+    benchmark::DoNotOptimize(body.vertices.data());
+    benchmark::ClobberMemory();
+  }
+  const int64_t bytes =
+      static_cast<int64_t>(m.posedirs.size()) * (state.range(0) == 1 ? 4 : 8) * state.range(1) / 23;
+  state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) * bytes);
+  state.SetLabel(std::string(state.range(0) == 1 ? "float" : "double") + " posedirs, " +
+                 std::to_string(state.range(1)) + " rotated joints");
+}
+BENCHMARK(BM_Evaluate)
+    ->Args({0, 23})
+    ->Args({1, 23})
+    ->Args({0, 5})
+    ->Args({0, 0})
+    ->Unit(benchmark::kMicrosecond);
+
+void BM_GlbExport(benchmark::State& state) {
+  const auto& m = model();
+  const Eigen::VectorXd betas = caliper::test::random_betas(10, 1.0, 5);
+  size_t size = 0;
+  for (auto _ : state) {
+    const auto bytes = smpl::glb_bytes(m, betas);
+    size = bytes.size();
+    benchmark::DoNotOptimize(bytes.data());
+  }
+  state.SetLabel(std::to_string(size) + " bytes");
+}
+BENCHMARK(BM_GlbExport)->Unit(benchmark::kMillisecond);
+
+void BM_GlbWriteFile(benchmark::State& state) {
+  const auto& m = model();
+  const Eigen::VectorXd betas = caliper::test::random_betas(10, 1.0, 5);
+  for (auto _ : state) smpl::write_gltf("/tmp/caliper_bench_avatar.glb", m, betas);
+}
+BENCHMARK(BM_GlbWriteFile)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
