@@ -550,33 +550,43 @@ NpyArray parse_npy(const std::uint8_t* bytes, std::size_t size, const std::strin
   if (fortran->kind != Literal::Kind::kBool) fail(context, "bad .npy header: fortran_order");
   if (shape->kind != Literal::Kind::kTuple) fail(context, "bad .npy header: shape is no tuple");
   if (shape->items.size() > kMaxDims) fail(context, "bad .npy header: too many dimensions");
-  const DtypeInfo info = parse_descr(descr->text, context);
-  NpyArray a;
-  a.dtype = info.normalized;
-  a.fortran_order = fortran->integer != 0;
-  std::size_t count = 1;
-  bool overflow = false;
+  std::vector<std::size_t> dims;
   for (const Literal& d : shape->items) {
     if (d.kind != Literal::Kind::kInt || d.integer < 0) fail(context, "bad .npy header: shape");
-    const auto n = static_cast<std::size_t>(d.integer);
-    a.shape.push_back(n);
-    if (n != 0 && count > std::numeric_limits<std::size_t>::max() / n) overflow = true;
+    dims.push_back(static_cast<std::size_t>(d.integer));
+  }
+  const std::size_t available = size - offset - header_len;
+  return npy_from_raw(descr->text, std::move(dims), fortran->integer != 0,
+                      bytes + offset + header_len, available, context);
+}
+
+NpyArray npy_from_raw(const std::string& descr, std::vector<std::size_t> shape, bool fortran_order,
+                      const std::uint8_t* bytes, std::size_t size, const std::string& context) {
+  if (shape.size() > kMaxDims) fail(context, "array has too many dimensions");
+  const DtypeInfo info = parse_descr(descr, context);
+  NpyArray a;
+  a.dtype = info.normalized;
+  a.fortran_order = fortran_order;
+  a.shape = std::move(shape);
+  // Element count; an array with a zero-length axis is empty whatever the other axes say.
+  const bool empty = std::find(a.shape.begin(), a.shape.end(), 0) != a.shape.end();
+  std::size_t count = empty ? 0 : 1;
+  bool overflow = false;
+  for (const std::size_t n : a.shape) {
+    if (empty || overflow) break;
+    if (count > std::numeric_limits<std::size_t>::max() / n) overflow = true;
     count *= n;
   }
-  if (count == 0) overflow = false;
   if (overflow ||
       (count != 0 && info.item_size > std::numeric_limits<std::size_t>::max() / count)) {
     fail(context, "array shape " + a.shape_string() + " is impossibly large");
   }
   const std::size_t nbytes = count * info.item_size;
-  const std::size_t available = size - offset - header_len;
-  if (available < nbytes) {
-    fail(context, "truncated .npy data: shape " + a.shape_string() + " of " + descr->text +
-                      " needs " + std::to_string(nbytes) + " bytes, " + std::to_string(available) +
-                      " present");
+  if (size < nbytes) {
+    fail(context, "truncated array data: shape " + a.shape_string() + " of " + descr + " needs " +
+                      std::to_string(nbytes) + " bytes, " + std::to_string(size) + " present");
   }
-  const std::uint8_t* p = bytes + offset + header_len;
-  a.data.assign(p, p + nbytes);
+  a.data.assign(bytes, bytes + nbytes);
   if (info.swap_unit > 1) {
     for (std::size_t i = 0; i + info.swap_unit <= nbytes; i += info.swap_unit) {
       std::reverse(a.data.begin() + static_cast<std::ptrdiff_t>(i),

@@ -114,6 +114,11 @@ std::vector<std::uint8_t> npy_bytes(const NpyArray& array);
 /// Parses `.npy` bytes. `context` (file and member) starts every error message.
 /// Throws ModelError: bad magic, bad header, unsupported or object dtype, size mismatch.
 NpyArray parse_npy(const std::uint8_t* bytes, std::size_t size, const std::string& context);
+/// An array from a dtype descriptor (any byte order: "<f8", ">i4", "|b1", "f8" = native, ...),
+/// a shape, a memory order and exactly size() * item_size() raw bytes; big-endian data is
+/// converted. Throws ModelError naming `context`: unsupported or object dtype, wrong byte count.
+NpyArray npy_from_raw(const std::string& descr, std::vector<std::size_t> shape, bool fortran_order,
+                      const std::uint8_t* bytes, std::size_t size, const std::string& context);
 /// Reads a `.npy` file. Throws ModelError naming `path` and the problem.
 NpyArray read_npy(const std::string& path);
 /// Writes a `.npy` file. Throws ModelError when the file cannot be written.

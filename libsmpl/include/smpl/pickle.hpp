@@ -12,8 +12,8 @@
 /// - `set` / `frozenset` from `__builtin__` or `builtins`; plain dict, list, tuple, str, bytes,
 ///   int, float, bool, None.
 /// Any other GLOBAL / STACK_GLOBAL is refused with an error naming the module and the name.
-/// Limits: at most 2^24 objects, 2^20 memo entries' worth of distinct indices, 64 levels of
-/// container nesting in what is converted; the input bounds everything else.
+/// Limits: at most 2^20 objects and 2^20 memo entries, 64 levels of nesting in what is
+/// converted; the input's size bounds everything else.
 #pragma once
 
 #include <cstddef>
