@@ -1,0 +1,479 @@
+#include "cli_support.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <climits>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+namespace caliper::cli {
+
+namespace fs = std::filesystem;
+
+// ---------------------------------------------------------------------------------------------
+// Argument parsing
+// ---------------------------------------------------------------------------------------------
+
+std::optional<std::string> ParsedArgs::get(const std::string& name) const {
+  auto it = values.find(name);
+  if (it == values.end() || it->second.empty()) return std::nullopt;
+  return it->second.back();
+}
+
+std::string ParsedArgs::get_or(const std::string& name, const std::string& fallback) const {
+  auto v = get(name);
+  return v ? *v : fallback;
+}
+
+namespace {
+
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t sub = prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1);
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, sub});
+    }
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+std::string closest_option(const std::string& name, const std::vector<OptionSpec>& specs) {
+  std::string best;
+  size_t best_d = 4;  // suggest only near misses
+  for (const auto& s : specs) {
+    const size_t d = edit_distance(name, s.name);
+    if (d < best_d) {
+      best_d = d;
+      best = s.name;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+ParsedArgs parse_args(const std::vector<std::string>& args, const std::vector<OptionSpec>& specs) {
+  ParsedArgs out;
+  auto find_long = [&](const std::string& n) -> const OptionSpec* {
+    for (const auto& s : specs)
+      if (s.name == n) return &s;
+    return nullptr;
+  };
+  auto find_short = [&](const std::string& n) -> const OptionSpec* {
+    for (const auto& s : specs)
+      if (!s.short_name.empty() && s.short_name == n) return &s;
+    return nullptr;
+  };
+  bool options_done = false;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (options_done || a.size() < 2 || a[0] != '-' ||
+        (std::isdigit(static_cast<unsigned char>(a[1])) || a[1] == '.')) {
+      out.positional.push_back(a);
+      continue;
+    }
+    if (a == "--") {
+      options_done = true;
+      continue;
+    }
+    std::string name;
+    std::optional<std::string> inline_value;
+    const OptionSpec* spec = nullptr;
+    std::string shown;
+    if (a.rfind("--", 0) == 0) {
+      name = a.substr(2);
+      const size_t eq = name.find('=');
+      if (eq != std::string::npos) {
+        inline_value = name.substr(eq + 1);
+        name = name.substr(0, eq);
+      }
+      shown = "--" + name;
+      if (name == "help") {
+        out.flags.insert("help");
+        continue;
+      }
+      spec = find_long(name);
+    } else {
+      name = a.substr(1, 1);
+      if (a.size() > 2) inline_value = a.substr(2);
+      shown = "-" + name;
+      if (name == "h" && !inline_value) {
+        out.flags.insert("help");
+        continue;
+      }
+      spec = find_short(name);
+    }
+    if (!spec) {
+      std::string msg = "unknown option " + shown;
+      const std::string near = closest_option(name, specs);
+      if (!near.empty()) msg += " (did you mean --" + near + "?)";
+      throw UsageError(msg);
+    }
+    if (spec->value_name.empty()) {
+      if (inline_value) throw UsageError("option --" + spec->name + " takes no value");
+      out.flags.insert(spec->name);
+      continue;
+    }
+    std::string value;
+    if (inline_value) {
+      value = *inline_value;
+    } else {
+      if (i + 1 >= args.size())
+        throw UsageError("option " + shown + " needs a value (" + spec->value_name + ")");
+      value = args[++i];
+    }
+    auto& slot = out.values[spec->name];
+    if (!slot.empty() && !spec->repeatable)
+      throw UsageError("option --" + spec->name + " given more than once");
+    slot.push_back(value);
+  }
+  return out;
+}
+
+std::string format_options(const std::vector<OptionSpec>& specs) {
+  std::ostringstream s;
+  std::vector<std::pair<std::string, std::string>> rows;
+  size_t width = 0;
+  for (const auto& o : specs) {
+    std::string left = "  ";
+    left += o.short_name.empty() ? "    " : "-" + o.short_name + ", ";
+    left += "--" + o.name;
+    if (!o.value_name.empty()) left += " " + o.value_name;
+    width = std::max(width, left.size());
+    rows.emplace_back(left, o.help);
+  }
+  rows.emplace_back("  -h, --help", "show this help and exit");
+  width = std::max<size_t>(width, 12);
+  for (const auto& [left, help] : rows)
+    s << std::left << std::setw(static_cast<int>(width + 2)) << left << help << "\n";
+  return s.str();
+}
+
+int parse_int(const std::string& text, const std::string& option, int lo, int hi) {
+  errno = 0;
+  char* end = nullptr;
+  const long v = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || errno == ERANGE || v < lo || v > hi) {
+    throw UsageError("--" + option + " " + text + ": expected a whole number from " +
+                     std::to_string(lo) + " to " + std::to_string(hi));
+  }
+  return static_cast<int>(v);
+}
+
+double parse_number(const std::string& text, const std::string& option) {
+  errno = 0;
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(v)) {
+    throw UsageError(option + " '" + text + "': not a finite number");
+  }
+  return v;
+}
+
+std::vector<double> parse_number_list(const std::string& text, const std::string& option) {
+  std::vector<double> out;
+  std::string cell;
+  std::istringstream in(text);
+  while (std::getline(in, cell, ',')) {
+    cell.erase(0, cell.find_first_not_of(" \t"));
+    cell.erase(cell.find_last_not_of(" \t") + 1);
+    out.push_back(parse_number(cell, option));
+  }
+  if (out.empty()) throw UsageError(option + ": expected a comma-separated list of numbers");
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Units
+// ---------------------------------------------------------------------------------------------
+
+std::optional<double> unit_scale(const std::string& unit_in) {
+  std::string u;
+  for (char c : unit_in) u += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (u == "mm") return 0.001;
+  if (u == "cm") return 0.01;
+  if (u == "m") return 1.0;
+  if (u == "in" || u == "inch" || u == "inches" || u == "\"") return 0.0254;
+  if (u == "ft" || u == "feet" || u == "foot" || u == "'") return 0.3048;
+  if (u == "kg") return 1.0;
+  if (u == "g") return 0.001;
+  if (u == "lb" || u == "lbs") return 0.45359237;
+  return std::nullopt;
+}
+
+namespace {
+
+/// Splits "168.5cm" into 168.5 and "cm"; returns false when there is no leading number.
+bool split_number_unit(const std::string& text, size_t& pos, double& value, std::string& unit) {
+  while (pos < text.size() && std::isspace(static_cast<unsigned char>(text[pos]))) ++pos;
+  const char* begin = text.c_str() + pos;
+  char* end = nullptr;
+  errno = 0;
+  value = std::strtod(begin, &end);
+  if (end == begin) return false;
+  // strtod accepts "nan", "inf" and hex; the caller checks finiteness.
+  pos += static_cast<size_t>(end - begin);
+  while (pos < text.size() && std::isspace(static_cast<unsigned char>(text[pos]))) ++pos;
+  const size_t start = pos;
+  while (pos < text.size() && (std::isalpha(static_cast<unsigned char>(text[pos])) ||
+                               text[pos] == '\'' || text[pos] == '"')) {
+    ++pos;
+    if (text[pos - 1] == '\'' || text[pos - 1] == '"') break;  // one-character units
+  }
+  unit = text.substr(start, pos - start);
+  return true;
+}
+
+double parse_with_units(const std::string& text, const std::string& what, bool is_length) {
+  const std::string examples =
+      is_length ? "e.g. 168cm, 1.68m, 1680mm, 66in or 5ft6in" : "e.g. 62kg or 137lb";
+  double total = 0.0;
+  size_t pos = 0;
+  int parts = 0;
+  std::string last_unit;
+  while (true) {
+    while (pos < text.size() && std::isspace(static_cast<unsigned char>(text[pos]))) ++pos;
+    if (pos >= text.size()) break;
+    double v = 0.0;
+    std::string unit;
+    if (!split_number_unit(text, pos, v, unit)) {
+      throw UsageError(what + " '" + text + "': not a number with a unit (" + examples + ")");
+    }
+    if (!std::isfinite(v)) throw UsageError(what + " '" + text + "': not a finite number");
+    if (unit.empty()) {
+      throw UsageError(what + " '" + text + "': no unit given; state it, " + examples);
+    }
+    const auto scale = unit_scale(unit);
+    const bool unit_is_length = scale && unit != "kg" && unit != "g" && unit != "lb" &&
+                                unit != "lbs" && unit != "KG" && unit != "Kg";
+    if (!scale || unit_is_length != is_length) {
+      throw UsageError(what + " '" + text + "': unknown unit '" + unit + "' (" + examples + ")");
+    }
+    // Only feet followed by inches may be combined ("5ft6in", "5'6\"").
+    if (parts == 1 && !(last_unit == "ft" || last_unit == "'" || last_unit == "feet")) {
+      throw UsageError(what + " '" + text + "': only feet and inches may be combined (" + examples +
+                       ")");
+    }
+    if (parts >= 2) throw UsageError(what + " '" + text + "': too many parts (" + examples + ")");
+    total += v * *scale;
+    last_unit = unit;
+    ++parts;
+  }
+  if (parts == 0) throw UsageError(what + ": empty value (" + examples + ")");
+  return total;
+}
+
+}  // namespace
+
+double parse_length(const std::string& text, const std::string& what) {
+  return parse_with_units(text, what, true);
+}
+
+double parse_mass(const std::string& text, const std::string& what) {
+  return parse_with_units(text, what, false);
+}
+
+// ---------------------------------------------------------------------------------------------
+// CSV
+// ---------------------------------------------------------------------------------------------
+
+int CsvTable::column(const std::string& name) const {
+  for (size_t i = 0; i < header.size(); ++i)
+    if (header[i] == name) return static_cast<int>(i);
+  auto lower = [](std::string s) {
+    for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+  };
+  const std::string ln = lower(name);
+  for (size_t i = 0; i < header.size(); ++i)
+    if (lower(header[i]) == ln) return static_cast<int>(i);
+  return -1;
+}
+
+CsvTable parse_csv(const std::string& text, const std::string& source) {
+  CsvTable t;
+  std::vector<std::string> row;
+  std::string cell;
+  bool in_quotes = false;
+  bool row_has_content = false;
+  int line = 1;
+  int row_line = 1;
+  size_t i = 0;
+  // Skip a UTF-8 byte order mark.
+  if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) i = 3;
+  auto end_row = [&]() {
+    row.push_back(cell);
+    cell.clear();
+    if (row_has_content || row.size() > 1 || !row[0].empty()) {
+      if (t.header.empty()) {
+        t.header = row;
+      } else {
+        if (row.size() != t.header.size()) {
+          throw RuntimeError(source + ":" + std::to_string(row_line) + ": " +
+                             std::to_string(row.size()) + " cells, but the header has " +
+                             std::to_string(t.header.size()) + "; check for a missing comma");
+        }
+        t.rows.push_back(row);
+        t.line_numbers.push_back(row_line);
+      }
+    }
+    row.clear();
+    row_has_content = false;
+  };
+  for (; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_quotes) {
+      if (c == '"') {
+        if (i + 1 < text.size() && text[i + 1] == '"') {
+          cell += '"';
+          ++i;
+        } else {
+          in_quotes = false;
+        }
+      } else {
+        if (c == '\n') ++line;
+        cell += c;
+      }
+      continue;
+    }
+    if (c == '"') {
+      in_quotes = true;
+      row_has_content = true;
+    } else if (c == ',') {
+      row.push_back(cell);
+      cell.clear();
+      row_has_content = true;
+    } else if (c == '\r') {
+      // ignored (CRLF)
+    } else if (c == '\n') {
+      end_row();
+      ++line;
+      row_line = line;
+    } else {
+      cell += c;
+    }
+  }
+  if (in_quotes) throw RuntimeError(source + ":" + std::to_string(row_line) + ": unclosed quote");
+  if (!cell.empty() || !row.empty() || row_has_content) end_row();
+  if (t.header.empty()) throw RuntimeError(source + ": empty CSV file (no header row)");
+  for (auto& h : t.header) {
+    h.erase(0, h.find_first_not_of(" \t"));
+    h.erase(h.find_last_not_of(" \t") + 1);
+  }
+  return t;
+}
+
+CsvTable read_csv(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw RuntimeError(path + ": cannot open the CSV file (does it exist?)");
+  std::ostringstream s;
+  s << in.rdbuf();
+  return parse_csv(s.str(), path);
+}
+
+std::string csv_escape(const std::string& cell) {
+  if (cell.find_first_of(",\"\r\n") == std::string::npos) return cell;
+  std::string out = "\"";
+  for (char c : cell) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  return out + "\"";
+}
+
+// ---------------------------------------------------------------------------------------------
+// Assets, terminal, progress
+// ---------------------------------------------------------------------------------------------
+
+std::string executable_dir() {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) return "";
+  return exe.parent_path().string();
+}
+
+std::optional<std::string> find_assets_dir() {
+  if (const char* env = std::getenv("CALIPER_ASSETS"); env && *env) {
+    std::error_code ec;
+    if (fs::is_directory(env, ec)) return std::string(env);
+    return std::nullopt;
+  }
+  const std::string dir = executable_dir();
+  if (dir.empty()) return std::nullopt;
+  for (const char* rel : {"../../assets", "../share/virtual-caliper/assets", "../assets"}) {
+    std::error_code ec;
+    const fs::path p = fs::path(dir) / rel;
+    if (fs::is_directory(p, ec)) return fs::weakly_canonical(p, ec).string();
+  }
+  return std::nullopt;
+}
+
+bool file_exists(const std::string& path) {
+  std::error_code ec;
+  return fs::is_regular_file(path, ec);
+}
+
+std::string extension_of(const std::string& path) {
+  std::string e = fs::path(path).extension().string();
+  for (auto& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return e;
+}
+
+bool stderr_is_terminal() {
+  return ::isatty(STDERR_FILENO) == 1;
+}
+
+Progress::Progress(std::ostream& err, std::int64_t total, bool tty, double plain_interval)
+    : err_(err),
+      total_(total),
+      tty_(tty),
+      plain_interval_(plain_interval),
+      start_(std::chrono::steady_clock::now()),
+      last_(start_) {}
+
+void Progress::update(std::int64_t done) {
+  if (finished_) return;
+  const auto now = std::chrono::steady_clock::now();
+  const double since_last = std::chrono::duration<double>(now - last_).count();
+  const double elapsed = std::chrono::duration<double>(now - start_).count();
+  const bool end = done >= total_;
+  if (done == last_done_) return;
+  if (tty_) {
+    if (!end && since_last < 0.1) return;
+    const int width = 30;
+    const double frac = total_ > 0 ? static_cast<double>(done) / static_cast<double>(total_) : 1.0;
+    const int filled = static_cast<int>(frac * width + 0.5);
+    err_ << "\r[" << std::string(static_cast<size_t>(filled), '#')
+         << std::string(static_cast<size_t>(width - filled), '.') << "] " << done << "/" << total_;
+    if (elapsed > 0) err_ << "  " << static_cast<long>(static_cast<double>(done) / elapsed) << "/s";
+    err_ << std::flush;
+  } else {
+    if (!end && since_last < plain_interval_) return;
+    err_ << "progress: " << done << " of " << total_ << " done (" << std::fixed
+         << std::setprecision(1) << elapsed << " s)\n"
+         << std::defaultfloat;
+  }
+  last_ = now;
+  last_done_ = done;
+}
+
+void Progress::finish() {
+  if (finished_) return;
+  update(total_);
+  if (tty_) err_ << "\n";
+  finished_ = true;
+}
+
+}  // namespace caliper::cli

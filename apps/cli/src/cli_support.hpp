@@ -1,0 +1,160 @@
+/// \file cli_support.hpp
+/// Small pieces of the `caliper` command line that do not depend on libcaliper's algorithms:
+/// exit codes and the errors that carry them, a standard-library-only argument parser, lengths
+/// and masses with units ("168cm", "1.68m", "66in", "5ft6in", "62kg", "137lb"), a CSV reader and
+/// writer, the asset locator and a progress reporter.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <iosfwd>
+#include <map>
+#include <optional>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace caliper::cli {
+
+/// Exit codes that scripts can rely on (docs/cli.md).
+enum ExitCode : int {
+  kExitOk = 0,           ///< success
+  kExitRuntime = 1,      ///< runtime error: unreadable or invalid input file, failed write
+  kExitUsage = 2,        ///< usage error: unknown option, missing value, value without a unit
+  kExitImplausible = 3,  ///< measurements refused as implausible (outside the hard limits)
+};
+
+/// A usage error (exit code 2): the message names the option and the value.
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Input measurements refused as implausible (exit code 3): the message names the value and the
+/// expected range.
+class ImplausibleInput : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// A runtime or input-file error (exit code 1).
+class RuntimeError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Argument parsing
+// ---------------------------------------------------------------------------------------------
+
+/// One option of a subcommand.
+struct OptionSpec {
+  std::string name;         ///< long name without dashes, e.g. "height"
+  std::string short_name;   ///< one letter without dash, e.g. "j", or ""
+  std::string value_name;   ///< e.g. "LENGTH"; empty for a flag without a value
+  std::string help;         ///< one line
+  bool repeatable = false;  ///< may be given several times (values are collected in order)
+};
+
+/// The result of parsing: option values by long name, flags, positional arguments.
+struct ParsedArgs {
+  std::map<std::string, std::vector<std::string>> values;
+  std::set<std::string> flags;
+  std::vector<std::string> positional;
+
+  bool has(const std::string& name) const { return values.count(name) || flags.count(name); }
+  /// The last value of `name`, if given.
+  std::optional<std::string> get(const std::string& name) const;
+  /// The last value of `name` or `fallback`.
+  std::string get_or(const std::string& name, const std::string& fallback) const;
+};
+
+/// Parses `--name value`, `--name=value`, `-x value`, `-xVALUE` and flags for one subcommand.
+/// `--` ends the options. Throws UsageError naming an unknown option (with the closest known
+/// one), a missing value or a flag given a value. `--help`/`-h` is always accepted as a flag.
+ParsedArgs parse_args(const std::vector<std::string>& args, const std::vector<OptionSpec>& specs);
+
+/// Formats the option table for --help.
+std::string format_options(const std::vector<OptionSpec>& specs);
+
+/// Parses an integer option value in [lo, hi]; throws UsageError naming the option.
+int parse_int(const std::string& text, const std::string& option, int lo, int hi);
+/// Parses a finite floating-point number; throws UsageError naming the option.
+double parse_number(const std::string& text, const std::string& option);
+/// Parses a comma-separated list of finite numbers ("0.5,-1,2"); throws UsageError.
+std::vector<double> parse_number_list(const std::string& text, const std::string& option);
+
+// ---------------------------------------------------------------------------------------------
+// Units
+// ---------------------------------------------------------------------------------------------
+
+/// A length with its unit stated: mm, cm, m, in, ft, and feet-inches ("5ft6in", "5'6\"").
+/// Returns metres. Throws UsageError naming `what` when the unit is missing or unknown, or the
+/// number is not a finite number.
+double parse_length(const std::string& text, const std::string& what);
+/// A mass with its unit stated: kg, g, lb/lbs. Returns kilograms. Throws UsageError.
+double parse_mass(const std::string& text, const std::string& what);
+/// Metres (for a length) or kilograms per unit of a CSV header suffix: "mm", "cm", "m", "in",
+/// "kg", "g", "lb". Returns nullopt for an unknown suffix.
+std::optional<double> unit_scale(const std::string& unit);
+
+// ---------------------------------------------------------------------------------------------
+// CSV
+// ---------------------------------------------------------------------------------------------
+
+/// A CSV table read in full: a header row and data rows of text cells (RFC 4180 quoting;
+/// CRLF or LF; bytes are kept as they are, so Latin-1 files are read unchanged).
+struct CsvTable {
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+  std::vector<int> line_numbers;  ///< 1-based file line of each row (for error messages)
+  /// Column index of `name` (exact, then case-insensitive), or -1.
+  int column(const std::string& name) const;
+};
+
+/// Reads a CSV file. Throws RuntimeError naming the file (and line) when it cannot be read, is
+/// empty, or a row has a different number of cells than the header.
+CsvTable read_csv(const std::string& path);
+/// Parses CSV text (`source` names it in errors).
+CsvTable parse_csv(const std::string& text, const std::string& source);
+/// Quotes a cell when it contains a comma, quote or line break.
+std::string csv_escape(const std::string& cell);
+
+// ---------------------------------------------------------------------------------------------
+// Assets, terminal, progress
+// ---------------------------------------------------------------------------------------------
+
+/// The assets folder: $CALIPER_ASSETS when set, else <exe dir>/../../assets (build tree) or
+/// <exe dir>/../share/virtual-caliper/assets (install tree), whichever exists first. Returns
+/// nullopt when none exists.
+std::optional<std::string> find_assets_dir();
+/// The folder that holds the running executable ("" when unknown).
+std::string executable_dir();
+/// True when the file exists and is a regular file.
+bool file_exists(const std::string& path);
+/// Lower-case extension including the dot (".glb"), or "".
+std::string extension_of(const std::string& path);
+/// True when standard error is a terminal.
+bool stderr_is_terminal();
+
+/// Reports progress of `total` items on `err`: a redrawn bar when `tty`, otherwise a plain line
+/// at most every `plain_interval` seconds and at the end. Not thread-safe: call from one thread.
+class Progress {
+ public:
+  Progress(std::ostream& err, std::int64_t total, bool tty, double plain_interval = 2.0);
+  void update(std::int64_t done);
+  void finish();
+
+ private:
+  std::ostream& err_;
+  std::int64_t total_;
+  bool tty_;
+  double plain_interval_;
+  std::chrono::steady_clock::time_point start_;
+  std::chrono::steady_clock::time_point last_;
+  std::int64_t last_done_ = -1;
+  bool finished_ = false;
+};
+
+}  // namespace caliper::cli

@@ -1,0 +1,250 @@
+// `caliper batch`: a CSV of people (units in the header) or ANSUR II files in; avatars and a
+// results CSV out; parallel jobs (std::thread) and progress on stderr.
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <ostream>
+#include <thread>
+
+#include "caliper/errors.hpp"
+#include "command_common.hpp"
+#include "commands.hpp"
+#include "inputs.hpp"
+#include "mesh_io.hpp"
+#include "report.hpp"
+
+namespace caliper::cli {
+
+namespace {
+
+/// What one person gives.
+struct Outcome {
+  std::string status = "ok";  ///< ok | refused | error
+  std::string regressor;
+  std::string sex;
+  std::string message;  ///< warnings or the error
+  MeasurementMap achieved;
+  Eigen::VectorXd betas;
+  Plausibility plausibility;
+};
+
+std::string file_safe(const std::string& id) {
+  std::string s;
+  for (char c : id)
+    s +=
+        (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.') ? c : '_';
+  return s.empty() ? "person" : s;
+}
+
+std::string num(double v, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
+
+}  // namespace
+
+int cmd_batch(const std::vector<std::string>& args, Io& io) {
+  const std::vector<OptionSpec> specs = {
+      {"ansur", "", "FILE", "read an ANSUR II public CSV (repeatable: male and female files)",
+       true},
+      {"sex", "s", "SEX", "sex for rows without a sex column (default neutral)", false},
+      {"regressor", "r", "NAME",
+       "R2, R4, R5, R6 or noise-aware for every row (default: per row, "
+       "as caliper create)",
+       false},
+      {"model", "m", "FILE", "one model for every row instead of the open model per sex", false},
+      {"regressors", "", "FILE", "regressors saved by caliper train (with --model)", false},
+      {"mapping", "", "FILE", "real-to-virtual mapping (.json or paired .csv)", false},
+      {"out", "o", "FILE", "results CSV (default: standard output)", false},
+      {"out-dir", "", "DIR", "write one avatar per person into DIR", false},
+      {"format", "", "EXT", "avatar format in --out-dir: glb (default), gltf, obj, ply", false},
+      {"jobs", "j", "N", "parallel jobs (default: the number of cores)", false},
+      {"limit", "", "N", "process only the first N people", false},
+      {"no-circumferences", "", "", "skip circumferences (faster)", false},
+      {"force", "", "", "create avatars even for inputs outside the hard limits", false},
+  };
+  const ParsedArgs a = parse_args(args, specs);
+  if (a.flags.count("help")) {
+    io.out << "usage: caliper batch PEOPLE.csv [options]\n"
+              "       caliper batch --ansur ANSUR_II_MALE_Public.csv [--ansur ...] [options]\n\n"
+              "PEOPLE.csv: a header naming measurement ids with units (height_cm, weight_kg,\n"
+              "arm_span_fingertips_cm, inseam_height_cm, hip_width_cm, arm_length_cm; also _mm,\n"
+              "_m, _in, _lb) and optional id and sex columns. Results CSV: one row per person\n"
+              "with status (ok, refused, error), the achieved measurements (cm, kg, L),\n"
+              "plausibility and betas. Exit code 1 when any row was refused or failed.\n\n"
+           << format_options(specs)
+           << "\nexample:\n  caliper batch people.csv -j 2 --out results.csv --out-dir avatars\n";
+    return kExitOk;
+  }
+  if (a.positional.size() > 1) throw UsageError("give one people CSV file");
+  if (a.positional.empty() && !a.get("ansur"))
+    throw UsageError("give a people CSV file or --ansur FILE");
+  const std::string default_sex = a.get("sex") ? normalise_sex(*a.get("sex")) : "neutral";
+  std::optional<std::string> fixed_regressor;
+  if (auto r = a.get("regressor")) fixed_regressor = normalise_regressor_name(*r);
+  int jobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (auto j = a.get("jobs")) jobs = parse_int(*j, "jobs", 1, 256);
+  const std::string format = a.get_or("format", "glb");
+  if (format != "glb" && format != "gltf" && format != "obj" && format != "ply")
+    throw UsageError("--format " + format + ": expected glb, gltf, obj or ply");
+  if (a.get("regressors") && !a.get("model"))
+    throw UsageError("--regressors needs --model (saved regressors belong to one model)");
+
+  std::vector<Person> people;
+  if (!a.positional.empty()) people = read_people_csv(a.positional[0]);
+  if (auto it = a.values.find("ansur"); it != a.values.end()) {
+    for (const auto& f : it->second) {
+      auto p = read_ansur_csv(f);
+      people.insert(people.end(), std::make_move_iterator(p.begin()),
+                    std::make_move_iterator(p.end()));
+    }
+  }
+  if (auto l = a.get("limit")) {
+    const int n = parse_int(*l, "limit", 0, 100000000);
+    if (static_cast<size_t>(n) < people.size()) people.resize(static_cast<size_t>(n));
+  }
+  const std::optional<std::string> out_dir = a.get("out-dir");
+  if (out_dir) std::filesystem::create_directories(*out_dir);
+  const bool circumferences = a.flags.count("no-circumferences") == 0;
+  const bool force = a.flags.count("force") > 0;
+  std::optional<MeasurementMapping> mapping;
+  if (auto m = a.get("mapping")) mapping = load_mapping(*m);
+
+  // Load (and train) every model needed before the workers start.
+  BundleCache cache(a.get("model"), a.get("regressors"));
+  std::map<std::string, std::shared_ptr<const ModelBundle>> bundles;
+  const auto t_load = std::chrono::steady_clock::now();
+  for (auto& p : people) {
+    if (p.sex.empty()) p.sex = default_sex;
+    if (!bundles.count(p.sex)) bundles[p.sex] = cache.get(p.sex);
+  }
+  const double load_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_load).count();
+
+  std::vector<Outcome> outcomes(people.size());
+  std::atomic<size_t> next{0};
+  std::atomic<size_t> done{0};
+  auto work = [&]() {
+    for (size_t i = next.fetch_add(1); i < people.size(); i = next.fetch_add(1)) {
+      const Person& p = people[i];
+      Outcome& o = outcomes[i];
+      o.sex = p.sex;
+      // Per-person errors are data in the results CSV, not the end of the batch.
+      try {
+        if (!p.error.empty()) throw RuntimeError(p.error);
+        o.regressor = fixed_regressor ? *fixed_regressor : default_regressor(p.inputs);
+        require_inputs(o.regressor, p.inputs);
+        std::vector<std::string> warnings;
+        try {
+          warnings = check_inputs(p.inputs, force);
+        } catch (const ImplausibleInput& e) {
+          o.status = "refused";
+          o.message = e.what();
+          done.fetch_add(1);
+          continue;
+        }
+        const ModelBundle& b = *bundles.at(p.sex);
+        Avatar av =
+            make_avatar(b, o.regressor, p.inputs, mapping ? &*mapping : nullptr, circumferences);
+        for (size_t w = 0; w < warnings.size(); ++w) o.message += (w ? "; " : "") + warnings[w];
+        if (out_dir) {
+          const std::string path =
+              (std::filesystem::path(*out_dir) / (file_safe(p.id) + "." + format)).string();
+          write_avatar(path, b.model, av.betas, av.vertices,
+                       {{"generator", version_string()}, {"regressor", o.regressor}});
+        }
+        o.achieved = std::move(av.achieved);
+        o.betas = std::move(av.betas);
+        o.plausibility = av.plausibility;
+      } catch (const std::exception& e) {
+        o.status = "error";
+        o.message = e.what();
+      }
+      done.fetch_add(1);
+    }
+  };
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<std::thread> threads;
+  const int n_threads = std::min<int>(jobs, static_cast<int>(std::max<size_t>(1, people.size())));
+  for (int t = 1; t < n_threads; ++t) threads.emplace_back(work);
+  {
+    Progress progress(io.err, static_cast<std::int64_t>(people.size()), io.err_is_terminal);
+    // The main thread works too, reporting progress between people.
+    std::thread main_worker(work);
+    while (done.load() < people.size()) {
+      progress.update(static_cast<std::int64_t>(done.load()));
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    main_worker.join();
+    progress.finish();
+  }
+  for (auto& t : threads) t.join();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  // Results CSV.
+  int max_betas = 0;
+  for (const auto& o : outcomes) max_betas = std::max(max_betas, static_cast<int>(o.betas.size()));
+  std::ofstream file;
+  std::ostream* out = &io.out;
+  if (auto path = a.get("out")) {
+    file.open(*path, std::ios::binary);
+    if (!file) throw RuntimeError(*path + ": cannot write the results CSV");
+    out = &file;
+  }
+  const auto& inputs = regressor_inputs(RegressorKind::R6);
+  auto col = [](const std::string& id) { return id + "_" + display_unit(id).first; };
+  *out << "id,sex,status,regressor";
+  for (const auto& id : inputs) *out << ",input_" << col(id);
+  for (const auto& id : report_ids()) *out << "," << col(id);
+  *out << ",mahalanobis,p_value,beyond_2sd,beyond_3sd,plausible";
+  for (int b = 0; b < max_betas; ++b) *out << ",beta" << b;
+  *out << ",message\n";
+  int ok = 0, refused = 0, errors = 0;
+  for (size_t i = 0; i < people.size(); ++i) {
+    const Person& p = people[i];
+    const Outcome& o = outcomes[i];
+    ok += o.status == "ok";
+    refused += o.status == "refused";
+    errors += o.status == "error";
+    *out << csv_escape(p.id) << "," << o.sex << "," << o.status << "," << o.regressor;
+    for (const auto& id : inputs) {
+      auto it = p.inputs.find(id);
+      *out << ",";
+      if (it != p.inputs.end()) *out << num(it->second * display_unit(id).second, 2);
+    }
+    for (const auto& id : report_ids()) {
+      auto it = o.achieved.find(id);
+      *out << ",";
+      if (it != o.achieved.end()) *out << num(it->second * display_unit(id).second, 2);
+    }
+    if (o.status == "ok") {
+      *out << "," << num(o.plausibility.mahalanobis, 4) << "," << num(o.plausibility.p_value, 6)
+           << "," << o.plausibility.beyond_2sd.size() << "," << o.plausibility.beyond_3sd.size()
+           << "," << (o.plausibility.plausible ? "yes" : "no");
+    } else {
+      *out << ",,,,,";
+    }
+    for (int b = 0; b < max_betas; ++b) {
+      *out << ",";
+      if (b < o.betas.size()) *out << num(o.betas[b], 5);
+    }
+    *out << "," << csv_escape(o.message) << "\n";
+  }
+  out->flush();
+  char buf[256];
+  std::snprintf(buf, sizeof buf,
+                "caliper batch: %zu people in %.3f s (%.0f per second, %d jobs; models loaded and "
+                "regressors trained in %.3f s): %d ok, %d refused, %d errors\n",
+                people.size(), seconds,
+                seconds > 0 ? static_cast<double>(people.size()) / seconds : 0.0, n_threads, load_s,
+                ok, refused, errors);
+  io.err << buf;
+  return (refused + errors) > 0 ? kExitRuntime : kExitOk;
+}
+
+}  // namespace caliper::cli

@@ -1,0 +1,90 @@
+// `caliper measure`: all measurements, volume and weight of an avatar file, or of a model with
+// betas.
+#include <ostream>
+
+#include "caliper/measurements.hpp"
+#include "command_common.hpp"
+#include "commands.hpp"
+#include "inputs.hpp"
+#include "mesh_io.hpp"
+#include "report.hpp"
+#include "smpl/io.hpp"
+
+namespace caliper::cli {
+
+int cmd_measure(const std::vector<std::string>& args, Io& io) {
+  const std::vector<OptionSpec> specs = {
+      {"model", "m", "FILE", "the model (topology and landmarks); default: the open model", false},
+      {"sex", "s", "SEX", "female, male or neutral: which open model (default neutral)", false},
+      {"betas", "b", "LIST", "comma-separated betas, e.g. 0.5,-1,0 (measures the model)", false},
+      {"no-circumferences", "", "", "skip the circumferences (plane slicing)", false},
+      {"json", "", "", "print JSON (SI units: m, kg, m3)", false},
+  };
+  const ParsedArgs a = parse_args(args, specs);
+  if (a.flags.count("help")) {
+    io.out << "usage: caliper measure AVATAR.glb|.gltf|.obj|.ply [--model FILE | --sex SEX]\n"
+              "       caliper measure [--model FILE | --sex SEX] --betas b1,b2,...\n\n"
+              "Measures a rest-pose avatar (the 13 measurements of the paper, circumferences,\n"
+              "volume and weight from volume). An avatar file needs a model of the same\n"
+              "topology for its landmarks.\n\n"
+           << format_options(specs)
+           << "\nexample:\n  caliper measure avatar.glb --sex female --json\n";
+    return kExitOk;
+  }
+  if (a.positional.size() > 1)
+    throw UsageError("give one avatar file (got " + std::to_string(a.positional.size()) + ")");
+  if (a.positional.empty() && !a.get("betas") && !a.get("model"))
+    throw UsageError("give an avatar file, or --betas (and optionally --model)");
+  if (!a.positional.empty() && a.get("betas"))
+    throw UsageError("give either an avatar file or --betas, not both");
+  const std::string sex = a.get("sex") ? normalise_sex(*a.get("sex")) : "neutral";
+  const std::string model_path = resolve_model_path(a.get("model"), sex);
+  const smpl::BodyModel model = smpl::load_model(model_path);
+
+  smpl::Vertices vertices;
+  std::string source;
+  Eigen::VectorXd betas;
+  if (!a.positional.empty()) {
+    source = a.positional[0];
+    MeshFile mesh = read_mesh(source);
+    if (mesh.vertices.rows() != model.num_vertices()) {
+      throw RuntimeError(source + ": the avatar has " + std::to_string(mesh.vertices.rows()) +
+                         " vertices but the model " + model_path + " has " +
+                         std::to_string(model.num_vertices()) +
+                         "; measure with the model it was made from (--model FILE or --sex)");
+    }
+    vertices = std::move(mesh.vertices);
+  } else {
+    source = model_path;
+    std::vector<double> b;
+    if (auto s = a.get("betas")) b = parse_number_list(*s, "--betas");
+    if (static_cast<int>(b.size()) > model.num_betas()) {
+      throw UsageError("--betas: " + std::to_string(b.size()) + " values, but the model has " +
+                       std::to_string(model.num_betas()) + " shape components");
+    }
+    betas = Eigen::Map<const Eigen::VectorXd>(b.data(), static_cast<Eigen::Index>(b.size()));
+    vertices = shaped_vertices(model, betas);
+  }
+  MeasureOptions mo;
+  mo.circumferences = a.flags.count("no-circumferences") == 0;
+  const MeasurementMap m = measure_all(model, vertices, mo);
+
+  if (a.flags.count("json")) {
+    Json j = Json::object();
+    j.set("command", "measure");
+    j.set("source", source);
+    j.set("model", model_path);
+    if (betas.size() > 0) j.set("betas", betas_json(betas));
+    j.set("units", Json::object().set("length", "m").set("weight", "kg").set("volume", "m3"));
+    j.set("measurements", measurements_json(m));
+    io.out << j.dump(2) << "\n";
+    return kExitOk;
+  }
+  io.out << "source: " << source << "\nmodel: " << model_path << " ("
+         << (model.meta.gender.empty() ? "?" : model.meta.gender) << ")\n";
+  if (betas.size() > 0) io.out << "betas: " << format_betas(betas) << "\n";
+  io.out << "\n" << measurement_table({}, m);
+  return kExitOk;
+}
+
+}  // namespace caliper::cli

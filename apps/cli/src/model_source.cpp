@@ -1,0 +1,93 @@
+#include "model_source.hpp"
+
+#include <chrono>
+#include <filesystem>
+
+#include "cli_support.hpp"
+#include "smpl/io.hpp"
+
+namespace caliper::cli {
+
+std::string resolve_model_path(const std::optional<std::string>& model_file,
+                               const std::string& sex) {
+  if (model_file) {
+    if (!file_exists(*model_file)) {
+      throw RuntimeError(*model_file +
+                         ": model file not found (--model expects an SMPL-family "
+                         ".npz or .pkl file)");
+    }
+    return *model_file;
+  }
+  const std::string name = "caliper-" + (sex.empty() ? std::string("neutral") : sex) + ".npz";
+  const auto assets = find_assets_dir();
+  if (!assets) {
+    throw RuntimeError(
+        "the open default model " + name +
+        " was not found: no assets folder (looked for $CALIPER_ASSETS, then <executable "
+        "dir>/../../assets and <executable dir>/../share/virtual-caliper/assets). Set "
+        "CALIPER_ASSETS=/path/to/assets or pass --model FILE");
+  }
+  const std::string path = (std::filesystem::path(*assets) / "models" / name).string();
+  if (!file_exists(path)) {
+    throw RuntimeError("the open default model " + path +
+                       " does not exist: build it with caliper-modelgen (docs/models.md), set "
+                       "CALIPER_ASSETS to an assets folder that has models/" +
+                       name + ", or pass --model FILE");
+  }
+  return path;
+}
+
+std::shared_ptr<const ModelBundle> load_bundle(const std::string& model_path,
+                                               const std::optional<std::string>& regressors_file,
+                                               bool need_regressors) {
+  auto bundle = std::make_shared<ModelBundle>();
+  const auto t0 = std::chrono::steady_clock::now();
+  bundle->model = smpl::load_model(model_path);
+  bundle->path = model_path;
+  const auto t1 = std::chrono::steady_clock::now();
+  bundle->load_seconds = std::chrono::duration<double>(t1 - t0).count();
+  if (regressors_file) {
+    bundle->regressors = RegressorSet::load(*regressors_file);
+    bundle->regressors.check(bundle->model);
+  } else if (need_regressors) {
+    bundle->regressors = train_regressors(bundle->model);
+  }
+  bundle->train_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+  return bundle;
+}
+
+std::shared_ptr<const ModelBundle> BundleCache::get(const std::string& sex) {
+  const std::string key = model_file_ ? std::string("<model>") : sex;
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = bundles_.find(key);
+  if (it != bundles_.end()) return it->second;
+  auto b = load_bundle(resolve_model_path(model_file_, sex), regressors_file_);
+  bundles_[key] = b;
+  return b;
+}
+
+std::string default_regressor(const std::map<std::string, double>& inputs) {
+  std::set<std::string> given;
+  for (const auto& [id, v] : inputs) {
+    (void)v;
+    for (const auto& r6 : regressor_inputs(RegressorKind::R6))
+      if (r6 == id) given.insert(id);
+  }
+  for (RegressorKind k : {RegressorKind::R2, RegressorKind::R4, RegressorKind::R5}) {
+    const auto& need = regressor_inputs(k);
+    if (given == std::set<std::string>(need.begin(), need.end())) return to_string(k);
+  }
+  return "noise-aware";
+}
+
+std::string normalise_regressor_name(const std::string& text) {
+  if (auto k = parse_regressor_kind(text)) return to_string(*k);
+  std::string t;
+  for (char c : text) t += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (t == "noise-aware" || t == "noise_aware" || t == "noiseaware" || t == "na" || t == "bayes")
+    return "noise-aware";
+  throw UsageError("--regressor " + text + ": expected R2, R4, R5, R6 or noise-aware");
+}
+
+}  // namespace caliper::cli

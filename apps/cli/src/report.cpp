@@ -1,0 +1,144 @@
+#include "report.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <iomanip>
+#include <sstream>
+
+#include "caliper/circumference.hpp"
+
+namespace caliper::cli {
+
+const std::vector<std::string>& report_ids() {
+  static const std::vector<std::string> ids = [] {
+    std::vector<std::string> v = {"height", "weight"};
+    for (const auto& d : paper_measurements())
+      if (d.id != "height") v.push_back(d.id);
+    for (const auto& c : circumference_ids()) v.push_back(c);
+    v.push_back("volume");
+    return v;
+  }();
+  return ids;
+}
+
+std::string label_of(const std::string& id) {
+  if (id == "weight") return "Weight";
+  if (id == "volume") return "Volume";
+  if (id == "chest_circumference") return "Chest circumference";
+  if (id == "waist_circumference") return "Waist circumference";
+  if (id == "hip_circumference") return "Hip circumference";
+  if (id == "thigh_circumference") return "Thigh circumference";
+  for (const auto& d : paper_measurements())
+    if (d.id == id) return d.label;
+  return id;
+}
+
+std::pair<std::string, double> display_unit(const std::string& id) {
+  if (id == "weight") return {"kg", 1.0};
+  if (id == "volume") return {"L", 1000.0};
+  return {"cm", 100.0};
+}
+
+std::string format_value(const std::string& id, double si_value, int decimals) {
+  const auto [unit, factor] = display_unit(id);
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f %s", decimals, si_value * factor, unit.c_str());
+  return buf;
+}
+
+std::string format_difference(const std::string& id, double si_difference, int decimals) {
+  const auto [unit, factor] = display_unit(id);
+  char buf[64];
+  double v = si_difference * factor;
+  if (std::abs(v) < 0.5 * std::pow(10.0, -decimals)) v = 0.0;  // no "-0.0"
+  std::snprintf(buf, sizeof buf, "%+.*f %s", decimals, v, unit.c_str());
+  return buf;
+}
+
+std::string measurement_table(const MeasurementMap& input, const MeasurementMap& achieved) {
+  std::ostringstream s;
+  const bool with_input = !input.empty();
+  s << std::left << std::setw(28) << "measurement";
+  if (with_input) s << std::right << std::setw(12) << "input";
+  s << std::right << std::setw(12) << "achieved";
+  if (with_input) s << std::setw(12) << "difference";
+  s << "\n";
+  auto row = [&](const std::string& id) {
+    auto a = achieved.find(id);
+    auto in = input.find(id);
+    if (a == achieved.end() && in == input.end()) return;
+    s << std::left << std::setw(28) << label_of(id);
+    if (with_input)
+      s << std::right << std::setw(12) << (in != input.end() ? format_value(id, in->second) : "-");
+    s << std::right << std::setw(12) << (a != achieved.end() ? format_value(id, a->second) : "-");
+    if (with_input && in != input.end() && a != achieved.end())
+      s << std::setw(12) << format_difference(id, a->second - in->second);
+    s << "\n";
+  };
+  for (const auto& id : report_ids()) row(id);
+  for (const auto& [id, v] : achieved) {
+    (void)v;
+    bool listed = false;
+    for (const auto& r : report_ids()) listed = listed || r == id;
+    if (!listed) row(id);
+  }
+  return s.str();
+}
+
+std::string format_betas(const Eigen::VectorXd& betas) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(3);
+  for (Eigen::Index i = 0; i < betas.size(); ++i) s << (i ? " " : "") << betas[i];
+  return s.str();
+}
+
+namespace {
+std::string index_list(const std::vector<int>& v) {
+  if (v.empty()) return "none";
+  std::string s;
+  for (size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + std::to_string(v[i]);
+  return s;
+}
+}  // namespace
+
+std::string format_plausibility(const Plausibility& p) {
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(2) << "Mahalanobis distance " << p.mahalanobis << " over "
+    << p.dof << " components, chi-square p = " << std::setprecision(3) << p.p_value
+    << (p.plausible ? " (plausible)" : " (IMPLAUSIBLE)") << "\n"
+    << "components beyond 2 SD: " << index_list(p.beyond_2sd)
+    << "; beyond 3 SD: " << index_list(p.beyond_3sd) << "\n";
+  return s.str();
+}
+
+Json measurements_json(const MeasurementMap& values) {
+  Json j = Json::object();
+  for (const auto& id : report_ids()) {
+    auto it = values.find(id);
+    if (it != values.end()) j.set(id, it->second);
+  }
+  for (const auto& [id, v] : values)
+    if (!j.contains(id)) j.set(id, v);
+  return j;
+}
+
+Json plausibility_json(const Plausibility& p) {
+  Json j = Json::object();
+  j.set("mahalanobis", p.mahalanobis);
+  j.set("dof", p.dof);
+  j.set("chi_square_cdf", p.cdf);
+  j.set("p_value", p.p_value);
+  Json b2 = Json::array(), b3 = Json::array();
+  for (int i : p.beyond_2sd) b2.push_back(i);
+  for (int i : p.beyond_3sd) b3.push_back(i);
+  j.set("beyond_2sd", b2);
+  j.set("beyond_3sd", b3);
+  j.set("plausible", p.plausible);
+  return j;
+}
+
+Json betas_json(const Eigen::VectorXd& betas) {
+  return Json(std::vector<double>(betas.data(), betas.data() + betas.size()));
+}
+
+}  // namespace caliper::cli
