@@ -1,6 +1,7 @@
 // GLFW window context provider, OpenGL 3.3 core profile.
 #include "render/glfw_context.hpp"
 
+#define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
 namespace caliper::render {

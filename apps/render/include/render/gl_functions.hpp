@@ -13,6 +13,19 @@
 
 namespace caliper::render {
 
+/// OpenGL 1.1 entry point types, declared here because glcorearb.h omits them when GL/gl.h
+/// (pulled in by osmesa.h or glfw3.h) was included first.
+namespace gl11 {
+using PolygonOffset = void (*)(GLfloat factor, GLfloat units);
+using DrawArrays = void (*)(GLenum mode, GLint first, GLsizei count);
+using DrawElements = void (*)(GLenum mode, GLsizei count, GLenum type, const void* indices);
+using GenTextures = void (*)(GLsizei n, GLuint* textures);
+using BindTexture = void (*)(GLenum target, GLuint texture);
+using TexSubImage2D = void (*)(GLenum target, GLint level, GLint x, GLint y, GLsizei width,
+                               GLsizei height, GLenum format, GLenum type, const void* pixels);
+using DeleteTextures = void (*)(GLsizei n, const GLuint* textures);
+}  // namespace gl11
+
 /// Thrown when a GL context cannot be created, a function cannot be loaded, a shader fails to
 /// compile, or a GL error is detected. The message names the call and the reason.
 class RenderError : public std::runtime_error {
@@ -41,7 +54,7 @@ using GlProcLoader = GlProc (*)(const char* name, void* user);
   X(PFNGLBLENDFUNCSEPARATEPROC, BlendFuncSeparate)                           \
   X(PFNGLBLENDEQUATIONPROC, BlendEquation)                                   \
   X(PFNGLPOLYGONMODEPROC, PolygonMode)                                       \
-  X(PFNGLPOLYGONOFFSETPROC, PolygonOffset)                                   \
+  X(gl11::PolygonOffset, PolygonOffset)                                      \
   X(PFNGLLINEWIDTHPROC, LineWidth)                                           \
   X(PFNGLCULLFACEPROC, CullFace)                                             \
   X(PFNGLGETERRORPROC, GetError)                                             \
@@ -83,14 +96,14 @@ using GlProcLoader = GlProc (*)(const char* name, void* user);
   X(PFNGLVERTEXATTRIB4FPROC, VertexAttrib4f)                                 \
   X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray)               \
   X(PFNGLDISABLEVERTEXATTRIBARRAYPROC, DisableVertexAttribArray)             \
-  X(PFNGLDRAWARRAYSPROC, DrawArrays)                                         \
-  X(PFNGLDRAWELEMENTSPROC, DrawElements)                                     \
-  X(PFNGLGENTEXTURESPROC, GenTextures)                                       \
-  X(PFNGLBINDTEXTUREPROC, BindTexture)                                       \
+  X(gl11::DrawArrays, DrawArrays)                                            \
+  X(gl11::DrawElements, DrawElements)                                        \
+  X(gl11::GenTextures, GenTextures)                                          \
+  X(gl11::BindTexture, BindTexture)                                          \
   X(PFNGLTEXIMAGE2DPROC, TexImage2D)                                         \
-  X(PFNGLTEXSUBIMAGE2DPROC, TexSubImage2D)                                   \
+  X(gl11::TexSubImage2D, TexSubImage2D)                                      \
   X(PFNGLTEXPARAMETERIPROC, TexParameteri)                                   \
-  X(PFNGLDELETETEXTURESPROC, DeleteTextures)                                 \
+  X(gl11::DeleteTextures, DeleteTextures)                                    \
   X(PFNGLACTIVETEXTUREPROC, ActiveTexture)                                   \
   X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                               \
   X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                               \

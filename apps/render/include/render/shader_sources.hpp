@@ -10,4 +10,6 @@ extern const char* const kFlatVert;
 extern const char* const kFlatFrag;
 extern const char* const kOverlayVert;
 extern const char* const kOverlayFrag;
+extern const char* const kImguiVert;  ///< Dear ImGui draw lists (the editor)
+extern const char* const kImguiFrag;
 }  // namespace caliper::render::shaders
