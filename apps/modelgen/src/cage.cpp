@@ -1,0 +1,820 @@
+/// \file cage.cpp
+/// The parametric control cage (see cage.hpp for the layout).
+///
+/// Sections: helpers; torso rings; arm root; builder (torso, cap, neck and head, arms with hand,
+/// legs with foot); joints and landmarks.
+#include "cage.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Geometry>
+
+#include "ansur_stats.hpp"
+
+namespace modelgen {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// SMPL joint ids.
+enum Joint : int {
+  kPelvis = 0,
+  kLHip = 1,
+  kSpine1 = 3,
+  kLKnee = 4,
+  kSpine2 = 6,
+  kLAnkle = 7,
+  kSpine3 = 9,
+  kLFoot = 10,
+  kNeck = 12,
+  kLCollar = 13,
+  kHead = 15,
+  kLShoulder = 16,
+  kLElbow = 18,
+  kLWrist = 20,
+  kLHand = 22,
+};
+
+double sgnpow(double v, double e) {
+  return v < 0 ? -std::pow(-v, e) : std::pow(v, e);
+}
+
+// Perimeter of an ellipse (Ramanujan's second approximation).
+double ellipse_perimeter(double a, double b) {
+  const double h = (a - b) * (a - b) / ((a + b) * (a + b));
+  return kPi * (a + b) * (1 + 3 * h / (10 + std::sqrt(4 - 3 * h)));
+}
+
+// Semi-axis b such that the ellipse (a, b) has perimeter p (b >= 0.3 a).
+double ellipse_b_for_perimeter(double a, double p) {
+  double lo = 0.3 * a, hi = 6 * a;
+  for (int it = 0; it < 60; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (ellipse_perimeter(a, mid) < p ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+VertexBlend skin1(int j) {
+  return {{j, 1.0}};
+}
+VertexBlend skin2(int a, int b, double wb) {
+  if (wb <= 0) return skin1(a);
+  if (wb >= 1) return skin1(b);
+  return {{a, 1 - wb}, {b, wb}};
+}
+
+// A torso cross-section: superellipse with separate front and back depths.
+struct TorsoSection {
+  double y = 0;          // height
+  double a = 0;          // half width
+  double df = 0;         // front depth from the centre line
+  double db = 0;         // back depth
+  double cz = 0;         // centre z
+  double p = 2;          // superellipse exponent
+  double bust = 0;       // forward bulge of the breast vertices (i = 1..3, 13..15)
+  double glute = 0;      // backward bulge of the buttock vertices (i = 6, 7, 9, 10)
+  double front_dip = 0;  // cleavage: front centre pulled back
+};
+
+Eigen::Vector3d torso_point(const TorsoSection& s, int i) {
+  const double th = 2 * kPi * i / 16.0;
+  const double sn = std::sin(th), cs = std::cos(th);
+  const double e = 2.0 / s.p;
+  Eigen::Vector3d q(s.a * sgnpow(sn, e), s.y, s.cz + (cs >= 0 ? s.df : s.db) * sgnpow(cs, e));
+  const int k = i <= 8 ? i : 16 - i;  // mirror index on the left half
+  if (s.bust > 0) {
+    const double w = k == 2 ? 1.0 : (k == 1 || k == 3) ? 0.55 : 0.0;
+    q.z() += w * s.bust;
+    if (k == 0) q.z() -= s.front_dip;
+  }
+  if (s.glute > 0) {
+    const double w = (k == 6 || k == 7) ? 1.0 : k == 5 || k == 8 ? 0.45 : 0.0;
+    q.z() -= w * s.glute;
+  }
+  return q;
+}
+
+double torso_perimeter(const TorsoSection& s) {
+  double per = 0;
+  for (int i = 0; i < 16; ++i) {
+    const Eigen::Vector3d a = torso_point(s, i), b = torso_point(s, (i + 1) % 16);
+    per += std::hypot(a.x() - b.x(), a.z() - b.z());
+  }
+  return per;
+}
+
+// Chooses the exponent so that the polygon perimeter matches `target` (clamped to [1.6, 6]).
+void fit_exponent(TorsoSection& s, double target) {
+  double lo = 1.6, hi = 6.0;
+  for (int it = 0; it < 50; ++it) {
+    s.p = 0.5 * (lo + hi);
+    (torso_perimeter(s) < target ? lo : hi) = s.p;
+  }
+  s.p = 0.5 * (lo + hi);
+}
+
+class Builder {
+ public:
+  explicit Builder(Cage& c) : c_(c) {}
+
+  bool mirrored = false;
+
+  int vert(Eigen::Vector3d p, VertexBlend skin) {
+    if (mirrored) {
+      p.x() = -p.x();
+      for (auto& s : skin) s.first = mirror_joint(s.first);
+    }
+    c_.positions.push_back(p);
+    c_.skin.push_back(std::move(skin));
+    c_.mirror.push_back(static_cast<int>(c_.positions.size()) - 1);
+    return static_cast<int>(c_.positions.size()) - 1;
+  }
+  int quad(int a, int b, int c, int d) {
+    if (mirrored) {
+      c_.quads.push_back({a, d, c, b});
+    } else {
+      c_.quads.push_back({a, b, c, d});
+    }
+    return static_cast<int>(c_.quads.size()) - 1;
+  }
+  // Quads between two rings of equal size (ring order counter-clockwise around the growth
+  // direction, on the left side; mirrored sides reverse the winding automatically).
+  void connect(const std::vector<int>& a, const std::vector<int>& b) {
+    const int n = static_cast<int>(a.size());
+    for (int j = 0; j < n; ++j) quad(a[j], a[(j + 1) % n], b[(j + 1) % n], b[j]);
+  }
+  static int mirror_joint(int j) {
+    // Left joints have odd ids 1, 4, 7, 10, 13, 16, 18, 20, 22 -> right = left + 1.
+    switch (j) {
+      case 1:
+      case 4:
+      case 7:
+      case 10:
+      case 13:
+      case 16:
+      case 18:
+      case 20:
+      case 22:
+        return j + 1;
+      default:
+        return j;
+    }
+  }
+
+ private:
+  Cage& c_;
+};
+
+}  // namespace
+
+Cage build_cage(const Eigen::VectorXd& d, bool female) {
+  Cage cage;
+  Builder b(cage);
+
+  const double H = d[kStature];
+  const double Hcr = d[kCrotchHeight];
+  const double HA = d[kAcromialHeight];
+  const double HX = std::min(d[kAxillaHeight], HA - 0.06);
+  const double HN = std::min(d[kChestHeight], HX - 0.03);
+  const double HW = std::min(d[kWaistHeight], HN - 0.08);
+  const double HBt = std::clamp(d[kButtockHeight], Hcr + 0.04, HW - 0.08);
+  const double HC7 = std::max(d[kCervicaleHeight], HA + 0.03);
+  const double HK = d[kKneeHeight];
+  const double HM = d[kMalleolusHeight];
+  const double bia = d[kBiacromial];
+  const double hand_scale = d[kHandLength] / 0.19;
+
+  // ---------------------------------------------------------------- torso sections (r0..r9)
+  std::array<TorsoSection, 10> sec;
+  const double bust = female ? std::max(0.012, 0.22 * d[kChestDepth] - 0.012) : 0.0;
+  const double glute = (female ? 0.022 : 0.016) + 0.1 * (d[kButtockDepth] - 0.23);
+  {
+    TorsoSection& s1 = sec[1];  // buttocks, widest hips
+    s1.y = HBt;
+    s1.a = d[kHipBreadth] / 2;
+    s1.df = d[kButtockDepth] * 0.44;
+    s1.db = d[kButtockDepth] * 0.56 - glute;
+    s1.cz = -0.005;
+    s1.glute = glute;
+    fit_exponent(s1, d[kButtockCirc]);
+    TorsoSection& s0 = sec[0];  // just above the crotch
+    s0 = s1;
+    s0.y = Hcr + 0.3 * (HBt - Hcr);
+    s0.a = s1.a * 0.97;
+    s0.df = s1.df * 0.85;
+    s0.db = s1.db * 0.92;
+    s0.glute = glute * 0.6;
+    TorsoSection& s3 = sec[3];  // waist (omphalion)
+    s3.y = HW;
+    s3.a = d[kWaistBreadth] / 2;
+    s3.df = d[kWaistDepth] * 0.52;
+    s3.db = d[kWaistDepth] * 0.48;
+    s3.cz = 0.0;
+    fit_exponent(s3, d[kWaistCirc]);
+    TorsoSection& s2 = sec[2];  // iliac crest
+    s2.y = 0.5 * (HBt + HW);
+    s2.a = 0.5 * (s1.a + s3.a) * (female ? 1.0 : 0.98);
+    s2.df = 0.5 * (s1.df + s3.df);
+    s2.db = 0.5 * (s1.db + s3.db);
+    s2.cz = 0.5 * (s1.cz + s3.cz);
+    s2.p = 0.5 * (s1.p + s3.p);
+    s2.glute = glute * 0.3;
+    TorsoSection& s5 = sec[5];  // chest at nipple height
+    s5.y = HN;
+    s5.a = d[kChestBreadth] / 2;
+    s5.df = d[kChestDepth] * 0.5 - bust;
+    s5.db = d[kChestDepth] * 0.5;
+    s5.cz = 0.0;
+    s5.bust = bust;
+    s5.front_dip = female ? 0.25 * bust : 0.0;
+    fit_exponent(s5, d[kChestCirc]);
+    TorsoSection& s4 = sec[4];  // lower chest
+    s4.y = HW + 0.55 * (HN - HW);
+    s4.a = 0.35 * s3.a + 0.65 * s5.a;
+    s4.df = 0.4 * s3.df + 0.6 * s5.df;
+    s4.db = 0.4 * s3.db + 0.6 * s5.db;
+    s4.p = 0.5 * (s3.p + s5.p);
+    s4.bust = 0.35 * bust;
+    TorsoSection& s6 = sec[6];  // armpits
+    s6 = s5;
+    s6.y = HX;
+    s6.a = s5.a * 0.98;
+    s6.df = d[kChestDepth] * 0.47 - 0.3 * bust;
+    s6.db = d[kChestDepth] * 0.5;
+    s6.bust = 0.2 * bust;
+    s6.front_dip = 0;
+    s6.p = std::min(s5.p, 3.0);
+    TorsoSection& s9 = sec[9];  // shoulder line
+    s9.y = HA;
+    s9.a = bia / 2 * 0.86;
+    s9.df = d[kChestDepth] * 0.33;
+    s9.db = d[kChestDepth] * 0.42;
+    s9.cz = -0.01;
+    s9.p = 2.6;
+    for (int r = 7; r <= 8; ++r) {
+      const double t = (r - 6) / 3.0;
+      TorsoSection& s = sec[r];
+      s.y = HX + t * (HA - HX);
+      s.a = (1 - t) * s6.a + t * s9.a;
+      s.df = (1 - t) * s6.df + t * s9.df;
+      s.db = (1 - t) * s6.db + t * s9.db;
+      s.cz = (1 - t) * s6.cz + t * s9.cz;
+      s.p = (1 - t) * s6.p + t * s9.p;
+    }
+  }
+
+  // ---------------------------------------------------------------- arm root ring (left)
+  const double xa = bia / 2;  // acromion
+  const double arm_ry = (HA - HX) / 2;
+  const double arm_y = (HA + HX) / 2;
+  const double r_bic = d[kBicepsCirc] / (2 * kPi) * 0.92;
+  const double arm_rz = std::max(r_bic * 1.25, arm_ry * 0.95);
+  const double arm_tilt = 0.018;
+  const double arm_xc = xa - arm_tilt;
+  auto arm_root_point = [&](int j) {
+    const double ph = 2 * kPi * j / 10.0;
+    return Eigen::Vector3d(arm_xc + arm_tilt * std::cos(ph), arm_y + arm_ry * std::cos(ph),
+                           -0.012 + arm_rz * std::sin(ph));
+  };
+  // torso (ring, index) -> arm root j, for the left side
+  auto arm_root_index = [](int r, int i) -> int {
+    if (r == 9 && i == 4) return 0;
+    if (r == 9 && i == 3) return 1;
+    if (r == 8 && i == 3) return 2;
+    if (r == 7 && i == 3) return 3;
+    if (r == 6 && i == 3) return 4;
+    if (r == 6 && i == 4) return 5;
+    if (r == 6 && i == 5) return 6;
+    if (r == 7 && i == 5) return 7;
+    if (r == 8 && i == 5) return 8;
+    if (r == 9 && i == 5) return 9;
+    return -1;
+  };
+
+  // ---------------------------------------------------------------- torso vertices
+  auto torso_skin = [&](int r, int i) -> VertexBlend {
+    const int k = i <= 8 ? i : 16 - i;  // distance from the front midline in steps
+    const bool left = i > 0 && i < 8;
+    const int hip = left ? kLHip : kLHip + 1;
+    const int collar = left ? kLCollar : kLCollar + 1;
+    const int shoulder = left ? kLShoulder : kLShoulder + 1;
+    switch (r) {
+      case 0:
+        return (k == 0 || k == 8) ? skin2(kPelvis, kLHip, 0) : skin2(kPelvis, hip, 0.45);
+      case 1:
+        return (k >= 3 && k <= 5) ? skin2(kPelvis, hip, 0.2) : skin1(kPelvis);
+      case 2:
+        return skin2(kPelvis, kSpine1, 0.5);
+      case 3:
+        return skin1(kSpine1);
+      case 4:
+        return skin2(kSpine1, kSpine2, 0.5);
+      case 5:
+        return skin2(kSpine2, kSpine3, 0.5);
+      case 6:
+        if (k >= 3 && k <= 5) return skin2(kSpine3, shoulder, 0.35);
+        return skin1(kSpine3);
+      case 7:
+      case 8:
+        if (k >= 3 && k <= 5) return {{kSpine3, 0.35}, {collar, 0.3}, {shoulder, 0.35}};
+        if (k == 2 || k == 6) return skin2(kSpine3, collar, 0.3);
+        return skin1(kSpine3);
+      default:  // 9
+        if (k == 4) return skin2(collar, shoulder, 0.5);
+        if (k == 3 || k == 5) return {{collar, 0.5}, {shoulder, 0.3}, {kSpine3, 0.2}};
+        if (k == 2 || k == 6) return skin2(kSpine3, collar, 0.55);
+        return skin2(kSpine3, collar, 0.2);
+    }
+  };
+
+  std::array<std::array<int, 16>, 10> T{};
+  for (int r = 0; r < 10; ++r) {
+    for (int i = 0; i < 16; ++i) {
+      T[r][i] = -1;
+      const bool hole_interior = (r == 7 || r == 8) && (i == 4 || i == 12);
+      if (hole_interior) continue;
+      Eigen::Vector3d p;
+      const int li = i <= 8 ? i : 16 - i;
+      const int j = arm_root_index(r, li);
+      if (j >= 0) {
+        p = arm_root_point(j);
+        if (i > 8) p.x() = -p.x();
+      } else {
+        p = torso_point(sec[r], i);
+        if (r == 9) {  // front of the shoulder line lower, back higher
+          const double cs = std::cos(2 * kPi * i / 16.0);
+          p.y() += cs > 0 ? -0.045 * cs : 0.0;
+        }
+      }
+      T[r][i] = b.vert(p, torso_skin(r, i));
+    }
+  }
+  for (int r = 0; r < 10; ++r) {
+    for (int i = 0; i < 16; ++i) {
+      if (r == 9) continue;  // above the top ring: the cap
+      const int i1 = (i + 1) % 16;
+      const bool hole = (r >= 6 && r <= 8) && (i == 3 || i == 4 || i == 11 || i == 12);
+      if (hole) continue;
+      b.quad(T[r][i], T[r][i1], T[r + 1][i1], T[r + 1][i]);
+    }
+  }
+  for (int i = 0; i < 16; ++i) {
+    const int m = (16 - i) % 16;
+    for (int r = 0; r < 10; ++r) {
+      if (T[r][i] >= 0) cage.mirror[T[r][i]] = T[r][m];
+    }
+  }
+
+  // ---------------------------------------------------------------- shoulder cap (4 x 4 grid)
+  // Grid (u, v): u = 0 right .. 4 left, v = 0 back .. 4 front. Boundary = top ring T[9].
+  std::array<std::array<int, 5>, 5> G{};
+  {
+    const int bu[16] = {2, 3, 4, 4, 4, 4, 4, 3, 2, 1, 0, 0, 0, 0, 0, 1};
+    const int bv[16] = {4, 4, 4, 3, 2, 1, 0, 0, 0, 0, 0, 1, 2, 3, 4, 4};
+    for (auto& row : G) row.fill(-1);
+    for (int i = 0; i < 16; ++i) G[bu[i]][bv[i]] = T[9][i];
+  }
+  // Neck hole ring (8, counter-clockwise around +y from the front).
+  const int nu[8] = {2, 3, 3, 3, 2, 1, 1, 1};
+  const int nv[8] = {3, 3, 2, 1, 1, 1, 2, 3};
+  const double r_neck = d[kNeckCirc] / (2 * kPi);
+  std::vector<int> N0(8);
+  for (int k = 0; k < 8; ++k) {
+    const double th = 2 * kPi * k / 8.0;
+    const double cs = std::cos(th);
+    const Eigen::Vector3d p(r_neck * 1.12 * std::sin(th), HC7 - 0.03 - 0.028 * cs,
+                            -0.025 + r_neck * 1.1 * cs);
+    const int kk = k <= 4 ? k : 8 - k;
+    VertexBlend sk =
+        kk == 2 ? VertexBlend{{kSpine3, 0.4}, {kNeck, 0.4}, {k < 4 ? kLCollar : kLCollar + 1, 0.2}}
+                : skin2(kSpine3, kNeck, 0.5);
+    N0[k] = b.vert(p, sk);
+    G[nu[k]][nv[k]] = N0[k];
+  }
+  for (int k = 0; k < 8; ++k) cage.mirror[N0[k]] = N0[(8 - k) % 8];
+  for (int u = 0; u < 4; ++u) {
+    for (int v = 0; v < 4; ++v) {
+      if (u >= 1 && u <= 2 && v >= 1 && v <= 2) continue;  // neck hole
+      b.quad(G[u][v], G[u][v + 1], G[u + 1][v + 1], G[u + 1][v]);
+    }
+  }
+
+  // ---------------------------------------------------------------- neck and head (8-rings)
+  const double hh = 1.72 * d[kTragionTop];  // vertex to menton
+  const double chin = H - hh;
+  const double hb2 = d[kHeadBreadth] / 2, hl2 = d[kHeadLength] / 2;
+  auto head_ring = [&](double y, double cz, double a, double df, double dbk, double nose,
+                       VertexBlend sk) {
+    std::vector<int> ring(8);
+    for (int k = 0; k < 8; ++k) {
+      const double th = 2 * kPi * k / 8.0;
+      const double sn = std::sin(th), cs = std::cos(th);
+      Eigen::Vector3d p(a * sgnpow(sn, 0.85), y, cz + (cs >= 0 ? df : dbk) * sgnpow(cs, 0.85));
+      if (k == 0) p.z() += nose;
+      ring[k] = b.vert(p, sk);
+    }
+    for (int k = 0; k < 8; ++k) cage.mirror[ring[k]] = ring[(8 - k) % 8];
+    return ring;
+  };
+  const std::vector<int> N1 =
+      head_ring(HC7 + 0.02, -0.02, r_neck * 0.98, r_neck * 0.98, r_neck, 0, skin1(kNeck));
+  const std::vector<int> N2 = head_ring(chin + 0.01, -0.012, r_neck * 1.02, r_neck * 1.05,
+                                        r_neck * 1.0, 0, skin2(kNeck, kHead, 0.5));
+  const std::vector<int> H0 =
+      head_ring(chin + 0.03, 0.012, hb2 * 0.78, hl2 * 0.92, hl2 * 0.55, 0, skin1(kHead));
+  const std::vector<int> H1 =
+      head_ring(chin + 0.36 * hh, 0.0, hb2 * 0.93, hl2 * 0.98, hl2 * 0.9, 0.016, skin1(kHead));
+  const std::vector<int> H2 =
+      head_ring(chin + 0.58 * hh, -0.004, hb2 * 1.0, hl2 * 0.93, hl2 * 1.0, 0.004, skin1(kHead));
+  const std::vector<int> H3 =
+      head_ring(chin + 0.82 * hh, -0.006, hb2 * 0.9, hl2 * 0.85, hl2 * 0.92, 0, skin1(kHead));
+  b.connect(N0, N1);
+  b.connect(N1, N2);
+  b.connect(N2, H0);
+  b.connect(H0, H1);
+  b.connect(H1, H2);
+  b.connect(H2, H3);
+  const int head_top = b.vert(Eigen::Vector3d(0, H + 0.028, -0.008), skin1(kHead));
+  {
+    // 3 x 3 grid: boundary H3, centre head_top. (u: 0 right..2 left, v: 0 back..2 front)
+    std::array<std::array<int, 3>, 3> g{};
+    const int cu[8] = {1, 2, 2, 2, 1, 0, 0, 0};
+    const int cv[8] = {2, 2, 1, 0, 0, 0, 1, 2};
+    for (int k = 0; k < 8; ++k) g[cu[k]][cv[k]] = H3[k];
+    g[1][1] = head_top;
+    for (int u = 0; u < 2; ++u) {
+      for (int v = 0; v < 2; ++v) b.quad(g[u][v], g[u][v + 1], g[u + 1][v + 1], g[u + 1][v]);
+    }
+  }
+
+  // ---------------------------------------------------------------- arms (left, then mirrored)
+  const double span2 = d[kSpan] / 2;
+  const double hand_len = d[kHandLength];
+  const double x_w = span2 - hand_len * 0.97;
+  const double ua = d[kAcromionRadiale], fa = d[kRadialeStylion];
+  const double x_e = xa + (x_w - xa) * ua / (ua + fa);
+  const double y_axis = HA - r_bic - 0.012;
+  const double r_fa = d[kForearmCirc] / (2 * kPi) * 0.9;
+  const double r_wr = d[kWristCirc] / (2 * kPi);
+  const double palm = 0.56 * hand_len;
+  const double hand_w = d[kHandBreadth] * 0.95;
+  const double hand_t = 0.026 * hand_scale;
+
+  struct ArmIds {
+    std::vector<int> all;
+    std::vector<int> root, a1, a4, a7, p2;
+    int tip_face[5] = {-1, -1, -1, -1, -1};
+  };
+  auto build_arm = [&](bool mirrored) {
+    b.mirrored = mirrored;
+    ArmIds ids;
+    const int s = mirrored ? 1 : 0;  // joint id offset (right = left + 1)
+    auto J = [&](int j) { return j; };
+    (void)s;
+    // root ring from the torso
+    std::vector<int> root(10);
+    {
+      const int ri[10] = {9, 9, 8, 7, 6, 6, 6, 7, 8, 9};
+      const int ii[10] = {4, 3, 3, 3, 3, 4, 5, 5, 5, 5};
+      for (int j = 0; j < 10; ++j) {
+        const int i = mirrored ? (16 - ii[j]) % 16 : ii[j];
+        root[j] = T[ri[j]][i];
+      }
+    }
+    ids.root = root;
+    auto ring = [&](double x, double yc, double zc, double ry, double rz, VertexBlend sk) {
+      std::vector<int> r(10);
+      for (int j = 0; j < 10; ++j) {
+        const double ph = 2 * kPi * j / 10.0;
+        r[j] = b.vert(Eigen::Vector3d(x, yc + ry * std::cos(ph), zc + rz * std::sin(ph)), sk);
+        ids.all.push_back(r[j]);
+      }
+      return r;
+    };
+    // Palm ring: rounded rectangle; top row j = 2,1,0,9,8 and bottom row j = 3..7, front to back.
+    auto palm_ring = [&](double x, double yc, double w, double t, VertexBlend sk) {
+      std::vector<int> r(10);
+      const int top[5] = {2, 1, 0, 9, 8};
+      const int bot[5] = {3, 4, 5, 6, 7};
+      const double zs[5] = {0.5, 0.25, 0.0, -0.25, -0.5};
+      for (int c = 0; c < 5; ++c) {
+        const double edge = (c == 0 || c == 4) ? 0.7 : 1.0;  // rounded sides
+        r[top[c]] = -2 - c;
+        r[bot[c]] = -2 - c;
+        (void)edge;
+      }
+      for (int j = 0; j < 10; ++j) {
+        int c = 0;
+        bool is_top = false;
+        for (int k = 0; k < 5; ++k) {
+          if (top[k] == j) {
+            c = k;
+            is_top = true;
+          }
+          if (bot[k] == j) c = k;
+        }
+        const double edge = (c == 0 || c == 4) ? 0.75 : 1.0;
+        const double xx = x - ((c == 4) ? 0.06 * palm : 0.0);
+        r[j] = b.vert(Eigen::Vector3d(xx, yc + (is_top ? 0.5 : -0.5) * t * edge, zs[c] * w), sk);
+        ids.all.push_back(r[j]);
+      }
+      return r;
+    };
+    const auto A1 = ring(xa + 0.028, y_axis + 0.004, -0.01, r_bic * 1.12, r_bic * 1.12,
+                         skin2(J(kLCollar), J(kLShoulder), 0.8));
+    const auto A2 =
+        ring(xa + 0.45 * (x_e - xa), y_axis, -0.004, r_bic * 0.98, r_bic * 1.0, skin1(kLShoulder));
+    const auto A3 =
+        ring(x_e - 0.045, y_axis, 0, r_bic * 0.84, r_bic * 0.9, skin2(kLShoulder, kLElbow, 0.15));
+    const double r_el = 0.45 * r_bic + 0.55 * r_fa;
+    const auto A4 = ring(x_e, y_axis, 0, r_el * 0.8, r_el * 0.95, skin2(kLShoulder, kLElbow, 0.5));
+    const auto A5 = ring(x_e + 0.3 * (x_w - x_e), y_axis, 0.002, r_fa * 0.82, r_fa * 1.05,
+                         skin2(kLShoulder, kLElbow, 0.88));
+    const double r_lf = 0.5 * (r_fa + r_wr);
+    const auto A6 =
+        ring(x_e + 0.68 * (x_w - x_e), y_axis, 0.003, r_lf * 0.75, r_lf * 1.15, skin1(kLElbow));
+    const auto A7 =
+        ring(x_w, y_axis, 0.004, r_wr * 0.68, r_wr * 1.22, skin2(kLElbow, kLWrist, 0.5));
+    const auto P1 =
+        palm_ring(x_w + 0.45 * palm, y_axis - 0.002, hand_w * 0.92, hand_t, skin1(kLWrist));
+    const auto P2 =
+        palm_ring(x_w + palm, y_axis - 0.004, hand_w, hand_t * 0.85, skin2(kLWrist, kLHand, 0.4));
+    ids.a1 = A1;
+    ids.a4 = A4;
+    ids.a7 = A7;
+    ids.p2 = P2;
+    b.connect(root, A1);
+    b.connect(A1, A2);
+    b.connect(A2, A3);
+    b.connect(A3, A4);
+    b.connect(A4, A5);
+    b.connect(A5, A6);
+    b.connect(A6, A7);
+    // A7 -> P1 with the thumb quad (j = 2) left open
+    for (int j = 0; j < 10; ++j) {
+      if (j == 2) continue;
+      b.quad(A7[j], A7[(j + 1) % 10], P1[(j + 1) % 10], P1[j]);
+    }
+    b.connect(P1, P2);
+    // thumb
+    {
+      const std::vector<int> R = {A7[2], A7[3], P1[3], P1[2]};
+      Eigen::Vector3d base = Eigen::Vector3d::Zero();
+      for (int v : R) base += cage.positions[v];
+      base /= 4;
+      if (mirrored) base.x() = -base.x();  // work in left coordinates
+      const Eigen::Vector3d dir = Eigen::Vector3d(0.55, -0.3, 0.78).normalized();
+      const Eigen::Vector3d ex = Eigen::Vector3d::UnitY().cross(dir).normalized();
+      const Eigen::Vector3d ey = dir.cross(ex).normalized();
+      const double sx[4] = {-1, -1, 1, 1};
+      const double sy[4] = {1, -1, -1, 1};
+      std::vector<int> prev = R;
+      const double dist[3] = {0.024, 0.046, 0.064};
+      const double rad[3] = {0.0115, 0.0105, 0.0095};
+      const VertexBlend tsk[3] = {skin2(kLWrist, kLHand, 0.5), skin1(kLHand), skin1(kLHand)};
+      for (int t = 0; t < 3; ++t) {
+        std::vector<int> cur(4);
+        for (int m = 0; m < 4; ++m) {
+          const Eigen::Vector3d p = base + dist[t] * hand_scale * dir +
+                                    rad[t] * hand_scale * (sx[m] * ex * 1.05 + sy[m] * ey * 0.9);
+          cur[m] = b.vert(p, tsk[t]);
+          ids.all.push_back(cur[m]);
+        }
+        b.connect(prev, cur);
+        prev = cur;
+      }
+      ids.tip_face[4] = b.quad(prev[0], prev[1], prev[2], prev[3]);
+    }
+    // fingers from the P2 end grid: T_c = P2[2,1,0,9,8][c], B_c = P2[3,4,5,6,7][c]
+    {
+      const int top[5] = {2, 1, 0, 9, 8};
+      const int bot[5] = {3, 4, 5, 6, 7};
+      const double flen = hand_len - palm;
+      const double rel_len[4] = {0.93, 1.0, 0.95, 0.78};
+      const double x0 = x_w + palm;
+      for (int k = 0; k < 4; ++k) {
+        std::vector<int> prev = {P2[top[k]], P2[bot[k]], P2[bot[k + 1]], P2[top[k + 1]]};
+        const double zc = (0.375 - 0.25 * k) * hand_w * 1.02;
+        const double hw = hand_w / 8 * 0.78;
+        const double ht = 0.0088 * hand_scale;
+        const double L = flen * rel_len[k];
+        const double frac[3] = {0.3, 0.64, 0.98};
+        const double taper[3] = {1.0, 0.92, 0.82};
+        const VertexBlend fsk[3] = {skin1(kLHand), skin1(kLHand), skin1(kLHand)};
+        const double dy_off = -0.004;
+        for (int t = 0; t < 3; ++t) {
+          const double x = x0 + frac[t] * L - (k == 3 ? 0.05 * palm : 0.0);
+          const double oy[4] = {ht, -ht, -ht, ht};
+          const double oz[4] = {hw, hw, -hw, -hw};
+          std::vector<int> cur(4);
+          for (int m = 0; m < 4; ++m) {
+            cur[m] = b.vert(
+                Eigen::Vector3d(x, y_axis + dy_off + oy[m] * taper[t], zc + oz[m] * taper[t]),
+                fsk[t]);
+            ids.all.push_back(cur[m]);
+          }
+          b.connect(prev, cur);
+          prev = cur;
+        }
+        ids.tip_face[k] = b.quad(prev[0], prev[1], prev[2], prev[3]);
+      }
+    }
+    b.mirrored = false;
+    return ids;
+  };
+  const ArmIds larm = build_arm(false);
+  const ArmIds rarm = build_arm(true);
+  for (std::size_t k = 0; k < larm.all.size(); ++k) {
+    cage.mirror[larm.all[k]] = rarm.all[k];
+    cage.mirror[rarm.all[k]] = larm.all[k];
+  }
+
+  // ---------------------------------------------------------------- legs (left, then mirrored)
+  const int crotch = b.vert(Eigen::Vector3d(0, Hcr, -0.012), skin1(kPelvis));
+  const double x_t = d[kHipBreadth] / 4 + 0.004;
+  const double foot_len = d[kFootLength];
+  const double foot_w = d[kFootBreadth];
+  struct LegIds {
+    std::vector<int> all;
+    std::vector<int> root, g4, g8, f1, f3;
+    int heel = -1, sole = -1;
+  };
+  auto build_leg = [&](bool mirrored) {
+    b.mirrored = mirrored;
+    LegIds ids;
+    std::vector<int> root(10);
+    for (int j = 0; j < 9; ++j) {
+      const int i = 8 - j;
+      root[j] = T[0][mirrored ? (16 - i) % 16 : i];
+    }
+    root[9] = crotch;
+    if (mirrored) {
+      // keep the left ring's order in mirrored coordinates: the mirrored builder reverses quads
+    }
+    ids.root = root;
+    auto ring = [&](const Eigen::Vector3d& c, const Eigen::Vector3d& u, const Eigen::Vector3d& v,
+                    double a, double bb, double back_bulge, double front_bulge, VertexBlend sk) {
+      std::vector<int> r(10);
+      for (int j = 0; j < 10; ++j) {
+        const double ph = (225.0 + 36.0 * j) * kPi / 180.0;
+        const double cs = std::cos(ph), sn = std::sin(ph);
+        double bv = bb * sn;
+        if (sn < 0) bv -= back_bulge * sn * sn;
+        if (sn > 0) bv += front_bulge * sn * sn * sn;
+        r[j] = b.vert(c + a * cs * u + bv * v, sk);
+        ids.all.push_back(r[j]);
+      }
+      return r;
+    };
+    const Eigen::Vector3d ux = Eigen::Vector3d::UnitX();
+    const Eigen::Vector3d vz = Eigen::Vector3d::UnitZ();
+    const double r_th = d[kThighCirc] / (2 * kPi) * 0.97;
+    const double ax1 = std::min(x_t - 0.006, r_th * 0.97);
+    const double bz1 = ellipse_b_for_perimeter(ax1, 2 * kPi * r_th);
+    const auto G1 = ring({x_t, Hcr - 0.03, -0.004}, ux, vz, ax1, bz1, 0.0, 0.0, skin1(kLHip));
+    const double r_lt = d[kLowerThighCirc] / (2 * kPi);
+    const double r_mid = 0.5 * (r_th + r_lt) * 0.98;
+    const double ax2 = std::min(x_t - 0.008, r_mid);
+    const auto G2 = ring({x_t - 0.004, Hcr - 0.4 * (Hcr - HK), 0.004}, ux, vz, ax2,
+                         ellipse_b_for_perimeter(ax2, 2 * kPi * r_mid), 0.0, 0.0, skin1(kLHip));
+    const auto G3 = ring({x_t - 0.008, HK + 0.085, 0.006}, ux, vz, r_lt * 0.95, r_lt * 0.98, 0.0,
+                         0.0, skin2(kLHip, kLKnee, 0.2));
+    const double r_kn = r_lt * 0.88;
+    const auto G4 = ring({x_t - 0.01, HK, 0.008}, ux, vz, r_kn, r_kn * 0.98, 0.0, 0.008,
+                         skin2(kLHip, kLKnee, 0.5));
+    const double r_cf = d[kCalfCirc] / (2 * kPi);
+    const auto G5 = ring({x_t - 0.011, HK - 0.055, 0.002}, ux, vz, r_kn * 0.9, r_kn * 0.88, 0.004,
+                         0.0, skin2(kLHip, kLKnee, 0.85));
+    const double y_calf = HK - 0.3 * (HK - HM);
+    const auto G6 = ring({x_t - 0.011, y_calf, -0.012}, ux, vz, r_cf * 0.9, r_cf * 0.96, 0.012, 0.0,
+                         skin1(kLKnee));
+    const double r_an = d[kAnkleCirc] / (2 * kPi) * 0.96;
+    const auto G7 =
+        ring({x_t - 0.01, HM + 0.42 * (y_calf - HM), -0.012}, ux, vz, 0.5 * (r_cf + r_an) * 0.82,
+             0.5 * (r_cf + r_an) * 0.84, 0.004, 0.0, skin1(kLKnee));
+    const double x_a = x_t - 0.008;
+    const double z_a = -0.01;
+    const auto G8 = ring({x_a, HM + 0.028, z_a}, ux, vz, r_an * 0.85, r_an * 0.9, 0.0, 0.0,
+                         skin2(kLKnee, kLAnkle, 0.55));
+    // foot: bend forward
+    const double z_heel = z_a - 0.24 * foot_len;
+    const Eigen::Vector3d e1 = Eigen::Vector3d(0, -1, 1).normalized();
+    const Eigen::Vector3d v1 = e1.cross(ux);  // (0, 1, 1)/sqrt2 -> leg "front" goes up-front
+    const Eigen::Vector3d vy = Eigen::Vector3d::UnitY();
+    const auto F1 =
+        ring({x_a, 0.052, z_heel + 0.062}, ux, v1, foot_w * 0.36, 0.062, 0.0, 0.0, skin1(kLAnkle));
+    const auto F2 = ring({x_a + 0.004, 0.038, z_heel + 0.45 * foot_len}, ux, vy, foot_w * 0.44,
+                         0.036, 0.0, 0.0, skin1(kLAnkle));
+    const auto F3 = ring({x_a + 0.006, 0.024, z_heel + 0.72 * foot_len}, ux, vy, foot_w * 0.52,
+                         0.024, 0.0, 0.0, skin2(kLAnkle, kLFoot, 0.4));
+    const auto F4 = ring({x_a + 0.003, 0.019, z_heel + 0.88 * foot_len}, ux, vy, foot_w * 0.46,
+                         0.018, 0.0, 0.0, skin1(kLFoot));
+    const auto F5 = ring({x_a, 0.016, z_heel + 0.985 * foot_len}, ux, vy, foot_w * 0.34, 0.012, 0.0,
+                         0.0, skin1(kLFoot));
+    ids.g4 = G4;
+    ids.g8 = G8;
+    ids.f1 = F1;
+    ids.f3 = F3;
+    ids.heel = F1[1];  // phi = 261 deg: back-bottom of the bend
+    ids.sole = F3[1];  // phi = 261 deg: bottom of the ball
+    b.connect(root, G1);
+    b.connect(G1, G2);
+    b.connect(G2, G3);
+    b.connect(G3, G4);
+    b.connect(G4, G5);
+    b.connect(G5, G6);
+    b.connect(G6, G7);
+    b.connect(G7, G8);
+    b.connect(G8, F1);
+    b.connect(F1, F2);
+    b.connect(F2, F3);
+    b.connect(F3, F4);
+    b.connect(F4, F5);
+    for (int c = 0; c < 4; ++c) b.quad(F5[c], F5[c + 1], F5[8 - c], F5[9 - c]);
+    b.mirrored = false;
+    return ids;
+  };
+  const LegIds lleg = build_leg(false);
+  const LegIds rleg = build_leg(true);
+  for (std::size_t k = 0; k < lleg.all.size(); ++k) {
+    cage.mirror[lleg.all[k]] = rleg.all[k];
+    cage.mirror[rleg.all[k]] = lleg.all[k];
+  }
+
+  // ---------------------------------------------------------------- joints
+  cage.joints.assign(24, {});
+  auto mean_of = [](const std::vector<int>& ids, double w) {
+    VertexBlend bl;
+    for (int v : ids) bl.emplace_back(v, w / static_cast<double>(ids.size()));
+    return bl;
+  };
+  auto add = [](VertexBlend a, const VertexBlend& bb) {
+    a.insert(a.end(), bb.begin(), bb.end());
+    return a;
+  };
+  auto torso_ring = [&](int r) {
+    std::vector<int> ids;
+    for (int i = 0; i < 16; ++i) {
+      if (T[r][i] >= 0) ids.push_back(T[r][i]);
+    }
+    return ids;
+  };
+  auto half_ring = [&](int r, bool left) {
+    std::vector<int> ids;
+    for (int i = 1; i < 8; ++i) ids.push_back(T[r][left ? i : 16 - i]);
+    return ids;
+  };
+  cage.joints[kPelvis] = add(mean_of(torso_ring(0), 0.5), mean_of(torso_ring(1), 0.5));
+  for (int s = 0; s < 2; ++s) {
+    const LegIds& leg = s == 0 ? lleg : rleg;
+    const ArmIds& arm = s == 0 ? larm : rarm;
+    cage.joints[kLHip + s] = add(mean_of(leg.root, 0.6), mean_of(half_ring(1, s == 0), 0.4));
+    cage.joints[kLKnee + s] = mean_of(leg.g4, 1.0);
+    cage.joints[kLAnkle + s] = add(mean_of(leg.g8, 0.75), mean_of(leg.f1, 0.25));
+    cage.joints[kLFoot + s] = mean_of(leg.f3, 1.0);
+    const std::vector<int> collar_ids = {G[s == 0 ? 3 : 1][1], G[s == 0 ? 3 : 1][3],
+                                         G[s == 0 ? 3 : 1][2], N0[s == 0 ? 2 : 6]};
+    cage.joints[kLCollar + s] = add(mean_of(collar_ids, 0.7), mean_of(arm.root, 0.3));
+    cage.joints[kLShoulder + s] = add(mean_of(arm.root, 0.55), mean_of(arm.a1, 0.45));
+    cage.joints[kLElbow + s] = mean_of(arm.a4, 1.0);
+    cage.joints[kLWrist + s] = mean_of(arm.a7, 1.0);
+    cage.joints[kLHand + s] = mean_of(arm.p2, 1.0);
+  }
+  cage.joints[kSpine1] = mean_of(torso_ring(2), 1.0);
+  cage.joints[kSpine2] = mean_of(torso_ring(4), 1.0);
+  cage.joints[kSpine3] = add(mean_of(torso_ring(5), 0.5), mean_of(torso_ring(6), 0.5));
+  cage.joints[kNeck] = add(mean_of(N0, 0.6), mean_of(N1, 0.4));
+  cage.joints[kHead] = add(mean_of(N2, 0.5), mean_of(H0, 0.5));
+
+  // ---------------------------------------------------------------- landmarks
+  auto& L = cage.landmarks;
+  L["head_top"] = {head_top};
+  L["crotch"] = {crotch};
+  L["left_wrist"] = {larm.a7[2], larm.a7[3]};
+  L["right_wrist"] = {rarm.a7[2], rarm.a7[3]};
+  L["left_elbow"] = {larm.a4[2], larm.a4[3]};
+  L["right_elbow"] = {rarm.a4[2], rarm.a4[3]};
+  L["left_shoulder"] = {T[9][4]};
+  L["right_shoulder"] = {T[9][12]};
+  L["left_hip"] = {T[1][4]};
+  L["right_hip"] = {T[1][12]};
+  L["left_nipple"] = {T[5][2]};
+  L["right_nipple"] = {T[5][14]};
+  L["navel"] = {T[3][0]};
+  L["left_waist"] = {T[3][4]};
+  L["right_waist"] = {T[3][12]};
+  L["left_chest"] = {T[5][4]};
+  L["right_chest"] = {T[5][12]};
+  L["torso_back"] = {T[3][8]};
+  L["left_heel"] = {lleg.heel};
+  L["right_heel"] = {rleg.heel};
+  L["left_sole"] = {lleg.sole};
+  L["right_sole"] = {rleg.sole};
+  cage.face_landmarks["left_fingertip"] = {larm.tip_face[1]};
+  cage.face_landmarks["right_fingertip"] = {rarm.tip_face[1]};
+  return cage;
+}
+
+}  // namespace modelgen

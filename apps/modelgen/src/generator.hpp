@@ -1,0 +1,78 @@
+/// \file generator.hpp
+/// The open body model generator: a synthetic population whose body dimensions follow ANSUR II
+/// (multivariate normal per sex, from the committed statistics table), one parametric cage per
+/// body (cage.hpp), Catmull-Clark subdivision (subdivision.hpp), PCA over the refined vertices
+/// (randomized subspace iteration, fixed seed), skinning weights, joint regressor and landmarks
+/// on the cage, all assembled into an smpl::BodyModel. Deterministic: the same statistics and
+/// options give the same bytes on every run.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "ansur_stats.hpp"
+#include "caliper/measurements.hpp"
+#include "smpl/body_model.hpp"
+
+namespace modelgen {
+
+/// Generator settings.
+struct GeneratorOptions {
+  int population = 2000;                    ///< bodies in the synthetic population used for PCA
+  int components = 10;                      ///< shape components kept (betas)
+  int calibration_rounds = 3;               ///< feedback rounds correcting the cage mapping
+  int calibration_bodies = 600;             ///< bodies measured per calibration round
+  std::uint64_t seed = 0x5eed0fca11be7ull;  ///< RNG seed (splitmix64 / xoshiro256**)
+};
+
+/// Small deterministic RNG: xoshiro256** seeded by splitmix64, normals by Box-Muller.
+class Rng {
+ public:
+  explicit Rng(std::uint64_t seed);
+  std::uint64_t next();
+  double uniform();  ///< in (0, 1)
+  double normal();   ///< standard normal
+ private:
+  std::uint64_t s_[4];
+  bool has_spare_ = false;
+  double spare_ = 0.0;
+};
+
+/// The model's fixed topology: subdivision operator, triangles, landmarks, regressor, weights.
+struct ModelTopology {
+  int num_cage_vertices = 0;
+  Eigen::SparseMatrix<double, Eigen::RowMajor> subdivision;  ///< V x cage vertices
+  smpl::Faces faces;                                         ///< F x 3
+  std::map<std::string, std::vector<int>> landmarks;         ///< refined vertex ids
+  smpl::SparseMatrix j_regressor;                            ///< 24 x V
+  smpl::SparseMatrix weights;                                ///< V x 24
+};
+
+/// The measurements the model is validated on (ids below), for one body.
+/// Ids: stature, weight, span, crotch_height, hip_breadth, arm_length, biacromial,
+/// chest_circ, waist_circ, buttock_circ.
+std::map<std::string, double> validation_measurements(const smpl::BodyModel& model,
+                                                      const smpl::Vertices& vertices);
+
+/// Survey value of each validation measurement id: the Dim it corresponds to (arm_length is
+/// kAcromionRadiale + kRadialeStylion, marked by -1).
+int validation_dim(const std::string& id);
+
+/// Ids of validation_measurements(), in table order.
+const std::vector<std::string>& validation_ids();
+
+/// What generate_model() did, for the log and the docs.
+struct GenerationReport {
+  std::vector<std::string> lines;      ///< human-readable log lines
+  Eigen::VectorXd explained_variance;  ///< fraction of total variance per kept component
+};
+
+/// Builds the model for `gender` ("female", "male" or "neutral" = both sexes, half each).
+smpl::BodyModel generate_model(const SurveyStats& stats, const std::string& gender,
+                               const GeneratorOptions& options, GenerationReport* report);
+
+}  // namespace modelgen
