@@ -1,9 +1,12 @@
-// The editor's logic without a window: commands in, state out.
+// The editor's logic without a window: commands in, state out (units, hierarchy, undo/redo,
+// drags, profiles, sessions, comparison, export) and bad input that must leave the avatar
+// intact.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <string>
 
 #include "app/editor_core.hpp"
 #include "app/units.hpp"
@@ -11,12 +14,318 @@
 
 namespace ca = caliper::app;
 
-TEST(Probe, RandomModel) {
-  auto m = std::make_shared<smpl::BodyModel>(caliper::test::make_random_model(10));
-  m->meta.gender = "female";
-  ca::EditorCore core;
-  core.add_model(ca::make_model_entry(m, "random"));
-  for (auto& msg : core.messages()) std::printf("msg %s\n", msg.text.c_str());
-  for (auto& [id, v] : core.avatar().achieved) std::printf("%s %g\n", id.c_str(), v);
-  for (auto& [id, v] : core.state().values) std::printf("in %s %g\n", id.c_str(), v);
+namespace {
+
+/// One fitted small test model for the whole suite (fitting the regressors takes a moment).
+const ca::ModelEntry& entry() {
+  static const ca::ModelEntry e = [] {
+    caliper::test::RandomModelOptions o;
+    o.rings = 30;
+    o.segments = 28;
+    auto m = std::make_shared<smpl::BodyModel>(caliper::test::make_random_model(o));
+    m->meta.gender = "female";
+    m->meta.name = "random-test";
+    return ca::make_model_entry(m, "random-test");
+  }();
+  return e;
+}
+
+ca::EditorCore make_core() {
+  ca::EditorCore c;
+  c.add_model(entry());
+  return c;
+}
+
+std::string temp_path(const std::string& name) {
+  return std::string(CALIPER_TEST_DATA_DIR) + "/editor_" + name;
+}
+
+bool last_is_error(const ca::EditorCore& c) {
+  return !c.messages().empty() && c.messages().back().level == ca::Message::Level::Error;
+}
+
+}  // namespace
+
+// ---- Units ------------------------------------------------------------------------------------
+TEST(Units, ExactInternationalInchAndPound) {
+  EXPECT_DOUBLE_EQ(ca::from_display("height", 100.0, ca::UnitSystem::Imperial), 2.54);
+  EXPECT_DOUBLE_EQ(ca::from_display("weight", 1.0, ca::UnitSystem::Imperial), 0.45359237);
+  EXPECT_DOUBLE_EQ(ca::to_display("height", 1.8, ca::UnitSystem::Metric), 180.0);
+  EXPECT_DOUBLE_EQ(ca::to_display("weight", 80.0, ca::UnitSystem::Metric), 80.0);
+  EXPECT_EQ(ca::unit_label("hip_width", ca::UnitSystem::Imperial), "in");
+  EXPECT_EQ(ca::unit_label("weight", ca::UnitSystem::Imperial), "lb");
+}
+
+TEST(Units, RoundTripEveryQuantity) {
+  for (const char* id : {"height", "weight", "volume", "arm_length"}) {
+    for (auto u : {ca::UnitSystem::Metric, ca::UnitSystem::Imperial}) {
+      const double si = 0.731;
+      // Relative 1e-15: two multiplications by exact constants, a few ulps at most.
+      EXPECT_NEAR(ca::from_display(id, ca::to_display(id, si, u), u), si, 1e-15) << id;
+    }
+  }
+}
+
+TEST(Units, SuffixesFitTheQuantity) {
+  EXPECT_DOUBLE_EQ(*ca::to_si_with_suffix("height", 70, "in"), 1.778);
+  EXPECT_DOUBLE_EQ(*ca::to_si_with_suffix("height", 1800, "mm"), 1.8);
+  EXPECT_DOUBLE_EQ(*ca::to_si_with_suffix("weight", 100, "lb"), 45.359237);
+  EXPECT_FALSE(ca::to_si_with_suffix("weight", 70, "cm"));
+  EXPECT_FALSE(ca::to_si_with_suffix("height", 70, "kg"));
+  EXPECT_FALSE(ca::parse_unit_system("furlongs"));
+}
+
+// ---- Inputs and hierarchy -----------------------------------------------------------------------
+TEST(EditorCore, StartsAtLevelOneWithTheMeanShapesMeasurements) {
+  const ca::EditorCore c = make_core();
+  ASSERT_TRUE(c.has_model());
+  EXPECT_TRUE(c.state().hierarchical);
+  EXPECT_EQ(c.state().level, 1);
+  EXPECT_EQ(c.editable_inputs(), (std::vector<std::string>{"height", "weight"}));
+  EXPECT_GT(c.state().values.at("height"), 1.0);
+  EXPECT_EQ(c.avatar().vertices.rows(), entry().model->num_vertices());
+  EXPECT_NEAR(c.avatar().vertices.col(1).minCoeff(), 0.0, 1e-12);  // floor at y = 0
+}
+
+TEST(EditorCore, TallerInputGivesTallerAvatar) {
+  ca::EditorCore c = make_core();
+  ASSERT_TRUE(c.set_value("height", 1.60));
+  const double short_height = c.avatar().achieved.at("height");
+  ASSERT_TRUE(c.set_value("height", 1.90));
+  const double tall_height = c.avatar().achieved.at("height");
+  EXPECT_GT(tall_height, short_height + 0.1);
+  EXPECT_DOUBLE_EQ(*c.shown_value("height"), 1.90);
+}
+
+TEST(EditorCore, LevelTwoStartsNewInputsFromTheAvatar) {
+  ca::EditorCore c = make_core();
+  ASSERT_TRUE(c.set_value("height", 1.80));
+  const auto achieved = c.avatar().achieved;
+  ASSERT_TRUE(c.set_level(2));
+  EXPECT_EQ(c.editable_inputs(),
+            (std::vector<std::string>{"height", "weight", "arm_span_fingertips", "inseam_height"}));
+  EXPECT_DOUBLE_EQ(c.state().values.at("inseam_height"), achieved.at("inseam_height"));
+  EXPECT_DOUBLE_EQ(c.state().values.at("arm_span_fingertips"), achieved.at("arm_span_fingertips"));
+  EXPECT_DOUBLE_EQ(c.state().values.at("height"), 1.80);  // typed values are kept
+  ASSERT_TRUE(c.set_level(3));
+  EXPECT_EQ(c.editable_inputs().size(), 6u);
+  EXPECT_FALSE(c.set_level(4));
+  EXPECT_TRUE(last_is_error(c));
+}
+
+TEST(EditorCore, NonHierarchicalModeUsesTheChosenRegressor) {
+  ca::EditorCore c = make_core();
+  c.set_hierarchical(false);
+  c.set_regressor(ca::RegressorChoice::R5);
+  EXPECT_EQ(c.editable_inputs().size(), 5u);
+  c.set_regressor(ca::RegressorChoice::NoiseAware);
+  EXPECT_EQ(c.editable_inputs().size(), 6u);
+  ASSERT_EQ(c.avatar().beta_sd.size(), c.avatar().plausibility.dof);
+  for (int b = 0; b < c.avatar().beta_sd.size(); ++b) {
+    EXPECT_GT(c.avatar().beta_sd(b), 0.0);
+    EXPECT_LE(c.avatar().beta_sd(b), 1.0 + 1e-12);  // posterior SD never exceeds the prior's 1
+  }
+}
+
+// ---- Undo / redo and drags ----------------------------------------------------------------------
+TEST(EditorCore, UndoRedoRestoreValuesAndVerticesExactly) {
+  ca::EditorCore c = make_core();
+  const smpl::Vertices v0 = c.avatar().vertices;
+  ASSERT_TRUE(c.set_value("height", 1.85));
+  const smpl::Vertices v1 = c.avatar().vertices;
+  ASSERT_TRUE(c.set_value("weight", 90.0));
+  ASSERT_TRUE(c.undo());
+  EXPECT_DOUBLE_EQ(c.state().values.at("height"), 1.85);
+  EXPECT_TRUE(c.avatar().vertices == v1);
+  ASSERT_TRUE(c.undo());
+  EXPECT_TRUE(c.avatar().vertices == v0);
+  EXPECT_FALSE(c.undo());
+  ASSERT_TRUE(c.redo());
+  EXPECT_TRUE(c.avatar().vertices == v1);
+  ASSERT_TRUE(c.redo());
+  EXPECT_DOUBLE_EQ(c.state().values.at("weight"), 90.0);
+  EXPECT_FALSE(c.redo());
+  // A new edit after an undo drops the redo branch.
+  ASSERT_TRUE(c.undo());
+  ASSERT_TRUE(c.set_value("weight", 70.0));
+  EXPECT_FALSE(c.can_redo());
+}
+
+TEST(EditorCore, ADragIsOneUndoStepAndCompletesMeasurementsAtTheEnd) {
+  ca::EditorCore c = make_core();
+  const double h0 = c.state().values.at("height");
+  c.begin_drag();
+  for (double h = 1.70; h <= 1.80; h += 0.01) ASSERT_TRUE(c.drag_value("height", h));
+  EXPECT_FALSE(c.avatar().achieved_complete);  // cheap measurements while dragging
+  c.end_drag();
+  EXPECT_TRUE(c.avatar().achieved_complete);
+  EXPECT_TRUE(c.avatar().achieved.count("weight"));
+  ASSERT_TRUE(c.undo());
+  EXPECT_DOUBLE_EQ(c.state().values.at("height"), h0);
+  EXPECT_FALSE(c.can_undo());
+}
+
+TEST(EditorCore, RevisionChangesWithTheVertices) {
+  ca::EditorCore c = make_core();
+  const auto r0 = c.revision();
+  ASSERT_TRUE(c.set_value("height", 1.75));
+  EXPECT_GT(c.revision(), r0);
+}
+
+// ---- Bad input ----------------------------------------------------------------------------------
+TEST(EditorBadInput, OutOfRangeTypedValueLeavesTheAvatarIntact) {
+  ca::EditorCore c = make_core();
+  ASSERT_TRUE(c.set_value("height", 1.75));
+  const smpl::Vertices before = c.avatar().vertices;
+  const auto revision = c.revision();
+  const bool could_undo = c.can_undo();
+  for (double bad : {5.0, -1.0, 0.0, std::nan(""), HUGE_VAL}) {
+    EXPECT_FALSE(c.set_value("height", bad)) << bad;
+    EXPECT_TRUE(last_is_error(c)) << bad;
+  }
+  EXPECT_FALSE(c.set_display_value("weight", 2000.0));  // 2000 kg
+  EXPECT_NE(c.messages().back().text.find("out of range"), std::string::npos);
+  EXPECT_TRUE(c.avatar().vertices == before);
+  EXPECT_EQ(c.revision(), revision);
+  EXPECT_DOUBLE_EQ(c.state().values.at("height"), 1.75);
+  EXPECT_EQ(c.can_undo(), could_undo);
+}
+
+TEST(EditorBadInput, ValueOfAnInputThatIsNotEditableIsRefused) {
+  ca::EditorCore c = make_core();
+  EXPECT_FALSE(c.set_value("hip_width", 0.35));  // level 1: height and weight only
+  EXPECT_TRUE(last_is_error(c));
+  EXPECT_FALSE(c.set_value("no_such_measurement", 1.0));
+}
+
+TEST(EditorBadInput, AFileThatIsNotAModelLeavesTheModelAndAvatarIntact) {
+  ca::EditorCore c = make_core();
+  const smpl::Vertices before = c.avatar().vertices;
+  const std::string text = temp_path("not_a_model.npz");
+  std::ofstream(text) << "this is not a zip file\n";
+  EXPECT_FALSE(c.load_model_file(text));
+  EXPECT_TRUE(last_is_error(c));
+  EXPECT_NE(c.messages().back().text.find("unchanged"), std::string::npos);
+  EXPECT_FALSE(c.load_model_file(temp_path("missing.npz")));
+  EXPECT_EQ(c.models().size(), 1u);
+  EXPECT_EQ(c.current_model(), 0);
+  EXPECT_TRUE(c.avatar().vertices == before);
+}
+
+TEST(EditorBadInput, MalformedProfilesAndSessionsAreRefused) {
+  ca::EditorCore c = make_core();
+  const auto values = c.state().values;
+  const std::string bad_json = temp_path("bad.json");
+  std::ofstream(bad_json) << "{ \"format\": \"caliper-profile\", ";
+  EXPECT_FALSE(c.open_profile(bad_json));
+  const std::string wrong = temp_path("wrong.json");
+  std::ofstream(wrong) << R"({"format": "something-else", "version": 1, "measurements": {}})";
+  EXPECT_FALSE(c.open_profile(wrong));
+  const std::string out_of_range = temp_path("range.json");
+  std::ofstream(out_of_range)
+      << R"({"format": "caliper-profile", "version": 1, "measurements": {"height": 17.5}})";
+  EXPECT_FALSE(c.open_profile(out_of_range));
+  EXPECT_FALSE(c.open_session(bad_json));
+  EXPECT_TRUE(last_is_error(c));
+  EXPECT_EQ(c.state().values, values);
+}
+
+TEST(EditorBadInput, UnknownAndMalformedCommands) {
+  ca::EditorCore c = make_core();
+  EXPECT_FALSE(c.run_command("fly away"));
+  EXPECT_FALSE(c.run_command("set height"));
+  EXPECT_FALSE(c.run_command("set height 70 kg"));
+  EXPECT_FALSE(c.run_command("units furlongs"));
+  EXPECT_FALSE(c.run_command("regressor R7"));
+  EXPECT_TRUE(c.run_command("# a comment"));
+  EXPECT_TRUE(c.run_command(""));
+}
+
+// ---- Files, commands, comparison ----------------------------------------------------------------
+TEST(EditorCore, ProfileRoundTrip) {
+  ca::EditorCore a = make_core();
+  ASSERT_TRUE(a.set_value("height", 1.77));
+  ASSERT_TRUE(a.set_value("weight", 71.5));
+  a.set_hierarchical(false);
+  a.set_regressor(ca::RegressorChoice::R2);
+  a.view().units = ca::UnitSystem::Imperial;
+  const std::string path = temp_path("profile.json");
+  ASSERT_TRUE(a.save_profile(path));
+
+  ca::EditorCore b = make_core();
+  ASSERT_TRUE(b.open_profile(path));
+  EXPECT_FALSE(b.state().hierarchical);
+  EXPECT_EQ(b.state().regressor, ca::RegressorChoice::R2);
+  EXPECT_EQ(b.view().units, ca::UnitSystem::Imperial);
+  for (const std::string& id : a.editable_inputs()) {
+    EXPECT_DOUBLE_EQ(b.state().values.at(id), a.state().values.at(id)) << id;  // 17 digits
+  }
+  EXPECT_TRUE(b.avatar().vertices.isApprox(a.avatar().vertices, 1e-12));
+  ASSERT_TRUE(b.undo());  // opening a profile is undoable
+  EXPECT_TRUE(b.state().hierarchical);
+}
+
+TEST(EditorCore, HandWrittenLevelThreeProfileLoads) {
+  ca::EditorCore c = make_core();
+  const std::string path = temp_path("profile3.json");
+  std::ofstream(path) << R"({"format": "caliper-profile", "version": 1, "regressor": "R6",
+      "hierarchical": true, "level": 3, "measurements": {"height": 1.70, "weight": 65.0,
+      "arm_span_fingertips": 1.70, "inseam_height": 0.78, "hip_width": 0.36, "arm_length": 0.56}})";
+  ASSERT_TRUE(c.open_profile(path));
+  EXPECT_EQ(c.state().level, 3);
+  EXPECT_EQ(c.editable_inputs().size(), 6u);
+  EXPECT_DOUBLE_EQ(c.state().values.at("arm_length"), 0.56);
+}
+
+TEST(EditorCore, SessionFileMeasurementsBecomeInputs) {
+  ca::EditorCore c = make_core();
+  const std::string path = temp_path("session.json");
+  std::ofstream(path) << R"({"measurements": {"height": 1.74, "weight": 68.0,
+      "shoe_colour": 3, "inseam_height": {"value": 0.79}}})";
+  ASSERT_TRUE(c.open_session(path));
+  EXPECT_DOUBLE_EQ(c.state().values.at("height"), 1.74);
+  EXPECT_DOUBLE_EQ(c.state().values.at("weight"), 68.0);
+  EXPECT_DOUBLE_EQ(c.state().values.at("inseam_height"), 0.79);
+}
+
+TEST(EditorCore, CommandsWithUnits) {
+  ca::EditorCore c = make_core();
+  ASSERT_TRUE(c.run_command("set height 70 in"));
+  EXPECT_DOUBLE_EQ(c.state().values.at("height"), 1.778);
+  ASSERT_TRUE(c.run_command("units imperial"));
+  ASSERT_TRUE(c.run_command("set weight 154"));
+  EXPECT_DOUBLE_EQ(c.state().values.at("weight"), 154 * 0.45359237);
+  ASSERT_TRUE(c.run_command("level 2"));
+  ASSERT_TRUE(c.run_command("undo"));
+  EXPECT_EQ(c.state().level, 1);
+  ASSERT_TRUE(c.run_command("redo"));
+  EXPECT_EQ(c.state().level, 2);
+}
+
+TEST(EditorCore, ComparisonDifferenceIsZeroForTheSameBodyAndGrowsWithChange) {
+  ca::EditorCore c = make_core();
+  c.pin_comparison("before");
+  ASSERT_TRUE(c.comparison());
+  ASSERT_TRUE(c.set_value("height", c.state().values.at("height")));  // same body
+  for (float d : c.comparison()->difference) ASSERT_EQ(d, 0.0f);
+  ASSERT_TRUE(c.set_value("height", c.state().values.at("height") + 0.10));
+  float max_d = 0;
+  for (float d : c.comparison()->difference) max_d = std::max(max_d, d);
+  EXPECT_GT(max_d, 0.03f);  // 10 cm taller moves the head by several cm
+  EXPECT_TRUE(c.run_command("compare difference"));
+  EXPECT_EQ(c.view().compare, ca::CompareMode::Difference);
+  EXPECT_TRUE(c.run_command("compare clear"));
+  EXPECT_FALSE(c.run_command("compare side"));  // nothing pinned any more
+}
+
+TEST(EditorCore, ExportsObjWithEveryVertex) {
+  ca::EditorCore c = make_core();
+  const std::string path = temp_path("avatar.obj");
+  ASSERT_TRUE(c.export_mesh(path));
+  std::ifstream f(path);
+  int vertices = 0;
+  std::string line;
+  while (std::getline(f, line)) vertices += line.rfind("v ", 0) == 0;
+  EXPECT_EQ(vertices, entry().model->num_vertices());
+  EXPECT_FALSE(c.export_mesh(temp_path("avatar.xyz")));
 }

@@ -13,7 +13,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    smpl::BodyModel m = caliper::test::make_random_model(10);
+    // No pose blend shapes: the editor shows the rest pose, and the file stays small (a few MB).
+    smpl::BodyModel m = caliper::test::make_random_model(10, 24, false);
     m.meta.gender = argc > 2 ? argv[2] : "female";
     m.meta.name = "random-test-" + m.meta.gender;
     smpl::save_model(m, argv[1]);

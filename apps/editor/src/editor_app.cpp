@@ -353,6 +353,12 @@ void EditorApp::draw_panel() {
       }
       ImGui::EndCombo();
     }
+    if (core_.state().hierarchical && core_.state().regressor != app::RegressorChoice::NoiseAware) {
+      ImGui::TextDisabled("hierarchical level %d uses %s", core_.state().level,
+                          core_.state().level == 1   ? "R2"
+                          : core_.state().level == 2 ? "R4"
+                                                     : "R6");
+    }
     bool hierarchical = core_.state().hierarchical;
     if (ImGui::Checkbox("hierarchical", &hierarchical)) core_.set_hierarchical(hierarchical);
     if (hierarchical) {
@@ -390,8 +396,8 @@ void EditorApp::draw_panel() {
     if (!has) ImGui::EndDisabled();
   }
   if (ImGui::CollapsingHeader("Files", ImGuiTreeNodeFlags_DefaultOpen)) draw_files();
-  draw_messages();
   ImGui::End();
+  draw_messages();
 }
 
 void EditorApp::draw_measurements() {
@@ -492,18 +498,26 @@ void EditorApp::draw_files() {
 }
 
 void EditorApp::draw_messages() {
-  ImGui::Separator();
+  // A status window along the bottom of the 3D view: the last messages, errors in red.
   const auto& msgs = core_.messages();
-  const size_t first = msgs.size() > 4 ? msgs.size() - 4 : 0;
+  if (msgs.empty()) return;
+  const ImGuiIO& io = ImGui::GetIO();
+  const size_t first = msgs.size() > 3 ? msgs.size() - 3 : 0;
+  const float height = 16.0f + 18.0f * static_cast<float>(msgs.size() - first);
+  ImGui::SetNextWindowPos(ImVec2(panel_width_, io.DisplaySize.y - height));
+  ImGui::SetNextWindowSize(ImVec2(io.DisplaySize.x - panel_width_, height));
+  ImGui::SetNextWindowBgAlpha(0.85f);
+  ImGui::Begin("##status", nullptr,
+               ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove |
+                   ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing);
   for (size_t i = first; i < msgs.size(); ++i) {
     const app::Message& m = msgs[i];
     const ImVec4 c = m.level == app::Message::Level::Error     ? ImVec4(0.8f, 0.1f, 0.1f, 1)
                      : m.level == app::Message::Level::Warning ? ImVec4(0.75f, 0.45f, 0.0f, 1)
                                                                : ImVec4(0.3f, 0.3f, 0.3f, 1);
-    ImGui::PushTextWrapPos(panel_width_ - 10);
     ImGui::TextColored(c, "%s", m.text.c_str());
-    ImGui::PopTextWrapPos();
   }
+  ImGui::End();
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -1,0 +1,16 @@
+# Runs caliper-editor and checks its exit status and that it wrote the screenshot.
+# -DEDITOR=... -DARGS="a;b;c" -DSCREENSHOT=out.png [-DLAUNCHER="xvfb-run;-a;..."]
+file(REMOVE ${SCREENSHOT})
+execute_process(COMMAND ${LAUNCHER} ${EDITOR} ${ARGS} --screenshot ${SCREENSHOT}
+  RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 120)
+if(NOT status EQUAL 0)
+  message(FATAL_ERROR "caliper-editor exited with ${status}\n${out}\n${err}")
+endif()
+if(NOT EXISTS ${SCREENSHOT})
+  message(FATAL_ERROR "caliper-editor did not write ${SCREENSHOT}\n${out}\n${err}")
+endif()
+file(SIZE ${SCREENSHOT} size)
+if(size LESS 10000)
+  message(FATAL_ERROR "${SCREENSHOT} is only ${size} bytes: expected a full editor picture")
+endif()
+message(STATUS "${SCREENSHOT}: ${size} bytes\n${err}")
