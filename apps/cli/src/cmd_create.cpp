@@ -231,7 +231,8 @@ int cmd_create(const std::vector<std::string>& args, Io& io) {
     model.set("betas", bundle->model.num_betas());
     j.set("model", model);
     j.set("regressor", regressor);
-    j.set("units", Json::object().set("length", "m").set("weight", "kg").set("volume", "m3"));
+    j.set("units",
+          json_object({{"length", Json("m")}, {"weight", Json("kg")}, {"volume", Json("m3")}}));
     j.set("input", measurements_json(avatar.input));
     if (mapping) j.set("mapped_input", measurements_json(avatar.mapped));
     j.set("achieved", measurements_json(avatar.achieved));
@@ -253,12 +254,11 @@ int cmd_create(const std::vector<std::string>& args, Io& io) {
     Json files = Json::array();
     for (const auto& s : written) files.push_back(s);
     j.set("written", files);
-    j.set("timing_seconds", Json::object()
-                                .set("load_model", bundle->load_seconds)
-                                .set("train_regressors", bundle->train_seconds)
-                                .set("create", create_s)
-                                .set("write_avatar", write_s)
-                                .set("total", total_s));
+    j.set("timing_seconds", json_object({{"load_model", Json(bundle->load_seconds)},
+                                         {"train_regressors", Json(bundle->train_seconds)},
+                                         {"create", Json(create_s)},
+                                         {"write_avatar", Json(write_s)},
+                                         {"total", Json(total_s)}}));
     io.out << j.dump(2) << "\n";
     return kExitOk;
   }

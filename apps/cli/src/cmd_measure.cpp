@@ -75,7 +75,8 @@ int cmd_measure(const std::vector<std::string>& args, Io& io) {
     j.set("source", source);
     j.set("model", model_path);
     if (betas.size() > 0) j.set("betas", betas_json(betas));
-    j.set("units", Json::object().set("length", "m").set("weight", "kg").set("volume", "m3"));
+    j.set("units",
+          json_object({{"length", Json("m")}, {"weight", Json("kg")}, {"volume", Json("m3")}}));
     j.set("measurements", measurements_json(m));
     io.out << j.dump(2) << "\n";
     return kExitOk;

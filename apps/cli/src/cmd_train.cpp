@@ -95,11 +95,10 @@ int cmd_train(const std::vector<std::string>& args, Io& io) {
                   label_of(id).c_str(), mean * f, unit.c_str(), sd * f, unit.c_str(),
                   c.minCoeff() * f, unit.c_str(), c.maxCoeff() * f, unit.c_str());
     text << buf;
-    stats.set(id, Json::object()
-                      .set("mean", mean)
-                      .set("sd", sd)
-                      .set("min", c.minCoeff())
-                      .set("max", c.maxCoeff()));
+    stats.set(id, json_object({{"mean", Json(mean)},
+                               {"sd", Json(sd)},
+                               {"min", Json(c.minCoeff())},
+                               {"max", Json(c.maxCoeff())}}));
   }
   text << "\nfit residuals (RMS over the training set of each input when the avatar is re-measured "
           "linearly; mm, weight feature in mm of cube-root volume):\n";
@@ -153,12 +152,11 @@ int cmd_train(const std::vector<std::string>& args, Io& io) {
     Json j = Json::object();
     j.set("command", "train");
     j.set("model", path);
-    j.set("training_set", Json::object()
-                              .set("bodies", set.size())
-                              .set("betas", k)
-                              .set("kind", opt.gaussian ? "gaussian" : "corners")
-                              .set("weight_formula", set.weight_formula.name)
-                              .set("inputs", stats));
+    j.set("training_set", json_object({{"bodies", Json(set.size())},
+                                       {"betas", Json(k)},
+                                       {"kind", Json(opt.gaussian ? "gaussian" : "corners")},
+                                       {"weight_formula", Json(set.weight_formula.name)},
+                                       {"inputs", Json(stats)}}));
     j.set("linear", regs_json);
     if (regs.noise_aware) j.set("noise_aware", na);
     j.set("seconds", seconds);

@@ -58,7 +58,7 @@ std::string format_difference(const std::string& id, double si_difference, int d
 std::string measurement_table(const MeasurementMap& input, const MeasurementMap& achieved) {
   std::ostringstream s;
   const bool with_input = !input.empty();
-  s << std::left << std::setw(28) << "measurement";
+  s << std::left << std::setw(38) << "measurement";
   if (with_input) s << std::right << std::setw(12) << "input";
   s << std::right << std::setw(12) << "achieved";
   if (with_input) s << std::setw(12) << "difference";
@@ -67,7 +67,7 @@ std::string measurement_table(const MeasurementMap& input, const MeasurementMap&
     auto a = achieved.find(id);
     auto in = input.find(id);
     if (a == achieved.end() && in == input.end()) return;
-    s << std::left << std::setw(28) << label_of(id);
+    s << std::left << std::setw(38) << label_of(id);
     if (with_input)
       s << std::right << std::setw(12) << (in != input.end() ? format_value(id, in->second) : "-");
     s << std::right << std::setw(12) << (a != achieved.end() ? format_value(id, a->second) : "-");
@@ -134,6 +134,12 @@ Json plausibility_json(const Plausibility& p) {
   j.set("beyond_2sd", b2);
   j.set("beyond_3sd", b3);
   j.set("plausible", p.plausible);
+  return j;
+}
+
+Json json_object(std::initializer_list<std::pair<std::string, Json>> members) {
+  Json j = Json::object();
+  for (const auto& [k, v] : members) j.set(k, v);
   return j;
 }
 

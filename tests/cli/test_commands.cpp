@@ -1,0 +1,256 @@
+// The subcommands run in process (main_guarded) on a small generated model: happy paths, exact
+// exit codes and messages for bad input.
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "caliper/json.hpp"
+#include "caliper/measurements.hpp"
+#include "cli_fixture.hpp"
+#include "cli_support.hpp"
+#include "commands.hpp"
+#include "mesh_io.hpp"
+#include "render_bridge.hpp"
+#include "smpl/gltf.hpp"
+#include "smpl/io.hpp"
+
+namespace caliper::cli {
+namespace {
+
+// A regressor reproduces its inputs up to the model's nonlinearity (the floor vertex, the
+// weight's cube root); the bound for used inputs is 1 mm.
+constexpr double kInputTolM = 1e-3;
+// Files store float32 vertices: 1e-6 relative of ~1 m.
+constexpr double kFloatTolM = 1e-5;
+
+struct CliRun {
+  int code = 0;
+  std::string out, err;
+};
+
+class Commands : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = std::filesystem::path(CALIPER_TEST_DATA_DIR) / "cli-cmd" / info->name();
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_);
+    model_ = path("model.npz");
+    smpl::save_model(test::cli_test_model("female"), model_);
+  }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  CliRun run(const std::vector<std::string>& args) const {
+    std::ostringstream out, err;
+    Io io{out, err, false};
+    CliRun r;
+    r.code = main_guarded(args, io);
+    r.out = out.str();
+    r.err = err.str();
+    return r;
+  }
+  std::filesystem::path dir_;
+  std::string model_;
+};
+
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
+
+TEST_F(Commands, CreateReproducesHeightAndWeightAndWritesGlb) {
+  const CliRun r = run({"create", "--model", model_, "--height", "172cm", "--weight", "70kg",
+                        "--force", "--out", path("a.glb"), "--json"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  const Json j = parse_json(r.out);
+  EXPECT_EQ(j.at("regressor").as_string(), "R2");
+  EXPECT_NEAR(j.at("achieved").at("height").as_number(), 1.72, kInputTolM);
+  EXPECT_NEAR(j.at("achieved").at("weight").as_number(), 70.0, 0.5);
+  EXPECT_EQ(j.at("betas").size(), 10u);
+  EXPECT_TRUE(j.at("plausibility").contains("p_value"));
+  const smpl::GltfAvatar glb = smpl::read_gltf(path("a.glb"));
+  EXPECT_EQ(glb.vertices.rows(), 1298);
+  // The GLB stands on the floor and has the achieved height.
+  EXPECT_NEAR(glb.vertices.col(1).minCoeff(), 0.0, kFloatTolM);
+  EXPECT_FALSE(contains(r.err, "error")) << r.err;
+}
+
+TEST_F(Commands, CreateTextReportListsInputAchievedAndPlausibility) {
+  const CliRun r =
+      run({"create", "--model", model_, "--height", "5ft8in", "--weight", "150lb", "--force"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_TRUE(contains(r.out, "Overall height")) << r.out;
+  EXPECT_TRUE(contains(r.out, "172.7 cm")) << r.out;  // 68 in
+  EXPECT_TRUE(contains(r.out, "68.0 kg")) << r.out;   // 150 lb
+  EXPECT_TRUE(contains(r.out, "Volume")) << r.out;
+  EXPECT_TRUE(contains(r.out, "Mahalanobis distance")) << r.out;
+  EXPECT_TRUE(contains(r.out, "beyond 3 SD")) << r.out;
+}
+
+TEST_F(Commands, CreateWritesObjAndPlyThatMeasureBack) {
+  for (const char* ext : {"obj", "ply"}) {
+    const std::string out = path(std::string("a.") + ext);
+    const CliRun c = run({"create", "--model", model_, "--height", "170cm", "--weight", "66kg",
+                          "--force", "--out", out, "-q"});
+    ASSERT_EQ(c.code, kExitOk) << c.err;
+    const CliRun m = run({"measure", out, "--model", model_, "--json"});
+    ASSERT_EQ(m.code, kExitOk) << m.err;
+    const Json j = parse_json(m.out);
+    EXPECT_NEAR(j.at("measurements").at("height").as_number(), 1.70, kInputTolM) << ext;
+    EXPECT_NEAR(read_mesh(out).vertices.col(1).minCoeff(), 0.0, kFloatTolM) << ext;
+  }
+}
+
+TEST_F(Commands, CreateRefusesImplausibleInputWithExitCode3) {
+  CliRun r = run({"create", "--model", model_, "--height", "4m", "--weight", "80kg"});
+  EXPECT_EQ(r.code, kExitImplausible);
+  EXPECT_TRUE(contains(r.err, "height")) << r.err;
+  EXPECT_TRUE(contains(r.err, "--force")) << r.err;
+  r = run({"create", "--model", model_, "--height", "170cm", "--weight", "-5kg"});
+  EXPECT_EQ(r.code, kExitImplausible) << r.err;
+  EXPECT_TRUE(contains(r.err, "weight")) << r.err;
+  r = run({"create", "--model", model_, "--height", "170cm", "--weight", "65kg", "--arm-span",
+           "85cm", "--inseam", "80cm"});
+  EXPECT_EQ(r.code, kExitImplausible) << r.err;
+  EXPECT_TRUE(contains(r.err, "arm")) << r.err;
+}
+
+TEST_F(Commands, CreateUsageErrorsHaveExitCode2) {
+  EXPECT_EQ(run({"create", "--model", model_, "--height", "170", "--weight", "60kg"}).code,
+            kExitUsage);
+  EXPECT_EQ(run({"create", "--model", model_}).code, kExitUsage);
+  EXPECT_EQ(run({"create", "--model", model_, "--height", "1.7m", "--out", path("a.txt")}).code,
+            kExitUsage);
+  EXPECT_EQ(run({"create", "--height", "1.7m", "--sex", "robot"}).code, kExitUsage);
+  const CliRun r = run({"create", "--model", model_, "--height", "1.7m", "--regressor", "R5"});
+  EXPECT_EQ(r.code, kExitUsage);
+  EXPECT_TRUE(contains(r.err, "R5 needs --weight, --arm-span, --inseam, --hip-width")) << r.err;
+}
+
+TEST_F(Commands, MissingFilesHaveExitCode1) {
+  CliRun r = run({"create", "--model", path("none.npz"), "--height", "1.7m", "--weight", "60kg"});
+  EXPECT_EQ(r.code, kExitRuntime);
+  EXPECT_TRUE(contains(r.err, "none.npz: model file not found")) << r.err;
+  std::ofstream(path("bad.npz")) << "not a zip";
+  r = run({"create", "--model", path("bad.npz"), "--height", "1.7m", "--weight", "60kg"});
+  EXPECT_EQ(r.code, kExitRuntime);
+  EXPECT_TRUE(contains(r.err, "bad.npz")) << r.err;
+}
+
+TEST_F(Commands, MeasureBetasMatchesTheLibrary) {
+  const CliRun r = run({"measure", "--model", model_, "--betas", "1,-0.5,0.25", "--json"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  const smpl::BodyModel model = smpl::load_model(model_);
+  Eigen::VectorXd b(3);
+  b << 1, -0.5, 0.25;
+  const MeasurementMap expected = measure_all(model, shaped_vertices(model, b));
+  const Json j = parse_json(r.out);
+  for (const auto& [id, v] : expected)
+    EXPECT_DOUBLE_EQ(j.at("measurements").at(id).as_number(), v) << id;
+  EXPECT_EQ(run({"measure", "--model", model_, "--betas", "1,2,3,4,5,6,7,8,9,10,11"}).code,
+            kExitUsage);
+}
+
+TEST_F(Commands, TrainSavesRegressorsThatCreateReuses) {
+  CliRun r = run({"train", "--model", model_, "--save", path("r.json")});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_TRUE(contains(r.out, "training set: 1024 bodies")) << r.out;
+  EXPECT_TRUE(contains(r.out, "R6")) << r.out;
+  EXPECT_TRUE(contains(r.out, "noise-aware")) << r.out;
+  r = run({"create", "--model", model_, "--regressors", path("r.json"), "--height", "1.7m",
+           "--weight", "60kg", "--force", "--json"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_NEAR(parse_json(r.out).at("achieved").at("height").as_number(), 1.70, kInputTolM);
+  // Regressors of another model are refused.
+  const std::string other = path("other.npz");
+  smpl::save_model(test::cli_test_model("male", 99), other);
+  r = run({"create", "--model", other, "--regressors", path("r.json"), "--height", "1.7m",
+           "--weight", "60kg", "--force"});
+  EXPECT_EQ(r.code, kExitRuntime) << r.err;
+  r = run({"train", "--model", model_, "--json", "--gaussian", "300", "--seed", "3"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_EQ(parse_json(r.out).at("training_set").at("bodies").as_int(), 300);
+}
+
+TEST_F(Commands, BatchWritesResultsAvatarsAndReportsBadRows) {
+  std::ofstream(path("people.csv")) << "id,sex,height_cm,weight_kg\n"
+                                       "a,female,170,62\n"
+                                       "b,female,abc,70\n"
+                                       "c,female,400,70\n"
+                                       "d,female,160,55\n";
+  const CliRun r = run({"batch", path("people.csv"), "--model", model_, "-j", "2", "--out",
+                        path("results.csv"), "--out-dir", path("avatars"), "--force"});
+  // Row b cannot be read: exit code 1, every other row still done.
+  EXPECT_EQ(r.code, kExitRuntime) << r.err;
+  EXPECT_TRUE(contains(r.err, "4 people")) << r.err;
+  EXPECT_TRUE(contains(r.err, "progress: 4 of 4 done")) << r.err;  // plain lines, no tty
+  const CsvTable t = read_csv(path("results.csv"));
+  ASSERT_EQ(t.rows.size(), 4u);
+  const int status = t.column("status");
+  const int height = t.column("height_cm");
+  ASSERT_GE(status, 0);
+  ASSERT_GE(height, 0);
+  EXPECT_EQ(t.rows[0][static_cast<size_t>(status)], "ok");
+  EXPECT_NEAR(std::stod(t.rows[0][static_cast<size_t>(height)]), 170.0, 0.1);
+  EXPECT_EQ(t.rows[1][static_cast<size_t>(status)], "error");
+  EXPECT_EQ(t.rows[3][static_cast<size_t>(status)], "ok");
+  EXPECT_TRUE(std::filesystem::exists(path("avatars/a.glb")));
+  EXPECT_TRUE(std::filesystem::exists(path("avatars/d.glb")));
+  EXPECT_FALSE(std::filesystem::exists(path("avatars/b.glb")));
+}
+
+TEST_F(Commands, BatchRefusesImplausibleRowsWithoutForce) {
+  std::ofstream(path("people.csv")) << "height_m,weight_lb\n1.7,140\n4.0,150\n";
+  const CliRun r = run(
+      {"batch", path("people.csv"), "--model", model_, "--out", path("results.csv"), "-j", "1"});
+  EXPECT_EQ(r.code, kExitRuntime);
+  const CsvTable t = read_csv(path("results.csv"));
+  ASSERT_EQ(t.rows.size(), 2u);
+  const size_t status = static_cast<size_t>(t.column("status"));
+  EXPECT_EQ(t.rows[1][status], "refused");
+  EXPECT_TRUE(contains(t.rows[1].back(), "height")) << t.rows[1].back();
+}
+
+TEST_F(Commands, ModelsDescribesAFile) {
+  const CliRun r = run({"models", model_, "--json"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  const Json j = parse_json(r.out);
+  const Json& models = j.at("models");
+  ASSERT_GE(models.size(), 1u);
+  const Json& m = models[models.size() - 1];
+  EXPECT_EQ(m.at("vertices").as_int(), 1298);
+  EXPECT_EQ(m.at("betas").as_int(), 10);
+  EXPECT_EQ(m.at("gender").as_string(), "female");
+  EXPECT_EQ(run({"models", path("none.npz")}).code, kExitRuntime);
+}
+
+TEST_F(Commands, RenderWritesPngs) {
+  if (!renderer_available()) GTEST_SKIP() << "built without the renderer";
+  const CliRun r = run({"render", "--model", model_, "--betas", "1", "--views", "front,side",
+                        "--size", "64x96", "--out", path("pic")});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(path("pic_front.png")));
+  EXPECT_TRUE(std::filesystem::exists(path("pic_side.png")));
+  EXPECT_EQ(run({"render", "--model", model_, "--views", "top"}).code, kExitUsage);
+}
+
+TEST_F(Commands, EvaluateTable1RunsOnAModel) {
+  const CliRun r = run({"evaluate", "table1", "--model", model_, "-n", "10"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_TRUE(contains(r.out, "| R2 Mean |")) << r.out;
+  EXPECT_TRUE(contains(r.out, "| noise-aware Max |")) << r.out;
+  EXPECT_EQ(run({"evaluate", "nonsense", "--model", model_}).code, kExitUsage);
+}
+
+TEST(Cli, VersionHelpAndUnknownCommand) {
+  std::ostringstream out, err;
+  Io io{out, err, false};
+  EXPECT_EQ(main_guarded({"--version"}, io), kExitOk);
+  EXPECT_EQ(out.str(), version_string() + "\n");
+  EXPECT_EQ(main_guarded({"frobnicate"}, io), kExitUsage);
+  EXPECT_TRUE(contains(err.str(), "caliper: error: unknown command 'frobnicate'"));
+  EXPECT_EQ(main_guarded({}, io), kExitUsage);
+}
+
+}  // namespace
+}  // namespace caliper::cli
