@@ -150,6 +150,8 @@ SparseMatrix sparse_matrix(const Source& src, const std::string& key, Eigen::Ind
       if (indptr[o + 1] < indptr[o]) {
         fail(src.context(), "'" + key + "' is a corrupt sparse matrix (indptr decreases)");
       }
+    }
+    for (std::size_t o = 0; o < outer; ++o) {
       for (auto j = indptr[o]; j < indptr[o + 1]; ++j) {
         const auto i = indices[static_cast<std::size_t>(j)];
         if (i < 0 || static_cast<std::size_t>(i) >= inner) {
@@ -277,6 +279,8 @@ BodyModel build_model(const Source& src, const LoadOptions& options) {
     }
     for (std::size_t i = 0; i < names.size(); ++i) {
       if (o[i + 1] < o[i]) fail(ctx, "'landmark_offsets' must not decrease");
+    }
+    for (std::size_t i = 0; i < names.size(); ++i) {
       m.landmarks[names[i]].assign(vids.begin() + o[i], vids.begin() + o[i + 1]);
     }
   }

@@ -177,6 +177,7 @@ INSTANTIATE_TEST_SUITE_P(
                       BadCase{"bad_missing_weights.npz", "missing key 'weights'"},
                       BadCase{"bad_shape.npz", "'shapedirs' has shape (120, 2, 10)"},
                       BadCase{"bad_os_system.pkl", "'os.system'"},
+                      BadCase{"bad_csc_indptr.pkl", "'J_regressor' is a corrupt sparse matrix"},
                       BadCase{"bad_builtins_eval.pkl", "'builtins.eval'"},
                       BadCase{"does_not_exist.npz", "cannot open"}));
 

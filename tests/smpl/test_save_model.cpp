@@ -98,6 +98,25 @@ TEST(SaveModel, InvalidModelsAreNotWritten) {
                smpl::ModelError);
 }
 
+// A landmark table whose offsets point past the vertex list (in the middle) is refused.
+TEST(SaveModel, CorruptLandmarkTableIsAClearError) {
+  smpl::NpzArchive z = smpl::model_arrays(model_with_everything());
+  std::vector<std::int64_t> off = z.at("landmark_offsets").to_int64();
+  ASSERT_GE(off.size(), 3u);
+  off[1] = off.back() + 1000;
+  z["landmark_offsets"] = smpl::make_npy(off, {off.size()});
+  const std::string path = out_dir() + "/bad_landmarks.npz";
+  smpl::write_npz(path, z);
+  try {
+    smpl::load_model(path);
+    FAIL();
+  } catch (const smpl::ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("'landmark_offsets' must not decrease"), std::string::npos)
+        << e.what();
+  }
+}
+
 // numpy opens the file with allow_pickle=False; keys, shapes and dtypes are SMPL's; the loading
 // code of common SMPL tooling (dense arrays, kintree_table[0] parents) works on it; every member's
 // bytes equal np.save's.
