@@ -3,6 +3,7 @@
 // regression, pose blend shapes, Rodrigues, kinematic chain, linear blend skinning.
 #include "smpl/evaluate.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -13,6 +14,45 @@ namespace {
 // Below this angle (radians) Rodrigues' coefficients come from their Taylor series. At 1e-3 the
 // first omitted terms (t^6/5040, t^6/40320) are below 1e-21, far under double rounding.
 constexpr double kSmallAngle = 1e-3;
+
+// Function multi-versioning: the hot loops below are compiled for AVX-512, AVX2 and baseline
+// x86-64, and the loader picks the best the CPU has (GCC's target_clones; plain code elsewhere).
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
+    !defined(__SANITIZE_ADDRESS__)
+#define SMPL_MULTIVERSION __attribute__((target_clones("avx512f", "avx2", "default")))
+#else
+#define SMPL_MULTIVERSION
+#endif
+
+// out = t + S[:, :nb] * beta with S column-major (leading dimension ld): the shape blend shapes.
+// Rows are processed in blocks whose accumulators stay in L1 cache while 4 columns at a time
+// stream past, so shapedirs is read exactly once and the output written once.
+SMPL_MULTIVERSION
+void blend(const double* t, const double* S, Eigen::Index ld, Eigen::Index rows, const double* beta,
+           Eigen::Index nb, double* out) {
+  constexpr Eigen::Index kBlock = 1024;
+  for (Eigen::Index r0 = 0; r0 < rows; r0 += kBlock) {
+    const Eigen::Index n = std::min(kBlock, rows - r0);
+    double* o = out + r0;
+    for (Eigen::Index i = 0; i < n; ++i) o[i] = t[r0 + i];
+    Eigen::Index b = 0;
+    for (; b + 4 <= nb; b += 4) {
+      const double* c0 = S + b * ld + r0;
+      const double* c1 = c0 + ld;
+      const double* c2 = c1 + ld;
+      const double* c3 = c2 + ld;
+      const double b0 = beta[b], b1 = beta[b + 1], b2 = beta[b + 2], b3 = beta[b + 3];
+      for (Eigen::Index i = 0; i < n; ++i) {
+        o[i] += (b0 * c0[i] + b1 * c1[i]) + (b2 * c2[i] + b3 * c3[i]);
+      }
+    }
+    for (; b < nb; ++b) {
+      const double* c0 = S + b * ld + r0;
+      const double b0 = beta[b];
+      for (Eigen::Index i = 0; i < n; ++i) o[i] += b0 * c0[i];
+    }
+  }
+}
 
 void check_betas(const BodyModel& model, Eigen::Index n) {
   if (n > model.num_betas()) {
@@ -29,10 +69,8 @@ void shaped_rest(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>
   check_betas(model, betas.size());
   const Eigen::Index V = model.v_template.rows();
   v_shaped.resize(V, 3);
-  Eigen::Map<Eigen::VectorXd> flat(v_shaped.data(), 3 * V);
-  const Eigen::Map<const Eigen::VectorXd> tmpl(model.v_template.data(), 3 * V);
-  flat = tmpl;
-  if (betas.size() > 0) flat.noalias() += model.shapedirs.leftCols(betas.size()) * betas;
+  blend(model.v_template.data(), model.shapedirs.data(), model.shapedirs.rows(), 3 * V,
+        betas.data(), betas.size(), v_shaped.data());
   // J = J_regressor * v_shaped, row by row over the sparse regressor (no temporaries).
   const Eigen::Index K = model.j_regressor.rows();
   joints.resize(K, 3);

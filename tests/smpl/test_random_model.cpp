@@ -55,7 +55,13 @@ TEST(RandomModel, HasSmplSizesAndIsClosed) {
 
 TEST(RandomModel, WeightsAndRegressorRowsSumToOne) {
   for (int K : {24, 55, 16, 5}) {
-    const auto m = make_random_model(4, K, K != 5, 7);
+    caliper::test::RandomModelOptions o;
+    o.num_betas = 4;
+    o.num_joints = K;
+    o.pose_blend_shapes = K == 16;
+    o.seed = 7;
+    if (K != 24) o.rings = o.segments = 30;  // full size only where it matters: keeps this fast
+    const auto m = make_random_model(o);
     EXPECT_EQ(m.num_joints(), K);
     EXPECT_NO_THROW(smpl::validate(m, "random"));
     const Eigen::VectorXd ws = m.weights * Eigen::VectorXd::Ones(K);
@@ -70,9 +76,13 @@ TEST(RandomModel, WeightsAndRegressorRowsSumToOne) {
 }
 
 TEST(RandomModel, DeterministicAndSeedDependent) {
-  const auto a = make_random_model(10, 24, true, 3);
-  const auto b = make_random_model(10, 24, true, 3);
-  const auto c = make_random_model(10, 24, true, 4);
+  caliper::test::RandomModelOptions o;
+  o.rings = o.segments = 40;
+  o.seed = 3;
+  const auto a = make_random_model(o);
+  const auto b = make_random_model(o);
+  o.seed = 4;
+  const auto c = make_random_model(o);
   EXPECT_MATRIX_NEAR(a.v_template, b.v_template, 0.0);
   EXPECT_MATRIX_NEAR(a.posedirs, b.posedirs, 0.0);
   EXPECT_FALSE(caliper::test::matrices_near(a.shapedirs, c.shapedirs, 1e-6));
