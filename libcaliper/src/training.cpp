@@ -18,6 +18,8 @@
 #include <map>
 #include <string>
 
+#include <Eigen/Geometry>
+
 #include "caliper/errors.hpp"
 
 namespace caliper {
@@ -154,20 +156,33 @@ ShapeMeasurer::ShapeMeasurer(const smpl::BodyModel& model, const LandmarkTable& 
   ydirs_.resize(V, k);
   for (int v = 0; v < V; ++v) ydirs_.row(v) = model.shapedirs.block(3 * v + 1, 0, 1, k);
   ydir_norms_ = ydirs_.rowwise().norm();
+  {
+    std::vector<int> order(static_cast<std::size_t>(V));
+    for (int v = 0; v < V; ++v) order[static_cast<std::size_t>(v)] = v;
+    const int nref = std::min(V, 8);
+    std::partial_sort(order.begin(), order.begin() + nref, order.end(),
+                      [&](int a, int b) { return y0_(a) < y0_(b); });
+    floor_refs_.assign(order.begin(), order.begin() + nref);
+  }
   prepared_radius_ = std::max(2.0 * std::sqrt(static_cast<double>(k)), 5.0);
   candidates_ = floor_candidates(prepared_radius_);
-  // Volume cubic.
+  // Volume cubic, from the divergence theorem with the field (x, 0, 0): a flat face contributes
+  // (x_a + x_b + x_c) N_x / 6, N = (x_b - x_a) x (x_c - x_a); the sum of x is affine in b~ and
+  // N_x quadratic, so T[i][(j,l)] = sum_f sx_i Q_(j,l) with Q the symmetrised N_x form.
   const int K1 = k + 1;
   const int npairs = K1 * (K1 + 1) / 2;
   cubic_ = Eigen::MatrixXd::Zero(K1, npairs);
-  const auto X = [&](int v, int i) -> Eigen::Vector3d {
-    if (i == 0) return model.v_template.row(v).transpose();
-    return model.shapedirs.block(3 * v, i - 1, 3, 1);
-  };
+  using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  RowMat Xc[3];
+  for (int c = 0; c < 3; ++c) {
+    Xc[c].resize(V, K1);
+    Xc[c].col(0) = model.v_template.col(c);
+    for (int v = 0; v < V; ++v) Xc[c].row(v).tail(k) = model.shapedirs.block(3 * v + c, 0, 1, k);
+  }
   const int F = model.num_faces();
-  constexpr int kBlock = 512;
-  Eigen::MatrixXd Ablk(3 * kBlock, K1), Yblk(3 * kBlock, npairs);
-  std::vector<Eigen::Vector3d> Bv(K1), Cv(K1);
+  constexpr int kBlock = 1024;
+  Eigen::MatrixXd Sblk(kBlock, K1), Qblk(kBlock, npairs);
+  Eigen::RowVectorXd e1y(K1), e1z(K1), e2y(K1), e2z(K1);
   for (int f0 = 0; f0 < F; f0 += kBlock) {
     const int nf = std::min(kBlock, F - f0);
     for (int q = 0; q < nf; ++q) {
@@ -177,33 +192,43 @@ ShapeMeasurer::ShapeMeasurer(const smpl::BodyModel& model, const LandmarkTable& 
         throw InvalidInputError("ShapeMeasurer: face " + std::to_string(f) +
                                 " has a vertex index out of range");
       }
-      for (int i = 0; i < K1; ++i) {
-        Ablk.block(3 * q, i, 3, 1) = X(ia, i);
-        Bv[i] = X(ib, i);
-        Cv[i] = X(ic, i);
-      }
+      Sblk.row(q) = Xc[0].row(ia) + Xc[0].row(ib) + Xc[0].row(ic);
+      e1y = Xc[1].row(ib) - Xc[1].row(ia);
+      e1z = Xc[2].row(ib) - Xc[2].row(ia);
+      e2y = Xc[1].row(ic) - Xc[1].row(ia);
+      e2z = Xc[2].row(ic) - Xc[2].row(ia);
       int pair = 0;
       for (int j = 0; j < K1; ++j) {
-        for (int l = j; l < K1; ++l, ++pair) {
-          Eigen::Vector3d y = Bv[j].cross(Cv[l]);
-          if (l != j) y += Bv[l].cross(Cv[j]);
-          Yblk.block(3 * q, pair, 3, 1) = y;
+        Qblk(q, pair++) = e1y(j) * e2z(j) - e1z(j) * e2y(j);
+        for (int l = j + 1; l < K1; ++l) {
+          Qblk(q, pair++) = e1y(j) * e2z(l) - e1z(j) * e2y(l) + e1y(l) * e2z(j) - e1z(l) * e2y(j);
         }
       }
     }
-    cubic_.noalias() += Ablk.topRows(3 * nf).transpose() * Yblk.topRows(3 * nf);
+    cubic_.noalias() += Sblk.topRows(nf).transpose() * Qblk.topRows(nf);
   }
   cubic_ /= 6.0;
 }
 
 std::vector<int> ShapeMeasurer::floor_candidates(double radius) const {
-  // y_v(beta) lies in [y0 - |S_v| R, y0 + |S_v| R] for |beta| <= R (Cauchy-Schwarz): every
-  // vertex whose lower bound is below the smallest upper bound can be the lowest one.
+  // Necessary conditions for vertex v to be the lowest for some |beta| <= R (Cauchy-Schwarz):
+  // (1) its lower bound y0_v - R |S_v| is below the smallest upper bound min_u y0_u + R |S_u|;
+  // (2) for every reference vertex u (the template's lowest few), y_v <= y_u is possible:
+  //     y0_v - y0_u <= R |S_v - S_u|. (2) is tight when the feet move together (relative
+  //     motion small), (1) when the shape space is noisy; both are exact, never approximate.
   const Eigen::VectorXd upper = y0_ + radius * ydir_norms_;
   const double best_upper = upper.minCoeff();
   std::vector<int> out;
   for (Eigen::Index v = 0; v < y0_.size(); ++v) {
-    if (y0_(v) - radius * ydir_norms_(v) <= best_upper) out.push_back(static_cast<int>(v));
+    if (y0_(v) - radius * ydir_norms_(v) > best_upper) continue;
+    bool possible = true;
+    for (int u : floor_refs_) {
+      if (y0_(v) - y0_(u) > radius * (ydirs_.row(v) - ydirs_.row(u)).norm()) {
+        possible = false;
+        break;
+      }
+    }
+    if (possible) out.push_back(static_cast<int>(v));
   }
   return out;
 }
@@ -291,16 +316,40 @@ void ShapeMeasurer::measure_batch(const Eigen::MatrixXd& betas, Eigen::MatrixXd&
   for (int t : to_) need_floor = need_floor || t < 0;
   Eigen::VectorXd floors = Eigen::VectorXd::Zero(N);
   if (need_floor && N > 0) {
+    // Exact early termination: candidates sorted by their lower bound y0_v - R |S_v| (R the
+    // largest |beta| of the batch); a body's scan stops at the first bound above its best height,
+    // which is seeded by the template's lowest vertices.
     const double r = betas.rowwise().norm().maxCoeff();
-    const std::vector<int> cand = r <= prepared_radius_ ? candidates_ : floor_candidates(r);
-    Eigen::MatrixXd Yc(cand.size(), k);
-    Eigen::VectorXd y0c(cand.size());
-    for (std::size_t c = 0; c < cand.size(); ++c) {
-      Yc.row(c) = ydirs_.row(cand[c]).head(k);
-      y0c(c) = y0_(cand[c]);
+    std::vector<int> cand = r <= prepared_radius_ ? candidates_ : floor_candidates(r);
+    const double R = std::max(r, r <= prepared_radius_ ? prepared_radius_ : r);
+    std::sort(cand.begin(), cand.end(), [&](int a, int b) {
+      return y0_(a) - R * ydir_norms_(a) < y0_(b) - R * ydir_norms_(b);
+    });
+    const auto nc = static_cast<Eigen::Index>(cand.size());
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> Yc(nc, k);
+    Eigen::VectorXd y0c(nc), lower(nc);
+    for (Eigen::Index c = 0; c < nc; ++c) {
+      const int v = cand[static_cast<std::size_t>(c)];
+      Yc.row(c) = ydirs_.row(v).head(k);
+      y0c(c) = y0_(v);
+      lower(c) = y0_(v) - R * ydir_norms_(v);
     }
-    const Eigen::MatrixXd H = (Yc * betas.transpose()).colwise() + y0c;  // cand x N
-    floors = H.colwise().minCoeff().transpose();
+    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> Yr(floor_refs_.size(),
+                                                                              k);
+    Eigen::VectorXd y0r(static_cast<Eigen::Index>(floor_refs_.size()));
+    for (std::size_t u = 0; u < floor_refs_.size(); ++u) {
+      Yr.row(static_cast<Eigen::Index>(u)) = ydirs_.row(floor_refs_[u]).head(k);
+      y0r(static_cast<Eigen::Index>(u)) = y0_(floor_refs_[u]);
+    }
+    const Eigen::MatrixXd seeds = (Yr * betas.transpose()).colwise() + y0r;  // refs x N
+    for (Eigen::Index b = 0; b < N; ++b) {
+      const Eigen::RowVectorXd beta = betas.row(b);
+      double best = seeds.col(b).minCoeff();
+      for (Eigen::Index c = 0; c < nc && lower(c) <= best; ++c) {
+        best = std::min(best, y0c(c) + Yc.row(c).dot(beta));
+      }
+      floors(b) = best;
+    }
   }
   // Landmark points for every body.
   std::vector<Eigen::MatrixXd> pts(points_.size());  // each N x 3

@@ -6,7 +6,7 @@
 /// Speed: only the shape changes (v = T + S beta), so ShapeMeasurer precomputes what every
 /// measurement needs: the affine maps beta -> landmark point, the floor candidates (every vertex
 /// that can be the lowest one for |beta| <= R, exactly, by an interval bound) and the volume as
-/// an exact cubic polynomial in beta (the sum of face determinants expanded once).
+/// an exact cubic polynomial in beta (the divergence-theorem face sum expanded once).
 #pragma once
 
 #include <cstdint>
@@ -80,6 +80,7 @@ class ShapeMeasurer {
   Eigen::VectorXd y0_;            // V template heights
   Eigen::MatrixXd ydirs_;         // V x k height blend rows
   Eigen::VectorXd ydir_norms_;    // V row norms of ydirs_
+  std::vector<int> floor_refs_;   // the template's lowest vertices (candidate test)
   double prepared_radius_ = 0.0;  // candidates below are exact for |beta| <= this
   std::vector<int> candidates_;
   Eigen::MatrixXd cubic_;  // (k+1) x (k+1)(k+2)/2 volume coefficients
