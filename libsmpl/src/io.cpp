@@ -42,6 +42,7 @@ class Source {
     if (v.kind != PickleValue::Kind::kArray) {
       fail(context_, "'" + key + "' is a " + v.type_name + ", expected a numeric array");
     }
+    if (v.array.kind() == 'O') fail(context_, "'" + key + "' " + npy_object_array_advice());
     if (!v.array.is_numeric()) {
       fail(context_, "'" + key + "' has dtype " + v.array.dtype + ", expected a numeric array");
     }

@@ -144,6 +144,20 @@ class LiteralParser {
 
 // ---------------------------------------------------------------------------------------------
 // dtype descriptors.
+}  // namespace
+
+std::string npy_object_array_advice() {
+  return "is a Python object array (dtype '|O'), i.e. pickled data, which is never loaded. A "
+         "scipy sparse matrix saved with np.savez becomes such an array; convert it to a dense "
+         "array first, e.g. np.savez(out, J_regressor=np.asarray(J_regressor.todense()), ...)";
+}
+
+namespace {
+
+std::string object_array_message() {
+  return npy_object_array_advice();
+}
+
 struct DtypeInfo {
   std::string normalized;  // "<f8", "|b1", "|S5", "<U3", ...
   std::size_t item_size = 0;
@@ -160,13 +174,7 @@ DtypeInfo parse_descr(const std::string& descr, const std::string& context) {
   }
   if (body.empty()) fail(context, "bad dtype descriptor '" + descr + "'");
   const char kind = body[0];
-  if (kind == 'O') {
-    fail(context,
-         "holds a Python object array (dtype '" + descr +
-             "'), i.e. pickled data, which is never loaded from an .npz. A scipy sparse matrix "
-             "saved with np.savez becomes such an array; convert it to a dense array first, e.g. "
-             "np.savez(out, J_regressor=np.asarray(J_regressor.todense()), ...)");
-  }
+  if (kind == 'O') fail(context, object_array_message());
   std::size_t n = 0;
   if (body.size() < 2 || body.size() > 12) fail(context, "unsupported dtype '" + descr + "'");
   for (std::size_t i = 1; i < body.size(); ++i) {
@@ -259,6 +267,11 @@ void for_each_numeric(const NpyArray& a, const F& f) {
   }
 }
 
+void check_numeric(const NpyArray& a) {
+  if (a.kind() == 'O') throw ModelError(object_array_message());
+  if (!a.is_numeric()) throw ModelError("array of dtype '" + a.dtype + "' is not numeric");
+}
+
 void append_utf8(std::string& out, std::uint32_t cp) {
   if (cp < 0x80) {
     out += static_cast<char>(cp);
@@ -322,6 +335,7 @@ std::size_t NpyArray::size() const {
 }
 
 std::size_t NpyArray::item_size() const {
+  if (kind() == 'O') return 0;  // placeholder: no data
   return parse_descr(dtype, "dtype").item_size;
 }
 
@@ -341,7 +355,7 @@ std::string NpyArray::shape_string() const {
 NpyArray NpyArray::c_order() const {
   NpyArray out = *this;
   out.fortran_order = false;
-  if (!fortran_order || shape.size() < 2) return out;
+  if (!fortran_order || shape.size() < 2 || kind() == 'O') return out;
   const std::size_t item = item_size();
   const std::size_t n = size();
   const std::size_t nd = shape.size();
@@ -391,7 +405,7 @@ NpyArray NpyArray::c_order() const {
 }
 
 std::vector<double> NpyArray::to_double() const {
-  if (!is_numeric()) throw ModelError("array of dtype '" + dtype + "' is not numeric");
+  check_numeric(*this);
   const NpyArray& a = fortran_order && shape.size() >= 2 ? c_order() : *this;
   std::vector<double> out;
   out.reserve(a.size());
@@ -400,7 +414,7 @@ std::vector<double> NpyArray::to_double() const {
 }
 
 std::vector<std::int64_t> NpyArray::to_int64() const {
-  if (!is_numeric()) throw ModelError("array of dtype '" + dtype + "' is not numeric");
+  check_numeric(*this);
   const NpyArray c = fortran_order && shape.size() >= 2 ? c_order() : NpyArray{};
   const NpyArray& a = fortran_order && shape.size() >= 2 ? c : *this;
   std::vector<std::int64_t> out;
@@ -420,6 +434,7 @@ std::vector<std::int64_t> NpyArray::to_int64() const {
 
 std::vector<std::string> NpyArray::to_strings() const {
   const char k = kind();
+  if (k == 'O') throw ModelError(object_array_message());
   if (k != 'S' && k != 'U') throw ModelError("array of dtype '" + dtype + "' is not text");
   const NpyArray c = fortran_order && shape.size() >= 2 ? c_order() : NpyArray{};
   const NpyArray& a = fortran_order && shape.size() >= 2 ? c : *this;
@@ -556,6 +571,15 @@ NpyArray parse_npy(const std::uint8_t* bytes, std::size_t size, const std::strin
     dims.push_back(static_cast<std::size_t>(d.integer));
   }
   const std::size_t available = size - offset - header_len;
+  const std::string& d = descr->text;
+  if (d == "|O" || d == "O" || d == "<O" || d == ">O" || d == "|O8" || d == "<O8") {
+    // Pickled Python objects: not loaded; a placeholder whose accessors explain the conversion.
+    NpyArray placeholder;
+    placeholder.dtype = "|O";
+    placeholder.shape = std::move(dims);
+    placeholder.fortran_order = fortran->integer != 0;
+    return placeholder;
+  }
   return npy_from_raw(descr->text, std::move(dims), fortran->integer != 0,
                       bytes + offset + header_len, available, context);
 }

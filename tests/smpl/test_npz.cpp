@@ -202,9 +202,15 @@ TEST(Npy, BadHeadersGiveClearErrors) {
     return [b] { smpl::parse_npy(b.data(), b.size(), "x.npy"); };
   };
   expect_error(parse({'n', 'o', 'p', 'e', 0, 0, 0, 0, 0, 0, 0}), {"x.npy", "bad magic"});
-  expect_error(
-      parse(npy_with_header("{'descr': '|O', 'fortran_order': False, 'shape': (2,), }", 16)),
-      {"x.npy", "object array", "todense()"});
+  // Object arrays: a placeholder without data whose accessors explain the conversion.
+  const std::vector<std::uint8_t> obj =
+      npy_with_header("{'descr': '|O', 'fortran_order': False, 'shape': (2,), }", 16);
+  const NpyArray placeholder = smpl::parse_npy(obj.data(), obj.size(), "x.npy");
+  EXPECT_EQ(placeholder.dtype, "|O");
+  EXPECT_TRUE(placeholder.data.empty());
+  expect_error([&] { placeholder.to_double(); }, {"object array", "todense()"});
+  expect_error([&] { placeholder.to_strings(); }, {"object array"});
+  expect_error([&] { smpl::npy_bytes(placeholder); }, {"object array"});
   expect_error(
       parse(npy_with_header("{'descr': '<c16', 'fortran_order': False, 'shape': (1,), }", 16)),
       {"unsupported dtype '<c16'"});

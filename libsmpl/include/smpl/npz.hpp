@@ -5,7 +5,10 @@
 /// Reading: `.npy` versions 1.0, 2.0 and 3.0; zip members stored or deflated, zip64 extra fields,
 /// CRC-32 checked; dtypes b1, i1, u1, i2, u2, i4, u4, i8, u8, f4, f8 and the fixed-width string
 /// types S<n> (bytes) and U<n> (UTF-32); C and Fortran order; big-endian arrays are converted to
-/// little-endian. Object arrays (`|O`, i.e. pickled members) are refused, never unpickled.
+/// little-endian. Object arrays (`|O`, i.e. pickled members) are never unpickled: an `.npz`
+/// member holding one is returned as a placeholder (dtype "|O", its shape, no data) whose
+/// accessors throw ModelError with npy_object_array_advice(), so that files with unused object
+/// members (SMPL-X's joint2num, part2num) still load.
 /// Writing: `.npy` version 1.0 headers byte-identical to numpy's; zip members stored (or deflated
 /// on request) with a fixed timestamp, so the same arrays always give the same bytes.
 #pragma once
@@ -38,7 +41,8 @@ struct NpyArray {
   std::size_t size() const;
   /// Bytes per element (8 for "<f8", n for "|S<n>", 4 n for "<U<n>").
   std::size_t item_size() const;
-  /// numpy kind character: 'f' float, 'i' signed, 'u' unsigned, 'b' bool, 'S' bytes, 'U' text.
+  /// numpy kind character: 'f' float, 'i' signed, 'u' unsigned, 'b' bool, 'S' bytes, 'U' text,
+  /// 'O' object-array placeholder (no data).
   char kind() const;
   /// True for the numeric and bool kinds (f, i, u, b).
   bool is_numeric() const;
@@ -58,6 +62,9 @@ struct NpyArray {
 
 /// An `.npz` archive's arrays by key (member name without ".npy"), sorted by key.
 using NpzArchive = std::map<std::string, NpyArray>;
+
+/// The message for object arrays: they are pickled data, never loaded, and how to convert them.
+std::string npy_object_array_advice();
 
 /// numpy's descriptor for the C++ scalar type T (double -> "<f8", std::int32_t -> "<i4", ...).
 template <typename T>
@@ -111,8 +118,9 @@ NpyArray make_npy_strings(const std::vector<std::string>& values, bool scalar = 
 
 /// The `.npy` file bytes of `array` (version 1.0 header, padded to 64 bytes like numpy's).
 std::vector<std::uint8_t> npy_bytes(const NpyArray& array);
-/// Parses `.npy` bytes. `context` (file and member) starts every error message.
-/// Throws ModelError: bad magic, bad header, unsupported or object dtype, size mismatch.
+/// Parses `.npy` bytes. `context` (file and member) starts every error message. An object array
+/// gives a placeholder (see above). Throws ModelError: bad magic, bad header, unsupported dtype,
+/// size mismatch.
 NpyArray parse_npy(const std::uint8_t* bytes, std::size_t size, const std::string& context);
 /// An array from a dtype descriptor (any byte order: "<f8", ">i4", "|b1", "f8" = native, ...),
 /// a shape, a memory order and exactly size() * item_size() raw bytes; big-endian data is
@@ -129,8 +137,8 @@ void write_npy(const std::string& path, const NpyArray& array);
 /// np.savez_compressed. Deterministic: the same arrays always give the same bytes.
 std::vector<std::uint8_t> npz_bytes(const NpzArchive& arrays, bool compress = false);
 /// Parses `.npz` bytes. Members not ending in ".npy" are ignored. Throws ModelError naming
-/// `context`, the member and the problem (bad zip, truncated, CRC mismatch, bad npy header, object
-/// array, unsupported compression).
+/// `context`, the member and the problem (bad zip, truncated, CRC mismatch, bad npy header,
+/// unsupported dtype or compression).
 NpzArchive parse_npz(const std::uint8_t* bytes, std::size_t size, const std::string& context);
 /// Reads an `.npz` file; errors name `path`.
 NpzArchive read_npz(const std::string& path);
