@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <string>
 
@@ -86,6 +87,7 @@ Json signature_json(const ModelSignature& s) {
   j.set("gender", s.gender);
   j.set("num_vertices", s.num_vertices);
   j.set("num_betas", s.num_betas);
+  j.set("fingerprint", s.fingerprint);
   return j;
 }
 
@@ -95,6 +97,7 @@ ModelSignature json_signature(const Json& j) {
   s.gender = j.at("gender").as_string();
   s.num_vertices = j.at("num_vertices").as_int();
   s.num_betas = j.at("num_betas").as_int();
+  if (const Json* f = j.find("fingerprint")) s.fingerprint = f->as_number();
   if (s.num_betas < 1) throw ModelMismatchError("regressor JSON: num_betas must be >= 1");
   return s;
 }
@@ -194,8 +197,31 @@ const std::vector<RegressorKind>& all_regressor_kinds() {
   return kinds;
 }
 
+double model_fingerprint(const smpl::BodyModel& model, int betas) {
+  // A weighted sum with fixed pseudo-random weights in [1, 2): any change of a value beyond
+  // rounding changes it; independent of file names.
+  std::uint64_t state = 0x2545f4914f6cdd1dULL;
+  const auto weight = [&]() {
+    state ^= state << 13;
+    state ^= state >> 7;
+    state ^= state << 17;
+    return 1.0 + static_cast<double>(state >> 11) * 0x1.0p-53;
+  };
+  double sum = 0.0;
+  for (Eigen::Index i = 0; i < model.v_template.size(); ++i) {
+    sum += weight() * model.v_template.data()[i];
+  }
+  const int k = std::min(betas, model.num_betas());
+  for (int b = 0; b < k; ++b) {
+    for (Eigen::Index r = 0; r < model.shapedirs.rows(); ++r)
+      sum += weight() * model.shapedirs(r, b);
+  }
+  return sum == 0.0 ? 1.0 : sum;  // 0 means "unknown"
+}
+
 ModelSignature ModelSignature::of(const smpl::BodyModel& model, int betas) {
-  return {model.meta.name, model.meta.gender, model.num_vertices(), betas};
+  return {model.meta.name, model.meta.gender, model.num_vertices(), betas,
+          model_fingerprint(model, betas)};
 }
 
 void ModelSignature::check(const smpl::BodyModel& model) const {
@@ -213,6 +239,14 @@ void ModelSignature::check(const smpl::BodyModel& model) const {
   };
   if (model.num_vertices() != num_vertices) fail("the vertex counts differ");
   if (model.num_betas() < num_betas) fail("the model has fewer shape components");
+  if (fingerprint != 0.0) {
+    const double other = model_fingerprint(model, num_betas);
+    if (std::abs(other - fingerprint) > 1e-9 * (std::abs(fingerprint) + 1.0)) {
+      fail("the template or shape directions differ (fingerprint " + num(fingerprint) + " vs " +
+           num(other) + ")");
+    }
+    return;
+  }
   if (!name.empty() && !model.meta.name.empty() && name != model.meta.name) {
     fail("the model names differ");
   }

@@ -251,18 +251,34 @@ TEST_F(BodyModelRegressors, JsonRoundTripAndMismatch) {
   EXPECT_NE(back.find("r5"), nullptr);
   EXPECT_EQ(back.find("R3"), nullptr);
   back.check(*model_);
+  // A renamed copy of the same model is accepted (the fingerprint identifies the content).
   smpl::BodyModel other = *model_;
+  other.meta.name = "renamed file";
+  back.check(other);
+  // A different template is refused, naming both models.
+  other.v_template(10, 1) += 1e-4;
   other.meta.name = "someone else";
   try {
     back.check(other);
     FAIL();
   } catch (const ModelMismatchError& e) {
     EXPECT_NE(std::string(e.what()).find("someone else"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(model_->meta.name), std::string::npos) << e.what();
   }
-  other = *model_;
-  other.meta.gender = other.meta.gender == "male" ? "female" : "male";
-  EXPECT_THROW(back.check(other), ModelMismatchError);
   EXPECT_THROW(create_avatar(other, back.linear[0], in), ModelMismatchError);
+  other = *model_;
+  other.shapedirs(30, 2) += 1e-4;  // a different shape space
+  EXPECT_THROW(back.check(other), ModelMismatchError);
+  other = *model_;
+  other.v_template.conservativeResize(100, 3);
+  EXPECT_THROW(back.check(other), ModelMismatchError);
+  // Without a fingerprint (older files) the name and gender decide.
+  ModelSignature sig = back.linear[0].signature();
+  sig.fingerprint = 0.0;
+  sig.check(*model_);
+  other = *model_;
+  other.meta.gender = "male";
+  EXPECT_THROW(sig.check(other), ModelMismatchError);
   std::remove(path.c_str());
 }
 

@@ -52,13 +52,20 @@ struct ModelSignature {
   std::string gender;  ///< model.meta.gender
   int num_vertices = 0;
   int num_betas = 0;  ///< betas the regressor produces (<= the model's)
+  /// Checksum of the template and of the first num_betas shape directions (a fixed weighted
+  /// sum; 0 = unknown). Identifies the model's content whatever its file or name.
+  double fingerprint = 0.0;
 
-  /// Signature of `model` for a regressor with `betas` outputs.
+  /// Signature of `model` for a regressor with `betas` outputs (computes the fingerprint).
   static ModelSignature of(const smpl::BodyModel& model, int betas);
   /// Throws ModelMismatchError naming both sides if the model's vertex count differs, it has
-  /// fewer betas, or its name or gender differ (each compared only when both are non-empty).
+  /// fewer betas, or its content differs: by fingerprint when known (a renamed file is
+  /// accepted), otherwise by name and gender (each compared only when both are non-empty).
   void check(const smpl::BodyModel& model) const;
 };
+
+/// The fingerprint of ModelSignature for the first `betas` shape directions of `model`.
+double model_fingerprint(const smpl::BodyModel& model, int betas);
 
 /// Feature of one input: the value itself (metres), or weight_feature() for "weight".
 /// Throws InvalidInputError for NaN/inf, a non-positive value or a weight below the formula's
