@@ -29,10 +29,19 @@ std::string display(const app::EditorCore& core, const std::string& id, double s
 }
 
 /// Colour-map range of each mode, metres.
-constexpr float kPlausibilityRange = 0.02f;  // 2 cm of displacement from components beyond 2 SD
-constexpr float kUncertaintyRange = 0.02f;   // 2 cm positional SD
-constexpr float kDifferenceRange = 0.03f;    // 3 cm between two avatars
+constexpr float kPlausibilityRange = 0.02f;   // 2 cm of displacement from components beyond 2 SD
+constexpr float kUncertaintyRange = 0.02f;    // 2 cm positional SD
+constexpr float kMinDifferenceRange = 0.01f;  // 1 cm: below that the map would show noise
 }  // namespace
+
+float EditorApp::difference_range() const {
+  // The largest difference rounded up to whole centimetres (at least 1 cm).
+  float m = 0;
+  if (core_.comparison()) {
+    for (float d : core_.comparison()->difference) m = std::max(m, d);
+  }
+  return std::max(kMinDifferenceRange, std::ceil(m * 100.0f) / 100.0f);
+}
 
 // ---------------------------------------------------------------------------------------------
 // Construction and commands
@@ -122,7 +131,7 @@ void EditorApp::sync_meshes() {
     if (compare == static_cast<int>(app::CompareMode::Difference) && cmp &&
         !cmp->difference.empty()) {
       renderer_->update_colours(avatar_mesh_,
-                                render::colours_from_values(cmp->difference, 0, kDifferenceRange,
+                                render::colours_from_values(cmp->difference, 0, difference_range(),
                                                             render::kColourMapHeat));
     } else if (core_.view().colour == app::ColourMode::Plausibility) {
       renderer_->update_colours(
@@ -185,7 +194,7 @@ render::Scene EditorApp::build_scene(bool comparison_side) const {
   inst.vertex_colours = difference || vs.colour != app::ColourMode::Skin;
   s.meshes.push_back(inst);
   if (difference) {
-    s.legend = {true, "difference (cm)", 0, kDifferenceRange * 100, render::kColourMapHeat};
+    s.legend = {true, "difference (cm)", 0, difference_range() * 100, render::kColourMapHeat};
   } else if (vs.colour == app::ColourMode::Plausibility) {
     s.legend = {true, "beyond 2 SD (cm)", 0, kPlausibilityRange * 100, render::kColourMapTraffic};
   } else if (vs.colour == app::ColourMode::Uncertainty) {
@@ -223,10 +232,19 @@ render::Scene EditorApp::build_scene(bool comparison_side) const {
     Eigen::Vector3d a, b;
     if (!point(def->from, a)) continue;
     if (def->kind == MeasurementKind::Height) {
-      // A vertical line beside the body, from the floor to the landmark's height.
-      const double side = av.vertices.col(0).maxCoeff() + 0.08 + (id == "height" ? 0.06 : 0.0);
-      b = Eigen::Vector3d(side, 0, a.z());
-      a = Eigen::Vector3d(side, a.y(), a.z());
+      // A vertical line from the landmark's height to the floor: straight down from the crotch
+      // for the inseam, beside the legs (the subject's right) for the other heights.
+      double x = a.x();
+      if (id != "inseam_height") {
+        const double knee = 0.3 * av.vertices.col(1).maxCoeff();
+        double leg_min = 0;
+        for (Eigen::Index v = 0; v < av.vertices.rows(); ++v) {
+          if (av.vertices(v, 1) < knee) leg_min = std::min(leg_min, av.vertices(v, 0));
+        }
+        x = leg_min - 0.3;
+      }
+      b = Eigen::Vector3d(x, 0, a.z());
+      a = Eigen::Vector3d(x, a.y(), a.z());
     } else if (!point(def->to, b)) {
       continue;
     }

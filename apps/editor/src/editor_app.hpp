@@ -53,6 +53,7 @@ class EditorApp {
   void handle_shortcuts();
   void sync_meshes();
   render::Scene build_scene(bool comparison_side) const;
+  float difference_range() const;  ///< metres: colour-map maximum of the difference map
 
   app::EditorCore& core_;
   const render::GlFunctions& gl_;

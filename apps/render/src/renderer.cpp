@@ -575,7 +575,8 @@ void Renderer::draw(const Scene& scene, const View& view) {
     const Legend& lg = scene.legend;
     const float scale = 2.0f;
     const float bar_w = 22, bar_h = std::min(220.0f, static_cast<float>(h) * 0.4f);
-    const float x0 = static_cast<float>(w) - 130, y0 = 16;
+    const float box_w = std::max(130.0f, text_width(lg.title, scale) + 16);
+    const float x0 = static_cast<float>(w) - box_w, y0 = 16;
     overlay_rect(ov, x0 - 10, y0 - 8, static_cast<float>(w) - 6, y0 + bar_h + 34,
                  Rgba{1, 1, 1, 0.85f});
     overlay_text(ov, lg.title, x0 - 4, y0, scale, Rgba{0, 0, 0, 1});

@@ -1,0 +1,131 @@
+// Renderer and editor benchmarks: one slider-drag frame of the editor with a full-size
+// SMPL-shaped model (6890 vertices, 13776 faces, 10 betas; tests/support make_random_model):
+// regress + evaluate (EditorCore::drag_value) + upload (Renderer::update_positions) + draw,
+// and the OSMesa (llvmpipe) frame time at 1024 x 1024.
+//
+// Run: build/bin/bench_render --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+#include <benchmark/benchmark.h>
+
+#include <memory>
+#include <vector>
+
+#include "app/editor_core.hpp"
+#include "caliper_test/random_model.hpp"
+#include "render/camera.hpp"
+#include "render/render_mesh.hpp"
+
+namespace {
+
+namespace ca = caliper::app;
+namespace cr = caliper::render;
+
+const ca::ModelEntry& full_size_entry() {
+  static const ca::ModelEntry e = [] {
+    auto m = std::make_shared<smpl::BodyModel>(caliper::test::make_random_model(10));
+    m->meta.gender = "female";
+    return ca::make_model_entry(m, "random-full-size");
+  }();
+  return e;
+}
+
+std::vector<float> floats(const smpl::Vertices& v) {
+  std::vector<float> out(static_cast<size_t>(v.size()));
+  for (Eigen::Index i = 0; i < v.size(); ++i)
+    out[static_cast<size_t>(i)] = static_cast<float>(v.data()[i]);
+  return out;
+}
+
+/// Slider heights the drag alternates between (inside the valid range).
+double drag_height(int64_t i) {
+  return 1.60 + 0.002 * static_cast<double>(i % 100);
+}
+
+struct DragFixture {
+  ca::EditorCore core;
+  std::unique_ptr<cr::OffscreenRenderer> off;
+  cr::MeshHandle mesh = 0;
+  cr::Scene scene;
+  cr::View view;
+
+  DragFixture(int w, int h, int samples = 4) {
+    core.add_model(full_size_entry());
+    off = std::make_unique<cr::OffscreenRenderer>(w, h, samples);
+    cr::MeshData m = cr::mesh_data(core.avatar().vertices, full_size_entry().model->faces);
+    mesh = off->renderer().upload_mesh(m);
+    cr::MeshInstance inst;
+    inst.mesh = mesh;
+    scene.meshes.push_back(inst);
+    view.viewport = {0, 0, w, h};
+    const auto& v = core.avatar().vertices;
+    view.camera =
+        cr::frame_box(v.colwise().minCoeff().cast<float>(), v.colwise().maxCoeff().cast<float>(),
+                      25, static_cast<float>(w) / static_cast<float>(h));
+    core.begin_drag();
+  }
+};
+
+/// Regress + evaluate only (what the app core does per slider event).
+void BM_DragRegressEvaluate(benchmark::State& state) {
+  ca::EditorCore core;
+  core.add_model(full_size_entry());
+  core.begin_drag();
+  int64_t i = 0;
+  for (auto _ : state) {
+    core.drag_value("height", drag_height(i++));
+    benchmark::DoNotOptimize(core.avatar().vertices.data());
+  }
+}
+BENCHMARK(BM_DragRegressEvaluate)->Unit(benchmark::kMillisecond);
+
+/// One drag frame as the editor's CPU issues it: regress + evaluate + upload + draw calls
+/// (no wait for llvmpipe's rasterizer threads; glFinish runs outside the timed region).
+void BM_DragFrameCpu(benchmark::State& state) {
+  DragFixture f(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  const cr::GlFunctions& gl = f.off->context().gl();
+  int64_t i = 0;
+  for (auto _ : state) {
+    f.core.drag_value("height", drag_height(i++));
+    f.off->bind();
+    f.off->renderer().update_positions(f.mesh, floats(f.core.avatar().vertices));
+    f.off->renderer().draw(f.scene, f.view);
+    state.PauseTiming();
+    f.off->resolve();
+    gl.Finish();
+    state.ResumeTiming();
+  }
+}
+BENCHMARK(BM_DragFrameCpu)->Args({1200, 1000})->Unit(benchmark::kMillisecond);
+
+/// The same frame including llvmpipe's rasterization and the multisample resolve (glFinish):
+/// the wall time of a whole software-rendered frame.
+void BM_DragFrameFinished(benchmark::State& state) {
+  DragFixture f(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  int64_t i = 0;
+  for (auto _ : state) {
+    f.core.drag_value("height", drag_height(i++));
+    f.off->bind();
+    f.off->renderer().update_positions(f.mesh, floats(f.core.avatar().vertices));
+    f.off->renderer().draw(f.scene, f.view);
+    f.off->resolve();  // ends with glFinish
+  }
+}
+BENCHMARK(BM_DragFrameFinished)
+    ->Args({1200, 1000})
+    ->Args({1024, 1024})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+/// OSMesa 1024 x 1024: draw + resolve + read back the image (what `caliper render` does per
+/// picture, without the PNG encoding).
+void BM_OsMesaFrameWithReadback(benchmark::State& state) {
+  DragFixture f(1024, 1024, static_cast<int>(state.range(0)));
+  for (auto _ : state) {
+    cr::Image img = f.off->render(f.scene, std::vector<cr::View>{f.view});
+    benchmark::DoNotOptimize(img.rgba.data());
+  }
+}
+BENCHMARK(BM_OsMesaFrameWithReadback)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+
+BENCHMARK_MAIN();
