@@ -49,6 +49,7 @@ struct Action {
   Tip dropout_hand = Tip::Left;
   std::vector<OperatorCommand> commands;  ///< issued at the first frame of the action
   double pause = 0.0;                     ///< command-only actions: duration
+  std::optional<Eigen::Vector3d> look;    ///< where the head looks (default: ahead, slightly down)
 };
 
 constexpr double kMove = 0.45;        ///< s, tips travel to the targets
@@ -146,6 +147,7 @@ SimulatedSession simulate_session(const Protocol& protocol, const SimulatedPerso
     a.hold = hold;
     const Eigen::Vector2d& t = protocol.floor.targets[i];
     a.target[a.hand == Tip::Left ? 0 : 1] = Eigen::Vector3d(t.x(), 0.0, t.y());
+    a.look = Eigen::Vector3d(t.x(), 0.0, t.y());
     actions.push_back(a);
     ++out.accepted_samples;
     if (i == 1 && o.role == "operator" && o.typed_in_log) pause(typed_commands(), 0.3);
@@ -214,7 +216,17 @@ SimulatedSession simulate_session(const Protocol& protocol, const SimulatedPerso
   const Eigen::Vector3d rest[2] = {Eigen::Vector3d(0.3, 0.95, 0.25),
                                    Eigen::Vector3d(-0.3, 0.95, 0.25)};
   const Eigen::Vector3d head_top = landmark(person, "head_top");
-  const Eigen::Quaterniond head_q(Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitY()));
+  const Eigen::Vector3d eye = head_top + Eigen::Vector3d(0.0, -0.11, 0.08);
+  // OpenXR views look along -Z: yaw by 180 degrees (plus the target's azimuth), then pitch.
+  const auto look_at = [&](const Eigen::Vector3d& p) {
+    const Eigen::Vector3d f = (p - eye).normalized();
+    return Eigen::Quaterniond(
+               Eigen::AngleAxisd(std::atan2(f.x(), f.z()) + kPi, Eigen::Vector3d::UnitY())) *
+           Eigen::Quaterniond(Eigen::AngleAxisd(std::asin(std::clamp(f.y(), -1.0, 1.0)),
+                                                Eigen::Vector3d::UnitX()));
+  };
+  const Eigen::Vector3d ahead(0.0, 1.2, 1.5);
+  Eigen::Quaterniond head_q = look_at(ahead);
   std::array<Eigen::Vector3d, 2> tip = {rest[0], rest[1]};
   std::array<Eigen::Quaterniond, 2> orient = {
       Eigen::Quaterniond(Eigen::AngleAxisd(-0.6, Eigen::Vector3d::UnitX())),
@@ -229,6 +241,8 @@ SimulatedSession simulate_session(const Protocol& protocol, const SimulatedPerso
     const double duration = a.press ? kMove + kSettle + a.hold + kRelease : a.pause;
     std::array<Eigen::Vector3d, 2> from = tip, to = tip;
     std::array<Eigen::Quaterniond, 2> q_from = orient, q_to = orient;
+    const Eigen::Quaterniond head_from = head_q;
+    const Eigen::Quaterniond head_to = a.press ? look_at(a.look ? *a.look : ahead) : head_q;
     if (a.press) {
       for (int h = 0; h < 2; ++h) {
         to[h] = a.target[h] ? *a.target[h] : rest[h];
@@ -270,8 +284,8 @@ SimulatedSession simulate_session(const Protocol& protocol, const SimulatedPerso
       }
       DevicePose& head = f.device(Device::Head);
       head.valid = true;
-      head.position = head_top + up + Eigen::Vector3d(0.0, -0.11, 0.08);
-      head.orientation = head_q;
+      head.position = eye + up;
+      head.orientation = head_from.slerp(s, head_to);
       if (a.press && local < kMove * 0.5) out.quiet_frames.push_back(frame_index);
       out.log.frames.push_back(std::move(f));
       ++frame_index;
@@ -280,6 +294,7 @@ SimulatedSession simulate_session(const Protocol& protocol, const SimulatedPerso
       tip[h] = to[h];
       orient[h] = q_to[h];
     }
+    head_q = head_to;
     t0 += duration;
   }
   return out;

@@ -58,16 +58,21 @@ TEST(Session, SelfRoleNoiseFreeGivesTheTruth) {
 }
 
 TEST(Session, TipOffsetIsApplied) {
-  // The same log read with a wrong tip offset gives wrong heights: the offset matters.
+  // The same log read with a wrong tip offset: the controllers are held at a different angle
+  // for every sample, so the wrong tip points scatter. Either the floor fit refuses them or the
+  // heights come out wrong; an app that ignored the offset would get the truth.
   SimulatorOptions o;
   SimulatedSession sim = simulate_session(default_protocol(), test::hand_made_person(), o);
   MeasuringSession session(default_protocol());
   TipOffsets wrong;
   wrong.right += Eigen::Vector3d(0.0, 0.0, 0.05);
   wrong.left += Eigen::Vector3d(0.0, 0.0, 0.05);
-  test::run_frames(session, sim.log, wrong);
-  ASSERT_TRUE(session.done());
-  EXPECT_GT(std::abs(session.result().measurements.at("height") - sim.truth.at("height")), 0.002);
+  const test::ReplayOutcome out = test::run_frames(session, sim.log, wrong);
+  if (session.done()) {
+    EXPECT_GT(std::abs(session.result().measurements.at("height") - sim.truth.at("height")), 0.002);
+  } else {
+    EXPECT_GE(out.count(EventType::FloorRetry), 1);
+  }
 }
 
 TEST(Session, NoisyLogIsWithinFiveMillimetres) {

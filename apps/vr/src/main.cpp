@@ -1,0 +1,400 @@
+// caliper-vr: the VR measuring app (docs/vr.md).
+//   caliper-vr [options]                 OpenXR (a headset and a runtime: SteamVR, Monado, ...)
+//   caliper-vr --replay LOG [options]    the same app driven by a pose log, headless (OSMesa)
+//   caliper-vr --simulate LOG [options]  writes the pose log of a simulated person
+#include <time.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <numeric>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "caliper/errors.hpp"
+#include "caliper/measurements.hpp"
+#include "caliper/protocol.hpp"
+#include "caliper/simulator.hpp"
+#include "controller_config.hpp"
+#include "openxr_system.hpp"
+#include "render/context.hpp"
+#include "render/renderer.hpp"
+#include "smpl/io.hpp"
+#include "vr_app.hpp"
+
+namespace {
+
+using namespace caliper;
+using namespace caliper::vr;
+
+constexpr int kExitError = 1;
+constexpr int kExitUsage = 2;
+constexpr int kExitIncomplete = 3;
+constexpr int kExitNoRuntime = 4;
+
+const char* kUsage =
+    "Usage: caliper-vr [options]\n"
+    "  (no mode)            measure with a headset through OpenXR\n"
+    "  --replay FILE        replay a pose log headless (no headset, no display)\n"
+    "  --simulate FILE      write the pose log of a simulated person doing the protocol\n"
+    "  --calibrate-tip HAND measure the tip offset of the left/right controller (pivot "
+    "calibration)\n"
+    "Options:\n"
+    "  --protocol FILE      measuring protocol (default: assets/protocol/virtual-caliper.json)\n"
+    "  --controllers FILE   tip offsets per interaction profile (default: "
+    "assets/protocol/controllers.json)\n"
+    "  --role self|operator who measures (default: the log's role, else self)\n"
+    "  --journal FILE       session journal (default: OUT/journal.jsonl, or "
+    "./caliper-journal.jsonl)\n"
+    "  --resume FILE        continue the session of this journal where it stopped\n"
+    "  --out DIR            write DIR/session.json and DIR/avatar.glb at the end\n"
+    "  --record FILE        record every frame's poses and buttons as a pose log\n"
+    "  --weight KG --sex female|male   typed values (else from the operator window or the log)\n"
+    "  --model FILE | --models-dir DIR  body model (default: DIR/caliper-<sex>.npz)\n"
+    "  --regressor R2|R4|R5|R6 (default R5)  --regressors FILE  --mapping FILE\n"
+    "  --eye-size WxH       replay: size of each eye's image (default 320x356)\n"
+    "  --draw-every N       replay: rasterise every N-th frame (default 1; 0 = only snapshots)\n"
+    "  --frames-dir DIR     replay: save key frames as PNG (floor targets, panel, mirror)\n"
+    "  --timing FILE        replay: per-frame CPU times as CSV\n"
+    "  --max-frames N       stop after N frames (a simulated crash)\n"
+    "  --no-audio           no confirmation tones\n"
+    "  --operator-window    OpenXR: also open the operator's desktop window\n"
+    "Simulation (--simulate): --betas \"b0 b1 ...\" --noise M --seed N --frame-rate HZ\n"
+    "  --dropout STEP --third-take STEP --early-release STEP --redo STEP\n";
+
+struct Args {
+  std::map<std::string, std::string> values;
+  std::vector<std::string> flags;
+  bool has(const std::string& k) const {
+    return values.count(k) || std::count(flags.begin(), flags.end(), k);
+  }
+  std::string get(const std::string& k, const std::string& fallback = "") const {
+    auto it = values.find(k);
+    return it == values.end() ? fallback : it->second;
+  }
+};
+
+Args parse_args(int argc, char** argv) {
+  static const std::vector<std::string> kFlags = {"--no-audio", "--operator-window", "--help",
+                                                  "-h"};
+  static const std::vector<std::string> kValues = {
+      "--replay",     "--simulate",    "--calibrate-tip", "--protocol",      "--controllers",
+      "--role",       "--journal",     "--resume",        "--out",           "--record",
+      "--weight",     "--sex",         "--model",         "--models-dir",    "--regressor",
+      "--regressors", "--mapping",     "--eye-size",      "--draw-every",    "--frames-dir",
+      "--timing",     "--max-frames",  "--betas",         "--noise",         "--seed",
+      "--frame-rate", "--dropout",     "--third-take",    "--early-release", "--redo",
+      "--assets",     "--typed-in-log"};
+  Args a;
+  for (int i = 1; i < argc; ++i) {
+    const std::string k = argv[i];
+    if (std::count(kFlags.begin(), kFlags.end(), k)) {
+      a.flags.push_back(k);
+    } else if (std::count(kValues.begin(), kValues.end(), k)) {
+      if (i + 1 >= argc) throw std::invalid_argument(k + " needs a value");
+      a.values[k] = argv[++i];
+    } else {
+      throw std::invalid_argument("unknown option \"" + k + "\"");
+    }
+  }
+  return a;
+}
+
+double number(const Args& a, const std::string& k, double fallback) {
+  if (!a.values.count(k)) return fallback;
+  try {
+    size_t used = 0;
+    const double v = std::stod(a.get(k), &used);
+    if (used != a.get(k).size() || !std::isfinite(v)) throw std::invalid_argument("");
+    return v;
+  } catch (const std::exception&) {
+    throw std::invalid_argument(k + " needs a number, got \"" + a.get(k) + "\"");
+  }
+}
+
+std::string assets_dir(const Args& a) {
+  if (a.has("--assets")) return a.get("--assets");
+  if (const char* env = std::getenv("CALIPER_ASSETS")) return env;
+  return CALIPER_VR_SOURCE_ASSETS;
+}
+
+double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<size_t>(p * static_cast<double>(v.size())))];
+}
+
+/// Common app options from the command line.
+VrAppOptions app_options(const Args& a, const std::string& role, const std::string& profile) {
+  const std::string assets = assets_dir(a);
+  VrAppOptions o;
+  const std::string protocol_path = a.get("--protocol", assets + "/protocol/virtual-caliper.json");
+  o.protocol = read_protocol(protocol_path);
+  o.protocol_dir = std::filesystem::path(protocol_path).parent_path().string();
+  const std::string controllers = a.get("--controllers", assets + "/protocol/controllers.json");
+  o.tips = read_controller_config(controllers).offsets(profile);
+  o.session.role = role;
+  if (a.has("--weight")) o.session.weight = number(a, "--weight", 0.0);
+  if (a.has("--sex")) o.session.sex = a.get("--sex");
+  o.avatar.model_path = a.get("--model");
+  o.avatar.models_dir = a.get("--models-dir", assets + "/models");
+  o.avatar.regressor = a.get("--regressor", "R5");
+  o.avatar.regressors_path = a.get("--regressors");
+  o.avatar.mapping_path = a.get("--mapping");
+  o.output_dir = a.get("--out");
+  if (a.has("--resume")) {
+    o.journal_path = a.get("--resume");
+    o.resume = read_journal(o.journal_path);
+  } else {
+    o.journal_path = a.get("--journal", o.output_dir.empty() ? "caliper-journal.jsonl"
+                                                             : o.output_dir + "/journal.jsonl");
+    if (!o.output_dir.empty()) std::filesystem::create_directories(o.output_dir);
+  }
+  return o;
+}
+
+std::unique_ptr<Audio> open_audio(const Args& a) {
+  if (a.has("--no-audio")) return std::make_unique<SilentAudio>();
+  try {
+    return make_openal_audio();
+  } catch (const AudioError& e) {
+    std::cerr << "caliper-vr: no sound (" << e.what()
+              << "); confirmations are visual and haptic only.\n";
+    return std::make_unique<SilentAudio>();
+  }
+}
+
+/// Finishes a run: outputs, the audio queue, and the plain-words summary. Returns the exit code.
+int finish(VrApp& app, Audio& audio, const std::string& journal_path) {
+  audio.drain(10.0);
+  for (const std::string& f : app.write_outputs()) std::cout << "wrote " << f << "\n";
+  const SessionResult r = app.session().result();
+  for (const auto& kv : r.measurements) {
+    std::printf("  %-22s %9.4f %s", kv.first.c_str(), kv.second, kv.first == "weight" ? "kg" : "m");
+    if (auto t = r.takes.find(kv.first); t != r.takes.end())
+      std::printf("  (%zu takes)", t->second.size());
+    std::printf("\n");
+  }
+  std::cout << "accepted samples: " << app.accepted_this_run()
+            << ", rejected: " << app.rejected_this_run() << ", audio: " << audio.description()
+            << "\n";
+  if (!app.session().done()) {
+    const ProtocolStep* s = app.session().current_step();
+    std::cerr << "caliper-vr: the session stopped before it was finished (at "
+              << (s ? "step \"" + s->id + "\"" : std::string("the floor calibration"))
+              << "). Every accepted sample is in the journal " << journal_path
+              << "; continue with: caliper-vr --resume " << journal_path << "\n";
+    return kExitIncomplete;
+  }
+  if (!app.avatar_error().empty())
+    std::cerr << "caliper-vr: no avatar: " << app.avatar_error() << "\n";
+  return 0;
+}
+
+int run_replay(const Args& a) {
+  const std::string log_path = a.get("--replay");
+  PoseLog log = read_pose_log(log_path);
+  const std::string role = a.get("--role", log.header.role.empty() ? "self" : log.header.role);
+  const std::string profile = log.header.interaction_profile;
+  VrAppOptions o = app_options(a, role, profile);
+  int eye_w = 320, eye_h = 356;
+  if (a.has("--eye-size") && std::sscanf(a.get("--eye-size").c_str(), "%dx%d", &eye_w, &eye_h) != 2)
+    throw std::invalid_argument("--eye-size needs WxH, e.g. 1440x1600");
+  const int draw_every = static_cast<int>(number(a, "--draw-every", 1));
+  const long max_frames = static_cast<long>(number(a, "--max-frames", -1));
+  const std::string frames_dir = a.get("--frames-dir");
+  if (!frames_dir.empty()) std::filesystem::create_directories(frames_dir);
+
+  std::unique_ptr<render::GlContext> ctx = render::make_osmesa_context(2 * eye_w, eye_h);
+  ctx->make_current();
+  render::Renderer renderer(ctx->gl());
+  std::unique_ptr<Audio> audio = open_audio(a);
+  const std::string journal_path = o.journal_path;
+  VrApp app(std::move(o), *audio, &renderer);
+
+  std::unique_ptr<PoseSource> source = std::make_unique<ReplayPoseSource>(std::move(log));
+  if (a.has("--record")) {
+    PoseLogHeader h;
+    h.role = role;
+    h.interaction_profile = profile;
+    h.source = "caliper-vr --replay " + log_path;
+    source = std::make_unique<RecordingPoseSource>(std::move(source), a.get("--record"), h);
+  }
+  render::Scene scene;
+  std::vector<double> app_cpu, draw_wall;
+  std::map<std::string, bool> saved;
+  double finished_at = -1.0;
+  long n = 0;
+  const auto save = [&](const std::string& name, const std::vector<render::View>& views) {
+    renderer.draw(scene, views);
+    ctx->gl().Finish();
+    render::write_png(ctx->read_pixels(),
+                      (std::filesystem::path(frames_dir) / (name + ".png")).string());
+    saved[name] = true;
+  };
+  while (max_frames < 0 || n < max_frames) {
+    const double c0 = thread_cpu_seconds();
+    std::optional<PoseFrame> f = source->next_frame();
+    if (!f) break;
+    app.advance(*f, source.get());
+    app.build_scene(scene);
+    const std::vector<render::View> views = app.stereo_views(eye_w, eye_h);
+    const double c1 = thread_cpu_seconds();
+    app_cpu.push_back(c1 - c0);
+    if (draw_every > 0 && n % draw_every == 0) {
+      const auto w0 = std::chrono::steady_clock::now();
+      renderer.draw(scene, views);
+      ctx->swap_buffers();
+      draw_wall.push_back(
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count());
+    }
+    if (!frames_dir.empty()) {
+      const SessionView& v = app.session().view();
+      const ProtocolStep* s = app.session().current_step();
+      if (!saved.count("vr-floor-targets") && v.phase == Phase::Floor && v.floor_target == 2 &&
+          v.holding && v.hold_progress >= 0.5)
+        save("vr-floor-targets", views);
+      if (!saved.count("vr-instruction-panel") && s && s->id == "arm_span_fingertips" &&
+          app.step_time() >= 0.9)
+        save("vr-instruction-panel", views);
+      if (app.finished() && finished_at < 0.0) finished_at = app.time();
+      if (!saved.count("vr-mirror") && finished_at >= 0.0 && app.time() - finished_at >= 0.2 &&
+          app.avatar()) {
+        save("vr-mirror", views);
+        save("vr-first-person", {app.first_person_view(2 * eye_w, eye_h)});
+      }
+    }
+    ++n;
+  }
+  std::printf(
+      "replayed %ld frames: app CPU per frame median %.3f ms, p95 %.3f ms (thread CPU time of the "
+      "frame logic and scene building, without rasterisation); draw %.1f ms median (OSMesa, "
+      "%dx%d)\n",
+      n, 1e3 * median(app_cpu), 1e3 * percentile(app_cpu, 0.95), 1e3 * median(draw_wall), 2 * eye_w,
+      eye_h);
+  if (a.has("--timing")) {
+    std::ofstream t(a.get("--timing"));
+    t << "frame,app_cpu_ms\n";
+    for (size_t i = 0; i < app_cpu.size(); ++i) t << i << "," << 1e3 * app_cpu[i] << "\n";
+  }
+  return finish(app, *audio, journal_path);
+}
+
+int run_simulate(const Args& a) {
+  const std::string assets = assets_dir(a);
+  const Protocol protocol =
+      read_protocol(a.get("--protocol", assets + "/protocol/virtual-caliper.json"));
+  const std::string sex = a.get("--sex", "female");
+  const std::string model_path =
+      a.get("--model", a.get("--models-dir", assets + "/models") + "/caliper-" + sex + ".npz");
+  const smpl::BodyModel model = smpl::load_model(model_path);
+  Eigen::VectorXd betas = Eigen::VectorXd::Zero(model.num_betas());
+  {
+    std::istringstream s(a.get("--betas"));
+    double b = 0.0;
+    int i = 0;
+    while (s >> b) {
+      if (i >= betas.size())
+        throw std::invalid_argument("--betas: more values than the model's shape components");
+      betas[i++] = b;
+    }
+  }
+  const SimulatedPerson person = person_from_model(model, betas, number(a, "--weight", 65.0), sex);
+  SimulatorOptions o;
+  o.seed = static_cast<std::uint64_t>(number(a, "--seed", 1));
+  o.role = a.get("--role", "self");
+  o.frame_rate = number(a, "--frame-rate", 90.0);
+  o.tip_noise = number(a, "--noise", 0.0);
+  o.dropout_step = a.get("--dropout");
+  o.third_take_step = a.get("--third-take");
+  o.early_release_step = a.get("--early-release");
+  o.redo_step = a.get("--redo");
+  o.typed_in_log = a.get("--typed-in-log", "yes") != "no";
+  const ControllerConfig cc =
+      read_controller_config(a.get("--controllers", assets + "/protocol/controllers.json"));
+  o.tip_offsets = cc.offsets(o.interaction_profile);
+  const SimulatedSession sim = simulate_session(protocol, person, o);
+  write_pose_log(a.get("--simulate"), sim.log);
+  // The truth, for tests and for the reader.
+  Json truth = Json::object();
+  for (const auto& kv : sim.truth) truth.set(kv.first, kv.second);
+  Json j = Json::object();
+  j.set("truth", truth);
+  j.set("accepted_samples", sim.accepted_samples);
+  j.set("rejected_samples", sim.rejected_samples);
+  j.set("frames", static_cast<long>(sim.log.frames.size()));
+  Json quiet = Json::array();
+  for (size_t q : sim.quiet_frames) quiet.push_back(static_cast<long>(q));
+  j.set("quiet_frames", quiet);
+  write_json_file(a.get("--simulate") + ".truth.json", j);
+  std::cout << "wrote " << a.get("--simulate") << " (" << sim.log.frames.size() << " frames, "
+            << sim.accepted_samples << " samples to accept) and " << a.get("--simulate")
+            << ".truth.json\n";
+  return 0;
+}
+
+int run_live(const Args& a) {
+  const std::string assets = assets_dir(a);
+  LiveOptions live;
+  live.role = a.get("--role", "self");
+  live.operator_window = a.has("--operator-window");
+  live.record_path = a.get("--record");
+  live.calibrate_tip = a.get("--calibrate-tip");
+  live.controllers_path = a.get("--controllers", assets + "/protocol/controllers.json");
+  live.make_app_options = [&a, role = live.role](const std::string& profile) {
+    return app_options(a, role, profile);
+  };
+  live.open_audio = [&a]() { return open_audio(a); };
+  live.finish = [](VrApp& app, Audio& audio, const std::string& journal) {
+    return finish(app, audio, journal);
+  };
+  return run_openxr(live);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Args args;
+  try {
+    args = parse_args(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "caliper-vr: " << e.what() << "\n\n" << kUsage;
+    return kExitUsage;
+  }
+  if (args.has("--help") || args.has("-h")) {
+    std::cout << kUsage;
+    return 0;
+  }
+  try {
+    if (args.has("--simulate")) return run_simulate(args);
+    if (args.has("--replay")) return run_replay(args);
+    return run_live(args);
+  } catch (const NoRuntimeError& e) {
+    std::cerr << "caliper-vr: " << e.what() << "\n";
+    return kExitNoRuntime;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "caliper-vr: " << e.what() << "\n\n" << kUsage;
+    return kExitUsage;
+  } catch (const std::exception& e) {
+    std::cerr << "caliper-vr: " << e.what() << "\n";
+    return kExitError;
+  }
+}

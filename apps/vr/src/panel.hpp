@@ -1,0 +1,39 @@
+/// \file panel.hpp
+/// The instruction panel as an RGBA image drawn on the CPU (text from the renderer's vector
+/// font, rasterised here), uploaded as a texture and shown on a quad in the headset. Redrawn
+/// only when its text changes.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "render/image.hpp"
+
+namespace caliper::vr {
+
+/// What the panel says.
+struct PanelContent {
+  std::string title;
+  std::string body;                ///< word-wrapped
+  std::vector<std::string> lines;  ///< extra lines (takes, results), one per row
+  std::string footer;              ///< status / last feedback
+  bool highlight = false;          ///< accent background (a sample was just accepted)
+
+  bool operator==(const PanelContent& o) const {
+    return title == o.title && body == o.body && lines == o.lines && footer == o.footer &&
+           highlight == o.highlight;
+  }
+  bool operator!=(const PanelContent& o) const { return !(*this == o); }
+};
+
+/// Draws the panel into a width x height image (top row first).
+render::Image panel_image(const PanelContent& content, int width, int height);
+
+/// Splits `text` into lines no wider than `max_width` pixels at `scale`.
+std::vector<std::string> wrap_text(const std::string& text, float scale, float max_width);
+
+/// Fills the triangles (2 floats per vertex, pixels, y down) into `image` with `rgba`.
+void fill_triangles(render::Image& image, const std::vector<float>& xy,
+                    const unsigned char rgba[4]);
+
+}  // namespace caliper::vr

@@ -1,0 +1,147 @@
+/// \file vr_app.hpp
+/// The VR measuring app without its platform: it takes one PoseFrame per displayed frame (from
+/// OpenXR or a pose log), runs the measuring session, writes the journal, plays the tones and
+/// haptics, makes the avatar at the end, and builds the render::Scene that the renderer draws
+/// for each eye. The OpenXR loop (openxr_system.cpp), the headless replay (main.cpp) and the
+/// benchmark drive this same class.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "audio.hpp"
+#include "caliper/avatar.hpp"
+#include "caliper/journal.hpp"
+#include "caliper/session.hpp"
+#include "panel.hpp"
+#include "pose_source.hpp"
+#include "render/renderer.hpp"
+#include "render/scene.hpp"
+#include "smpl/body_model.hpp"
+#include "video.hpp"
+
+namespace caliper::vr {
+
+/// How the avatar is made at the end.
+struct AvatarSettings {
+  std::string model_path;        ///< explicit model; "" = models_dir/caliper-<sex>.npz
+  std::string models_dir;        ///< folder of the open default models
+  std::string regressor = "R5";  ///< R2, R4, R5 or R6 (the paper's best is R5)
+  std::string regressors_path;   ///< fitted set (caliper train); "" = fit on the model at the end
+  std::string mapping_path;  ///< learned real->virtual mapping (hip-width correction); "" = none
+};
+
+struct VrAppOptions {
+  Protocol protocol;
+  std::string protocol_dir;  ///< folder of the protocol file (video paths are relative to it)
+  SessionOptions session;
+  TipOffsets tips;
+  std::string journal_path;               ///< "" = no journal
+  std::optional<JournalContents> resume;  ///< records to restore first (--resume)
+  AvatarSettings avatar;
+  std::string output_dir;   ///< avatar.glb and session.json at the end ("" = none)
+  bool demo_avatar = true;  ///< show the animated reference avatar on the instruction panel
+  int panel_pixels = 512;   ///< instruction panel texture width (height = 5/8 of it)
+};
+
+/// The avatar made at the end.
+struct AvatarOutcome {
+  std::shared_ptr<const smpl::BodyModel> model;
+  std::string model_path;
+  std::string regressor;
+  std::string mapping_path;
+  Avatar avatar;
+  double eye_height = 0.0;  ///< y of the avatar's eyes above its soles, m
+};
+
+class VrApp {
+ public:
+  /// `renderer` may be null (no drawing: tests of the logic). Throws on unreadable files.
+  VrApp(VrAppOptions options, Audio& audio, render::Renderer* renderer);
+  ~VrApp();
+  VrApp(const VrApp&) = delete;
+  VrApp& operator=(const VrApp&) = delete;
+
+  /// Feeds one frame: session, journal, tone, haptics (through `haptics` if given), avatar at
+  /// the end. Returns this frame's events.
+  const std::vector<SessionEvent>& advance(const PoseFrame& frame, PoseSource* haptics = nullptr);
+  /// New tip offsets (the runtime reported another interaction profile).
+  void set_tips(const TipOffsets& tips) { options_.tips = tips; }
+  /// An operator command from the desktop window (recorded by the caller if recording).
+  void command(const OperatorCommand& command);
+
+  /// Fills `scene` for the current state (uploads changed textures and meshes when a renderer
+  /// was given).
+  void build_scene(render::Scene& scene);
+  /// Two eye views side by side in a framebuffer of 2 eye_width x eye_height pixels, from the
+  /// last head pose (interpupillary distance 64 mm, symmetric 100 degree vertical field).
+  std::vector<render::View> stereo_views(int eye_width, int eye_height) const;
+  /// One view from the head looking down by `pitch_degrees` (the first-person check).
+  render::View first_person_view(int width, int height, float pitch_degrees = 60.0f) const;
+  /// One view from behind and above the user (documentation pictures of the whole scene).
+  render::View overview(int width, int height) const;
+
+  const MeasuringSession& session() const { return session_; }
+  const std::optional<AvatarOutcome>& avatar() const { return avatar_; }
+  /// Session complete and avatar made (or failed with avatar_error()).
+  bool finished() const { return finished_; }
+  const std::string& avatar_error() const { return avatar_error_; }
+  int accepted_this_run() const { return accepted_; }
+  int rejected_this_run() const { return rejected_; }
+  double time() const { return time_; }
+  const PoseFrame& last_frame() const { return frame_; }
+  /// Seconds since the current step (or floor phase) began.
+  double step_time() const { return time_ - step_started_; }
+
+  /// Writes output_dir/avatar.glb and output_dir/session.json (when output_dir is set).
+  /// Returns the files written.
+  std::vector<std::string> write_outputs() const;
+  /// The session file content.
+  Json session_json() const;
+
+ private:
+  void make_avatar();
+  PanelContent panel_content() const;
+  void add_floor_targets(render::Scene& scene) const;
+  void add_controllers(render::Scene& scene) const;
+  void add_demo(render::Scene& scene);
+  void add_mirror(render::Scene& scene);
+  render::MeshHandle ensure_mesh(render::MeshHandle& handle, const smpl::Vertices& v,
+                                 const smpl::Faces& f);
+
+  VrAppOptions options_;
+  Audio& audio_;
+  render::Renderer* renderer_;
+  MeasuringSession session_;
+  std::optional<JournalWriter> journal_;
+  std::vector<SessionEvent> events_;
+  PoseFrame frame_;
+  double time_ = 0.0;
+  double step_started_ = 0.0;
+  int accepted_ = 0, rejected_ = 0;
+  double last_reject_time_ = -1e9;
+  bool finished_ = false;
+  std::optional<AvatarOutcome> avatar_;
+  std::string avatar_error_;
+  // Demonstration avatar (reference body).
+  std::shared_ptr<const smpl::BodyModel> demo_model_;
+  smpl::Vertices demo_vertices_;
+  std::map<std::string, Eigen::Vector3d> demo_landmarks_;
+  render::MeshHandle demo_mesh_ = 0, avatar_mesh_ = 0;
+  // Panel texture.
+  PanelContent panel_;
+  render::TextureHandle panel_texture_ = 0;
+  // Instruction video of the current step.
+  std::unique_ptr<VideoPlayer> video_;
+  std::string video_step_;
+  render::TextureHandle video_texture_ = 0;
+};
+
+/// Loads an open default model by sex from `dir` ("caliper-female.npz", ...; "" or unknown sex:
+/// neutral). Throws smpl::ModelError naming the file.
+std::shared_ptr<const smpl::BodyModel> load_default_model(const std::string& dir,
+                                                          const std::string& sex);
+
+}  // namespace caliper::vr

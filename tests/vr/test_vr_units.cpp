@@ -1,0 +1,140 @@
+// Unit tests of caliper-vr's parts: pivot calibration step, tones, panel, controller config,
+// pose sources.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "audio.hpp"
+#include "controller_config.hpp"
+#include "panel.hpp"
+#include "pivot.hpp"
+#include "pose_source.hpp"
+#include "render/text.hpp"
+
+namespace caliper::vr {
+namespace {
+
+TEST(Pivot, RecoversTheTipOffsetFromARotatingController) {
+  // The tip rests on a fixed point while the grip rotates about it: p_i = q - R_i t.
+  const Eigen::Vector3d t(0.004, -0.031, 0.087), q(0.2, 0.01, 0.3);
+  PivotCollector pivot(Tip::Right);
+  std::optional<PivotCalibration> result;
+  for (int i = 0; i <= 200 && !result; ++i) {
+    PoseFrame f;
+    f.time = i / 90.0;
+    DevicePose& d = f.device(Device::Right);
+    d.valid = true;
+    const double a = 0.02 * i;
+    d.orientation =
+        Eigen::Quaterniond(Eigen::AngleAxisd(0.5 * std::sin(a), Eigen::Vector3d::UnitX()) *
+                           Eigen::AngleAxisd(0.6 * std::cos(1.3 * a), Eigen::Vector3d::UnitZ()));
+    d.position = q - d.orientation * t;
+    d.trigger = i < 200 ? 1.0 : 0.0;
+    result = pivot.feed(f);
+  }
+  ASSERT_TRUE(result);
+  EXPECT_LT((result->tip_offset - t).norm(), 1e-6);
+  EXPECT_LT((result->pivot - q).norm(), 1e-6);
+  EXPECT_LT(result->rms_residual, 1e-6);
+}
+
+TEST(Pivot, ShortHoldGivesNothing) {
+  PivotCollector pivot(Tip::Left);
+  PoseFrame f;
+  f.device(Device::Left).valid = true;
+  f.device(Device::Left).trigger = 1.0;
+  for (int i = 0; i < 5; ++i) EXPECT_FALSE(pivot.feed(f));
+  f.device(Device::Left).trigger = 0.0;
+  EXPECT_FALSE(pivot.feed(f));
+}
+
+TEST(Audio, ToneHasItsLengthPeakAndSilentGap) {
+  ToneSpec s;
+  const std::vector<short> x = tone_samples(s);
+  EXPECT_EQ(x.size(), static_cast<size_t>(std::lround((s.duration + s.gap) * s.sample_rate)));
+  int peak = 0;
+  for (size_t i = 0; i < static_cast<size_t>(s.duration * s.sample_rate); ++i)
+    peak = std::max(peak, std::abs(static_cast<int>(x[i])));
+  EXPECT_NEAR(peak, s.amplitude * 32767, 0.01 * 32767);
+  for (size_t i = static_cast<size_t>(std::ceil(s.duration * s.sample_rate)); i < x.size(); ++i)
+    ASSERT_EQ(x[i], 0);
+  EXPECT_EQ(x[0], 0) << "raised-cosine edge: no click";
+}
+
+TEST(Audio, SilentAudioCounts) {
+  SilentAudio a;
+  a.confirm();
+  a.confirm();
+  EXPECT_EQ(a.count(), 2);
+}
+
+TEST(Panel, WrapsAndDrawsText) {
+  const std::vector<std::string> lines =
+      wrap_text("one two three four five six seven eight nine ten", 2.0f, 120.0f);
+  ASSERT_GT(lines.size(), 1u);
+  for (const std::string& l : lines) EXPECT_LE(render::text_width(l, 2.0f), 120.0f) << l;
+  PanelContent c;
+  c.title = "Height";
+  c.body = "Put the tip on your head.";
+  const render::Image img = panel_image(c, 256, 160);
+  ASSERT_EQ(img.width, 256);
+  // Some pixels of the title area are dark (text), the background is light.
+  int dark = 0;
+  for (int y = 8; y < 40; ++y)
+    for (int x = 8; x < 200; ++x) dark += img.pixel(x, y)[0] < 100;
+  EXPECT_GT(dark, 20);
+  EXPECT_GT(img.pixel(128, 150)[0], 200);
+  PanelContent d = c;
+  EXPECT_EQ(c, d);
+  d.highlight = true;
+  EXPECT_NE(c, d);
+}
+
+TEST(ControllerConfig, CommittedFileMatchesTheDefaults) {
+  const ControllerConfig a =
+      read_controller_config(std::string(CALIPER_SOURCE_DIR) + "/assets/protocol/controllers.json");
+  const ControllerConfig b = default_controller_config();
+  ASSERT_EQ(a.profiles.size(), b.profiles.size());
+  for (const char* p : kProfiles) {
+    ASSERT_TRUE(a.profiles.count(p)) << p;
+    EXPECT_EQ(a.offsets(p).left, b.offsets(p).left) << p;
+    EXPECT_EQ(a.offsets(p).right, b.offsets(p).right) << p;
+  }
+  EXPECT_EQ(a.offsets("/interaction_profiles/unknown").right, a.fallback.right);
+  const std::string path = std::string(CALIPER_TEST_DATA_DIR) + "/controllers_roundtrip.json";
+  ControllerConfig c = b;
+  c.profiles[kProfiles[0]].right = Eigen::Vector3d(0.01, 0.02, 0.03);
+  write_controller_config(path, c);
+  EXPECT_EQ(read_controller_config(path).offsets(kProfiles[0]).right,
+            Eigen::Vector3d(0.01, 0.02, 0.03));
+  EXPECT_THROW(read_controller_config("/nonexistent/controllers.json"), std::exception);
+}
+
+TEST(PoseSources, ReplayAndRecordingDecorator) {
+  PoseLog log;
+  log.header.role = "operator";
+  for (int i = 0; i < 3; ++i) {
+    PoseFrame f;
+    f.time = i * 0.1;
+    log.frames.push_back(f);
+  }
+  const std::string path = std::string(CALIPER_TEST_DATA_DIR) + "/recorded.jsonl";
+  {
+    RecordingPoseSource rec(std::make_unique<ReplayPoseSource>(log), path, log.header);
+    EXPECT_EQ(rec.role(), "operator");
+    rec.record_command({"skip", Json()});
+    int n = 0;
+    while (rec.next_frame()) ++n;
+    EXPECT_EQ(n, 3);
+  }
+  const PoseLog back = read_pose_log(path);
+  ASSERT_EQ(back.frames.size(), 3u);
+  ASSERT_EQ(back.frames[0].commands.size(), 1u)
+      << "a command from the window goes with the next frame";
+  EXPECT_EQ(back.frames[0].commands[0].command, "skip");
+  EXPECT_EQ(back.header.role, "operator");
+}
+
+}  // namespace
+}  // namespace caliper::vr
