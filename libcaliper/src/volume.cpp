@@ -4,6 +4,8 @@
 #include <cmath>
 #include <string>
 
+#include <Eigen/Geometry>
+
 #include "caliper/errors.hpp"
 
 namespace caliper {
