@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -51,6 +52,57 @@ void blend(const double* t, const double* S, Eigen::Index ld, Eigen::Index rows,
       const double b0 = beta[b];
       for (Eigen::Index i = 0; i < n; ++i) o[i] += b0 * c0[i];
     }
+  }
+}
+
+// Linear blend skinning of every vertex: out_v = sum_e w_e A_{j_e} [x_v; 1] + translation, with
+// the weights as compressed sparse rows (outer, inner, values; nnz per row may be given for
+// uncompressed matrices) and A as K row-major 3 x 4 blocks of 12 contiguous doubles.
+SMPL_MULTIVERSION
+void skin(const double* A, const int* outer, const int* nnz, const int* inner, const double* values,
+          Eigen::Index V, const double* x, const double* translation, double* out) {
+  // Each 3 x 4 row is one vector of 4 doubles (GCC/Clang vector extension: one AVX2 register,
+  // two SSE2 registers in the baseline build), so an influence costs 3 vector multiply-adds.
+  typedef double Row4 __attribute__((vector_size(32)));
+  for (Eigen::Index v = 0; v < V; ++v) {
+    Row4 t0 = {0, 0, 0, 0}, t1 = t0, t2 = t0;
+    const int begin = outer[v];
+    const int end = nnz ? begin + nnz[v] : outer[v + 1];
+    for (int e = begin; e < end; ++e) {
+      const double w = values[e];
+      Row4 a0, a1, a2;
+      const double* a = A + 12 * inner[e];
+      std::memcpy(&a0, a, sizeof a0);
+      std::memcpy(&a1, a + 4, sizeof a1);
+      std::memcpy(&a2, a + 8, sizeof a2);
+      t0 += w * a0;
+      t1 += w * a1;
+      t2 += w * a2;
+    }
+    const double* p = x + 3 * v;
+    double* o = out + 3 * v;
+    o[0] = t0[0] * p[0] + t0[1] * p[1] + t0[2] * p[2] + t0[3] + translation[0];
+    o[1] = t1[0] * p[0] + t1[1] * p[1] + t1[2] * p[2] + t1[3] + translation[1];
+    o[2] = t2[0] * p[0] + t2[1] * p[1] + t2[2] * p[2] + t2[3] + translation[2];
+  }
+}
+
+// Single-precision pose blend shapes over one run of columns [c0, c0 + nc): float columns are
+// summed per block of rows in float, then added to the double vertices.
+SMPL_MULTIVERSION
+void pose_blend_f32(const float* P, Eigen::Index ld, Eigen::Index rows, const float* feature,
+                    Eigen::Index c0, Eigen::Index nc, double* v) {
+  constexpr Eigen::Index kBlock = 512;
+  float acc[kBlock];
+  for (Eigen::Index r0 = 0; r0 < rows; r0 += kBlock) {
+    const Eigen::Index n = std::min(kBlock, rows - r0);
+    for (Eigen::Index i = 0; i < n; ++i) acc[i] = 0.0f;
+    for (Eigen::Index c = c0; c < c0 + nc; ++c) {
+      const float f = feature[c];
+      const float* col = P + c * ld + r0;
+      for (Eigen::Index i = 0; i < n; ++i) acc[i] += f * col[i];
+    }
+    for (Eigen::Index i = 0; i < n; ++i) v[r0 + i] += static_cast<double>(acc[i]);
   }
 }
 
@@ -103,19 +155,8 @@ void add_pose_blend_shapes(
     if constexpr (std::is_same_v<Scalar, double>) {
       v.noalias() += posedirs.middleCols(c0, nc) * feature.segment(c0, nc);
     } else {
-      // Single precision: stream float columns, accumulate in double, in blocks of rows that stay
-      // in L1 cache.
-      constexpr Eigen::Index kBlock = 512;
-      const Eigen::Index rows = posedirs.rows();
-      for (Eigen::Index r0 = 0; r0 < rows; r0 += kBlock) {
-        const Eigen::Index nr = std::min(kBlock, rows - r0);
-        Eigen::Matrix<float, kBlock, 1> acc;
-        acc.head(nr).setZero();
-        for (Eigen::Index c = c0; c < c0 + nc; ++c) {
-          acc.head(nr) += feature[c] * posedirs.col(c).segment(r0, nr);
-        }
-        v.segment(r0, nr) += acc.head(nr).template cast<double>();
-      }
+      pose_blend_f32(posedirs.data(), posedirs.rows(), posedirs.rows(), feature.data(), c0, nc,
+                     v.data());
     }
     k = end;
   }
@@ -228,15 +269,18 @@ void evaluate(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& b
   }
 
   // 8. Linear blend skinning, then the global translation.
-  out.vertices.resize(V, 3);
-  for (Eigen::Index v = 0; v < V; ++v) {
-    Eigen::Matrix<double, 3, 4> T = Eigen::Matrix<double, 3, 4>::Zero();
-    for (SparseMatrix::InnerIterator it(model.weights, v); it; ++it) {
-      T.noalias() += it.value() * ws.skinning[static_cast<size_t>(it.col())].topRows<3>();
+  ws.skinning_3x4.resize(12 * Ks);
+  for (size_t k = 0; k < Ks; ++k) {
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 4; ++c)
+        ws.skinning_3x4[12 * k + 4 * static_cast<size_t>(r) + static_cast<size_t>(c)] =
+            ws.skinning[k](r, c);
     }
-    const Eigen::Vector3d x = ws.v_shaped.row(v).transpose();
-    out.vertices.row(v) = (T.leftCols<3>() * x + T.col(3) + translation).transpose();
   }
+  out.vertices.resize(V, 3);
+  const SparseMatrix& W = model.weights;
+  skin(ws.skinning_3x4.data(), W.outerIndexPtr(), W.innerNonZeroPtr(), W.innerIndexPtr(),
+       W.valuePtr(), V, ws.v_shaped.data(), translation.data(), out.vertices.data());
   out.joints.resize(K, 3);
   for (int k = 0; k < K; ++k) {
     auto& G = out.transforms[static_cast<size_t>(k)];

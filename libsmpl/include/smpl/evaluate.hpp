@@ -47,7 +47,8 @@ struct Workspace {
   Eigen::VectorXd pose_feature;  ///< P = 9 (K - 1) pose-blend-shape features.
   std::vector<Eigen::Matrix3d, Eigen::aligned_allocator<Eigen::Matrix3d>> rotations;  ///< K local.
   std::vector<Eigen::Matrix4d, Eigen::aligned_allocator<Eigen::Matrix4d>> skinning;   ///< K A_j.
-  Joints rest_joints;  ///< K x 3 joints regressed from v_shaped.
+  Joints rest_joints;                ///< K x 3 joints regressed from v_shaped.
+  std::vector<double> skinning_3x4;  ///< K row-major 3 x 4 blocks of the skinning transforms.
 
   /// Opt-in single-precision pose blend shapes: when true, evaluate() keeps a float copy of
   /// model.posedirs here (built on the first call with a model, 17 MB for SMPL) and streams it
