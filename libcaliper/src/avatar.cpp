@@ -1,9 +1,15 @@
 // The convenience pipeline: measurements -> (mapping) -> regressor -> avatar and its report.
 #include "caliper/avatar.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+
 #include "caliper/errors.hpp"
+#include "caliper/volume.hpp"
 
 namespace caliper {
 
@@ -41,7 +47,13 @@ Avatar create_avatar(const smpl::BodyModel& model, const LinearRegressor& regres
   Avatar a;
   a.input = measurements;
   a.mapped = prepare(measurements, options, a.messages);
-  finish(model, regressor.predict(a.mapped), options, a);
+  Eigen::VectorXd betas = regressor.predict(a.mapped);
+  if (options.exact_inputs) {
+    MeasurementMap targets;
+    for (const auto& id : regressor.inputs()) targets[id] = a.mapped.at(id);
+    betas = refine_to_inputs(model, betas, targets, regressor.weight_formula());
+  }
+  finish(model, betas, options, a);
   return a;
 }
 
@@ -56,6 +68,105 @@ Avatar create_avatar(const smpl::BodyModel& model, const NoiseAwareRegressor& re
   a.covariance = post.covariance;
   finish(model, post.mean, options, a);
   return a;
+}
+
+Eigen::VectorXd refine_to_inputs(const smpl::BodyModel& model, const Eigen::VectorXd& betas,
+                                 const MeasurementMap& targets, const WeightFormula& formula,
+                                 int max_iterations) {
+  const auto k = betas.size();
+  if (k > model.num_betas() || k == 0) {
+    throw InvalidInputError("refine_to_inputs: " + std::to_string(k) +
+                            " betas given, the model has " + std::to_string(model.num_betas()));
+  }
+  const LandmarkTable landmarks = landmarks_for(model);
+  struct Target {
+    const MeasurementDef* def;  // nullptr for weight
+    double value;               // feature units
+  };
+  std::vector<Target> t;
+  for (const auto& [id, value] : targets) {
+    if (id == "weight") {
+      t.push_back({nullptr, input_feature(id, value, formula)});
+      continue;
+    }
+    const MeasurementDef* def = nullptr;
+    for (const auto& d : paper_measurements()) {
+      if (d.id == id) def = &d;
+    }
+    if (def) t.push_back({def, input_feature(id, value, formula)});
+  }
+  const auto m = static_cast<Eigen::Index>(t.size());
+  if (m > k) {
+    throw InvalidInputError("refine_to_inputs: " + std::to_string(m) + " targets but only " +
+                            std::to_string(k) + " betas");
+  }
+  const auto rows = [&](const std::vector<int>& ids) {  // 3 x k mean shape rows
+    Eigen::MatrixXd P = Eigen::MatrixXd::Zero(3, k);
+    for (int v : ids) P += model.shapedirs.block(3 * v, 0, 3, k);
+    return Eigen::MatrixXd(P / static_cast<double>(ids.size()));
+  };
+  const auto lookup = [&](const std::string& name,
+                          const std::string& id) -> const std::vector<int>& {
+    const auto it = landmarks.find(name);
+    if (it == landmarks.end()) {
+      throw LandmarkError("measurement '" + id + "' needs landmark '" + name +
+                          "', which the model '" + model.meta.name + "' does not define");
+    }
+    return it->second;
+  };
+  Eigen::VectorXd beta = betas;
+  Eigen::VectorXd full = Eigen::VectorXd::Zero(model.num_betas());
+  for (int it = 0; it < max_iterations && m > 0; ++it) {
+    full.head(k) = beta;
+    const smpl::Vertices v = shaped_vertices(model, full);
+    Eigen::Index lowest = 0;
+    const double floor = v.col(1).minCoeff(&lowest);
+    Eigen::MatrixXd J(m, k);
+    Eigen::VectorXd r(m);
+    for (Eigen::Index i = 0; i < m; ++i) {
+      const Target& q = t[static_cast<std::size_t>(i)];
+      if (!q.def) {
+        // Volume gradient: dV/dx_a = (x_b x x_c) / 6 for every face (a, b, c), cyclically.
+        smpl::Vertices grad = smpl::Vertices::Zero(v.rows(), 3);
+        for (Eigen::Index f = 0; f < model.faces.rows(); ++f) {
+          const int a = model.faces(f, 0), b = model.faces(f, 1), c = model.faces(f, 2);
+          const Eigen::Vector3d xa = v.row(a), xb = v.row(b), xc = v.row(c);
+          grad.row(a) += xb.cross(xc).transpose() / 6.0;
+          grad.row(b) += xc.cross(xa).transpose() / 6.0;
+          grad.row(c) += xa.cross(xb).transpose() / 6.0;
+        }
+        const double volume = mesh_volume(v, model.faces);
+        if (!(volume > 0.0)) throw InvalidInputError("refine_to_inputs: non-positive volume");
+        Eigen::RowVectorXd g = Eigen::RowVectorXd::Zero(k);
+        for (Eigen::Index p = 0; p < v.rows(); ++p) {
+          g += grad.row(p) * model.shapedirs.block(3 * p, 0, 3, k);
+        }
+        const double f = std::cbrt(volume);
+        J.row(i) = g / (3.0 * f * f);
+        r(i) = q.value - f;
+        continue;
+      }
+      const auto& from = lookup(q.def->from, q.def->id);
+      const Eigen::Vector3d pa = landmark_point(v, from);
+      if (q.def->kind == MeasurementKind::Height) {
+        J.row(i) = rows(from).row(1) - model.shapedirs.block(3 * lowest + 1, 0, 1, k);
+        r(i) = q.value - (pa.y() - floor);
+      } else {
+        const auto& to = lookup(q.def->to, q.def->id);
+        const Eigen::Vector3d d = pa - landmark_point(v, to);
+        const double len = d.norm();
+        J.row(i) = (d / len).transpose() * (rows(from) - rows(to));
+        r(i) = q.value - len;
+      }
+    }
+    if (r.cwiseAbs().maxCoeff() < 1e-9) break;
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(J * J.transpose());
+    if (ldlt.info() != Eigen::Success || ldlt.vectorD().cwiseAbs().minCoeff() < 1e-14) {
+      throw InvalidInputError("refine_to_inputs: the targets are not independent on this model");
+    }
+    beta += J.transpose() * ldlt.solve(r);
+  }
+  return beta;
 }
 
 }  // namespace caliper

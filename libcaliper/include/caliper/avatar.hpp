@@ -34,7 +34,23 @@ struct AvatarOptions {
   const MeasurementMapping* mapping = nullptr;  ///< applied to the inputs first, if given
   bool circumferences = true;                   ///< in `achieved`
   bool refuse_invalid = true;  ///< throw InvalidInputError when validation finds an Error
+  /// Plain regressors only: after the paper's linear prediction, refine the betas with
+  /// refine_to_inputs() so that every input (weight included) is reproduced exactly. Off by
+  /// default (the paper's behaviour).
+  bool exact_inputs = false;
 };
+
+/// Gauss-Newton refinement of `betas` (k <= model.num_betas() values) so that the rest-pose
+/// body reproduces every value in `targets` (paper measurement ids and "weight"; other keys
+/// ignored): each step is the minimum-norm update J'(J J')^-1 (target - current) in feature
+/// space (weight as the cube root of its volume by `formula`), with analytic Jacobians (landmark
+/// shape rows; the lowest vertex for heights; the volume gradient from the faces). Stops after
+/// `max_iterations` or when every residual is below 1e-9 m. Starting from a regressor's output
+/// the changes are small (the paper's linear fit is already close). Throws InvalidInputError for
+/// bad targets, more targets than betas, or LandmarkError for a missing landmark.
+Eigen::VectorXd refine_to_inputs(const smpl::BodyModel& model, const Eigen::VectorXd& betas,
+                                 const MeasurementMap& targets, const WeightFormula& formula,
+                                 int max_iterations = 6);
 
 /// Avatar from a plain regressor. Checks the regressor against the model (ModelMismatchError),
 /// validates the inputs (InvalidInputError listing every Error message when refuse_invalid),
