@@ -71,8 +71,23 @@ render::Image panel_image(const PanelContent& c, int width, int height) {
       std::copy(frame, frame + 4, img.pixel(k, y));
       std::copy(frame, frame + 4, img.pixel(width - 1 - k, y));
     }
-  const float unit = static_cast<float>(width) / 512.0f;  // layout scales with the panel
-  const float margin = 20.0f * unit;
+  const float margin = 20.0f * static_cast<float>(width) / 512.0f;
+  const float text_w = static_cast<float>(width) - 2 * margin;
+  // Shrink the text until everything fits (long results lists on the final panel).
+  float unit = static_cast<float>(width) / 512.0f;
+  const auto layout_height = [&](float u) {
+    float h = margin;
+    const auto add = [&](const std::string& t, float sc) {
+      h += render::text_height(t, sc) + 4.0f * sc;
+    };
+    if (!c.title.empty()) add(c.title, 4.0f * u);
+    h += 12.0f * u;
+    for (const std::string& l : wrap_text(c.body, 2.4f * u, text_w)) add(l, 2.4f * u);
+    for (const std::string& l : c.lines) add(l, 2.2f * u);
+    for (const std::string& l : wrap_text(c.footer, 2.2f * u, text_w)) add(l, 2.2f * u);
+    return h + margin;
+  };
+  while (unit > 0.3f && layout_height(unit) > static_cast<float>(height)) unit *= 0.9f;
   float y = margin;
   std::vector<float> tri;
   const unsigned char dark[4] = {25, 30, 40, 255};
@@ -86,16 +101,14 @@ render::Image panel_image(const PanelContent& c, int width, int height) {
   };
   if (!c.title.empty()) draw(c.title, 4.0f * unit, accent);
   y += 6.0f * unit;
-  for (const std::string& l :
-       wrap_text(c.body, 2.4f * unit, static_cast<float>(width) - 2 * margin))
-    draw(l, 2.4f * unit, dark);
+  for (const std::string& l : wrap_text(c.body, 2.4f * unit, text_w)) draw(l, 2.4f * unit, dark);
   y += 6.0f * unit;
   for (const std::string& l : c.lines) draw(l, 2.2f * unit, dark);
   if (!c.footer.empty()) {
-    const std::vector<std::string> f =
-        wrap_text(c.footer, 2.2f * unit, static_cast<float>(width) - 2 * margin);
-    y = static_cast<float>(height) - margin -
-        static_cast<float>(f.size()) * (render::text_height("X", 2.2f * unit) + 8.8f * unit);
+    const std::vector<std::string> f = wrap_text(c.footer, 2.2f * unit, text_w);
+    float fh = 0.0f;
+    for (const std::string& l : f) fh += render::text_height(l, 2.2f * unit) + 8.8f * unit;
+    y = std::max(y, static_cast<float>(height) - margin - fh);
     for (const std::string& l : f) draw(l, 2.2f * unit, grey);
   }
   return img;

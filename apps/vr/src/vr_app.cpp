@@ -22,9 +22,9 @@ constexpr float kPi = 3.14159265358979f;
 constexpr double kFlashSeconds = 0.4;   ///< green tip after an accepted sample
 constexpr double kIpd = 0.064;          ///< m, interpupillary distance of the stereo views
 constexpr float kFovYDegrees = 100.0f;  ///< vertical field of view of the stereo views
-const Eigen::Vector3d kPanelCentre(0.0, 1.35, 0.95);  ///< in front of the user (who faces +Z)
+const Eigen::Vector3d kPanelCentre(-0.15, 1.35, 0.95);  ///< in front of the user (who faces +Z)
 constexpr double kPanelHalfWidth = 0.36;
-const Eigen::Vector3d kDemoPosition(0.9, 0.0, 1.15);  ///< reference avatar beside the panel
+const Eigen::Vector3d kDemoPosition(0.8, 0.0, 1.7);  ///< reference avatar beside the panel
 constexpr double kMirrorDistance = 1.6;               ///< m in front of the head
 
 render::Vec3 f3(const Eigen::Vector3d& v) {
@@ -285,9 +285,7 @@ PanelContent VrApp::panel_content() const {
     c.footer = "Hold still... " + std::to_string(static_cast<int>(v.hold_progress * 100.0)) + " %";
   else
     c.footer = v.message;
-  if (v.phase == Phase::Steps || v.phase == Phase::Floor) {
-    if (c.footer == c.body) c.footer.clear();
-  }
+  if (c.footer == c.body || v.phase == Phase::Done) c.footer.clear();
   return c;
 }
 
@@ -358,7 +356,7 @@ void VrApp::add_demo(render::Scene& scene) {
   const ProtocolStep* s = session_.current_step();
   if (!demo_model_ || !s) return;
   // The reference avatar faces the user (turned by 180 degrees), half size beside the panel.
-  const double scale = 0.5;
+  const double scale = 0.45;
   const Eigen::Matrix3d R = Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitY()).toRotationMatrix();
   const Eigen::Vector3d base =
       kDemoPosition + Eigen::Vector3d(0.0, session_.floor().offset + 0.9, 0.0);
@@ -479,7 +477,7 @@ void VrApp::build_scene(render::Scene& scene) {
   quad.up = render::Vec3(0, static_cast<float>(kPanelHalfWidth * 5.0 / 8.0), 0);
   if (panel_texture_ && session_.view().phase != Phase::Done) scene.quads.push_back(quad);
   if (session_.view().phase == Phase::Done && panel_texture_) {
-    quad.centre = f3(kPanelCentre + Eigen::Vector3d(-0.85, floor, 0.25));
+    quad.centre = f3(kPanelCentre + Eigen::Vector3d(-0.7, floor, 0.3));
     scene.quads.push_back(quad);
   }
 
