@@ -26,13 +26,17 @@ inline double cli_landmark_height(const smpl::BodyModel& m, const std::string& n
 
 /// A small model (1,298 vertices, 10 betas, 24 joints, no pose blend shapes) with smooth shape
 /// fields; its metadata names `gender`. Small so that training and studies run in milliseconds.
-inline smpl::BodyModel cli_test_model(const std::string& gender, std::uint64_t seed = 7) {
+/// `full_size`: SMPL's 6,890 vertices and 13,776 faces instead.
+inline smpl::BodyModel cli_test_model(const std::string& gender, std::uint64_t seed = 7,
+                                      bool full_size = false) {
   RandomModelOptions o;
   o.num_betas = 10;
   o.pose_blend_shapes = false;
   o.seed = seed;
-  o.rings = 36;
-  o.segments = 36;
+  if (!full_size) {
+    o.rings = 36;
+    o.segments = 36;
+  }
   smpl::BodyModel m = make_random_model(o);
   m.meta.gender = gender;
   m.meta.name = "caliper-test-" + gender;

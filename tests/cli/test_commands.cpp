@@ -199,6 +199,28 @@ TEST_F(Commands, BatchWritesResultsAvatarsAndReportsBadRows) {
   EXPECT_FALSE(std::filesystem::exists(path("avatars/b.glb")));
 }
 
+TEST_F(Commands, BatchFastPathEqualsMeasuringTheMesh) {
+  std::ofstream(path("people.csv")) << "id,height_cm,weight_kg,arm_span_cm,inseam_cm\n"
+                                       "a,172,73,27,75\nb,168,66,26.5,74\n";
+  const CliRun fast = run({"batch", path("people.csv"), "--model", model_, "--force", "--out",
+                           path("fast.csv"), "--regressor", "R4"});
+  const CliRun mesh = run({"batch", path("people.csv"), "--model", model_, "--force", "--out",
+                           path("mesh.csv"), "--regressor", "R4", "--circumferences"});
+  ASSERT_EQ(fast.code, kExitOk) << fast.err;
+  ASSERT_EQ(mesh.code, kExitOk) << mesh.err;
+  const CsvTable f = read_csv(path("fast.csv")), m = read_csv(path("mesh.csv"));
+  ASSERT_EQ(f.rows.size(), 2u);
+  for (const char* col : {"height_cm", "weight_kg", "inseam_height_cm", "hip_width_cm",
+                          "arm_length_cm", "volume_L", "beta0", "mahalanobis"}) {
+    const int c = f.column(col);
+    ASSERT_GE(c, 0) << col;
+    for (size_t r = 0; r < 2; ++r)  // the CSV's 2 decimals: the values agree to printing
+      EXPECT_EQ(f.rows[r][static_cast<size_t>(c)], m.rows[r][static_cast<size_t>(c)]) << col;
+  }
+  EXPECT_TRUE(f.rows[0][static_cast<size_t>(f.column("chest_circumference_cm"))].empty());
+  EXPECT_FALSE(m.rows[0][static_cast<size_t>(m.column("chest_circumference_cm"))].empty());
+}
+
 TEST_F(Commands, BatchRefusesImplausibleRowsWithoutForce) {
   std::ofstream(path("people.csv")) << "height_m,weight_lb\n1.7,140\n4.0,150\n";
   const CliRun r = run(

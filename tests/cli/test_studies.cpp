@@ -25,7 +25,8 @@ ModelBundle bundle_for(const smpl::BodyModel& model) {
 
 TEST(Table1Study, RegressorsReproduceTheirInputs) {
   const ModelBundle b = bundle_for(test::cli_test_model("female"));
-  const Table1Result r = table1_study(b, 60, 5, false);  // exact inputs: the toy model is not human-sized
+  const Table1Result r =
+      table1_study(b, 60, 5, false);  // exact inputs: the toy model is not human-sized
   ASSERT_EQ(r.regressors.size(), 5u);
   for (size_t k = 0; k < 4; ++k) {
     const auto kind = parse_regressor_kind(r.regressors[k]);
@@ -42,6 +43,24 @@ TEST(Table1Study, RegressorsReproduceTheirInputs) {
   }
   // Columns a regressor does not use are not reproduced exactly (the table is informative).
   EXPECT_GT(r.mean_abs(0, 2), kInputTolCm) << table1_markdown(r, false);  // R2, arm span
+}
+
+TEST(Table1Study, ExactInputsReproduceEveryInputOnNoisyInput) {
+  const ModelBundle b = bundle_for(test::cli_test_model("female"));
+  const Table1Result r = table1_study(b, 30, 9, true, true);
+  // R2, R4, R5. (R6 is left out here: the toy model's 11 cm arm barely varies, so human-sized
+  // arm-length noise asks for betas far outside the model; docs/evaluation.md has R6 on the open
+  // model.)
+  for (size_t k = 0; k < 3; ++k) {
+    for (const auto& id : regressor_inputs(*parse_regressor_kind(r.regressors[k]))) {
+      const auto c = std::find(table1_columns().begin(), table1_columns().end(), id) -
+                     table1_columns().begin();
+      EXPECT_LE(r.max_abs(static_cast<Eigen::Index>(k), c),
+                id == "weight" ? kWeightTolKg : kInputTolCm)
+          << r.regressors[k] << " " << id << "\n"
+          << table1_markdown(r, false);
+    }
+  }
 }
 
 TEST(SimulationStudy, NoiseAwareBeatsPlainRegressorsAndStaysPlausible) {

@@ -103,8 +103,9 @@ void require_inputs(const std::string& regressor, const MeasurementMap& inputs) 
 
 Avatar make_avatar(const ModelBundle& bundle, const std::string& regressor,
                    const MeasurementMap& inputs, const MeasurementMapping* mapping,
-                   bool circumferences) {
+                   bool circumferences, bool exact_inputs) {
   AvatarOptions o;
+  o.exact_inputs = exact_inputs;
   o.mapping = mapping;
   o.circumferences = circumferences;
   o.refuse_invalid = false;  // validation and --force are handled by check_inputs()
@@ -146,6 +147,8 @@ int cmd_create(const std::vector<std::string>& args, Io& io) {
       {"out", "o", "FILE", "write the avatar: .glb (default format), .gltf, .obj or .ply", false},
       {"png", "", "FILE", "render the avatar to a PNG (three-quarter view)", false},
       {"json", "", "", "print a machine-readable JSON report instead of the text report", false},
+      {"exact-inputs", "", "",
+       "refine R2-R6 betas so that every input (weight too) is reproduced exactly", false},
       {"force", "", "", "create the avatar even when an input is outside the hard limits", false},
       {"quiet", "q", "", "print nothing but errors and warnings", false},
   };
@@ -188,8 +191,8 @@ int cmd_create(const std::vector<std::string>& args, Io& io) {
   if (auto m = a.get("mapping")) mapping = load_mapping(*m);
 
   const auto t_create = std::chrono::steady_clock::now();
-  const Avatar avatar =
-      make_avatar(*bundle, regressor, inputs, mapping ? &*mapping : nullptr, true);
+  const Avatar avatar = make_avatar(*bundle, regressor, inputs, mapping ? &*mapping : nullptr, true,
+                                    a.flags.count("exact-inputs") > 0);
   const double create_s = seconds_since(t_create);
   if (!avatar.plausibility.plausible) {
     const std::string w = "the avatar's shape is implausible (Mahalanobis distance " +

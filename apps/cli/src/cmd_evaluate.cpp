@@ -19,6 +19,7 @@ int cmd_evaluate(const std::vector<std::string>& args, Io& io) {
       {"bodies", "n", "N", "bodies drawn from the model (default 1000 / 500)", false},
       {"seed", "", "S", "random seed (default 1)", false},
       {"exact", "", "", "table1: exact measurements instead of noisy ones", false},
+      {"exact-inputs", "", "", "table1: refine R2-R6 betas to reproduce the inputs exactly", false},
       {"ansur-dir", "", "DIR", "ansur: folder with the ANSUR II CSV files", false},
       {"male-model", "", "FILE", "ansur: model for the men (default: the open male model)", false},
       {"female-model", "", "FILE", "ansur: model for the women (default: the open female model)",
@@ -48,7 +49,8 @@ int cmd_evaluate(const std::vector<std::string>& args, Io& io) {
     if (study == "table1") {
       const int n = a.get("bodies") ? parse_int(*a.get("bodies"), "bodies", 1, 1000000) : 1000;
       const bool exact = a.flags.count("exact") > 0;
-      const Table1Result r = table1_study(*bundle, n, seed, !exact);
+      const Table1Result r =
+          table1_study(*bundle, n, seed, !exact, a.flags.count("exact-inputs") > 0);
       io.out << n << " bodies; " << r.condition << "; cm, weight kg; bold: not an input\n\n"
              << table1_markdown(r, true);
     } else {

@@ -29,9 +29,11 @@ std::vector<std::string> check_inputs(const MeasurementMap& inputs, bool force);
 void require_inputs(const std::string& regressor, const MeasurementMap& inputs);
 
 /// One avatar: the regressor `regressor` ("R2".."R6" or "noise-aware") of `bundle` on `inputs`.
+/// `exact_inputs` (plain regressors): refine the betas so that every input, weight included, is
+/// reproduced exactly (libcaliper's refine_to_inputs); off = the paper's linear prediction.
 Avatar make_avatar(const ModelBundle& bundle, const std::string& regressor,
                    const MeasurementMap& inputs, const MeasurementMapping* mapping,
-                   bool circumferences);
+                   bool circumferences, bool exact_inputs = false);
 
 /// Loads a mapping: a .json written by MeasurementMapping::save, or a .csv of paired values
 /// (fitted on the fly). Errors become RuntimeError naming the file.

@@ -39,7 +39,9 @@ struct Table1Result {
 /// measurements perturbed by the self (even bodies) or other (odd bodies) measurement noise, as
 /// the paper's Table 1 mixes self and other inputs (when `noisy`). Avatars from each regressor are
 /// measured and compared with the inputs.
-Table1Result table1_study(const ModelBundle& bundle, int n, std::uint64_t seed, bool noisy = true);
+/// `exact_inputs`: plain regressors refine their betas to reproduce every input (libcaliper).
+Table1Result table1_study(const ModelBundle& bundle, int n, std::uint64_t seed, bool noisy = true,
+                          bool exact_inputs = false);
 /// The result in the paper's layout (markdown table, "R2 Mean", "R2 Max", ...), with the
 /// paper's own figures when `with_paper`.
 std::string table1_markdown(const Table1Result& r, bool with_paper);
