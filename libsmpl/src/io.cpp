@@ -114,9 +114,20 @@ Eigen::MatrixXd blend_shapes(const Source& src, const std::string& key, Eigen::I
     fail(src.context(), "'" + key + "' has " + std::to_string(n_cols) + " components but " +
                             std::to_string(n) + " were requested (LoadOptions::num_betas)");
   }
-  const std::vector<double> d = src.doubles(key, a);
   Eigen::MatrixXd m(3 * V, n);
   const auto stride = static_cast<Eigen::Index>(n_cols);
+  if (a.dtype == "<f8" && !a.fortran_order) {
+    // The common case (SMPL files, the project's own): copy straight from the file's bytes.
+    const std::uint8_t* p = a.data.data();
+    for (Eigen::Index r = 0; r < 3 * V; ++r) {
+      for (Eigen::Index c = 0; c < n; ++c) {
+        std::memcpy(&m(r, c), p + static_cast<std::size_t>(r * stride + c) * sizeof(double),
+                    sizeof(double));
+      }
+    }
+    return m;
+  }
+  const std::vector<double> d = src.doubles(key, a);
   for (Eigen::Index r = 0; r < 3 * V; ++r) {
     for (Eigen::Index c = 0; c < n; ++c) m(r, c) = d[static_cast<std::size_t>(r * stride + c)];
   }

@@ -226,7 +226,7 @@ TEST(LoadModel, CorruptedBytesFailCleanly) {
                            "small_p4.pkl", "small_p5.pkl"}) {
     const std::vector<std::uint8_t> good = smpl::read_file_bytes(fixture(name));
     int errors = 0;
-    for (int trial = 0; trial < 300; ++trial) {
+    for (int trial = 0; trial < 120; ++trial) {
       std::vector<std::uint8_t> bytes = good;
       // Corrupt 1-4 bytes, biased to the first 2 KiB where headers and opcodes are.
       const int n = 1 + static_cast<int>(rng() % 4);
