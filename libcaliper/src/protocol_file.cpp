@@ -203,6 +203,7 @@ Protocol default_protocol() {
       "Stretch both arms out to the sides at shoulder height, palms forward. Hold each controller "
       "so that its tip is at the tip of your middle finger, then hold a trigger for one second.",
       {Tip::Left, Tip::Right}, {"left_fingertip", "right_fingertip"}, "t_pose"));
+  p.steps.back().video = "../media/arm-span.mp4";
   p.steps.push_back(make_step(
       "inseam_height", StepKind::Height, "Inseam height",
       "Stand straight with your feet slightly apart. Put the tip of the right controller against "

@@ -59,6 +59,7 @@ void BM_VrReplayFrameCpu(benchmark::State& state) {
   for (auto _ : state) {
     VrAppOptions o;
     o.protocol = protocol;
+    o.protocol_dir = assets + "/protocol";  // the arm-span step plays its instruction video
     o.tips = default_controller_config().offsets(sim.log.header.interaction_profile);
     o.journal_path = dir + "/journal.jsonl";
     o.avatar.models_dir = assets + "/models";

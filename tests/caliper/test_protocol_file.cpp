@@ -33,6 +33,7 @@ TEST(ProtocolFile, AssetEqualsTheBuiltInProtocol) {
     EXPECT_EQ(a.steps[i].tips, b.steps[i].tips);
     EXPECT_EQ(a.steps[i].landmarks, b.steps[i].landmarks);
     EXPECT_EQ(a.steps[i].demo_pose, b.steps[i].demo_pose);
+    EXPECT_EQ(a.steps[i].video, b.steps[i].video);
     EXPECT_EQ(a.steps[i].choices, b.steps[i].choices);
   }
 }

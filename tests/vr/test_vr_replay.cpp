@@ -306,6 +306,32 @@ TEST(VrApp, BadLogsGiveTheLineNumber) {
   EXPECT_EQ(d.exit_code, 2) << "usage error";
 }
 
+TEST(VrApp, OperatorWindowUnderXvfb) {
+#ifndef CALIPER_XVFB_RUN
+  GTEST_SKIP() << "xvfb-run is not installed (Debian package xvfb)";
+#else
+  // The operator's desktop window (GLFW + ImGui) mirrors the headset view; replayed under Xvfb.
+  const std::string dir = work_dir("operator_window");
+  const std::string log = kSource + "/assets/logs/operator-male.jsonl";
+  const RunResult r =
+      run_vr(dir,
+             "--replay '" + log +
+                 "' --operator-window --no-audio --draw-every 0 --eye-size 240x270 --frames-dir "
+                 "frames --out out",
+             "tones.wav", "'" CALIPER_XVFB_RUN "' -a -s '-screen 0 800x600x24'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const caliper::render::Image img =
+      caliper::render::read_png(dir + "/frames/vr-operator-instruction-panel.png");
+  EXPECT_EQ(img.width, 480);
+  EXPECT_EQ(img.height, 270);
+  // The ImGui window's title bar (dark blue) is in the top-left corner.
+  const std::uint8_t* p = img.pixel(150, 19);
+  EXPECT_LT(p[0], 100);
+  EXPECT_GT(p[2], p[0]);
+  EXPECT_TRUE(caliper::read_json_file(dir + "/out/session.json").at("complete").as_bool());
+#endif
+}
+
 TEST(VrApp, GoldenImages) {
   const std::string dir = work_dir("golden");
   const std::string log = kSource + "/assets/logs/self-female.jsonl";

@@ -11,6 +11,7 @@
 #include "pivot.hpp"
 #include "pose_source.hpp"
 #include "render/text.hpp"
+#include "video.hpp"
 
 namespace caliper::vr {
 namespace {
@@ -109,6 +110,24 @@ TEST(ControllerConfig, CommittedFileMatchesTheDefaults) {
   EXPECT_EQ(read_controller_config(path).offsets(kProfiles[0]).right,
             Eigen::Vector3d(0.01, 0.02, 0.03));
   EXPECT_THROW(read_controller_config("/nonexistent/controllers.json"), std::exception);
+}
+
+TEST(Video, DecodesTheInstructionVideoToRgbaAndLoops) {
+  const std::string path = std::string(CALIPER_SOURCE_DIR) + "/assets/media/arm-span.mp4";
+  VideoPlayer v(path);
+  EXPECT_NEAR(v.duration(), 3.0, 0.2);
+  ASSERT_TRUE(v.seek_to(0.0));
+  ASSERT_EQ(v.image().width, 192);
+  ASSERT_EQ(v.image().height, 128);
+  ASSERT_EQ(v.image().rgba.size(), 4u * 192 * 128);
+  const std::vector<std::uint8_t> first = v.image().rgba;
+  EXPECT_FALSE(v.seek_to(0.01)) << "same frame at 12 frames/s";
+  ASSERT_TRUE(v.seek_to(1.5));
+  EXPECT_NE(v.image().rgba, first) << "the arms have moved";
+  // Past the end it loops: 3.0 s + 0 is the first frame again.
+  ASSERT_TRUE(v.seek_to(v.duration() + 0.0));
+  EXPECT_EQ(v.image().rgba, first);
+  EXPECT_THROW(VideoPlayer("/nonexistent/video.mp4"), VideoError);
 }
 
 TEST(PoseSources, ReplayAndRecordingDecorator) {

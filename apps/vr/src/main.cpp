@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -23,7 +24,9 @@
 #include "caliper/simulator.hpp"
 #include "controller_config.hpp"
 #include "openxr_system.hpp"
+#include "operator_window.hpp"
 #include "render/context.hpp"
+#include "render/glfw_context.hpp"
 #include "render/renderer.hpp"
 #include "smpl/io.hpp"
 #include "vr_app.hpp"
@@ -64,7 +67,8 @@ const char* kUsage =
     "  --timing FILE        replay: per-frame CPU times as CSV\n"
     "  --max-frames N       stop after N frames (a simulated crash)\n"
     "  --no-audio           no confirmation tones\n"
-    "  --operator-window    OpenXR: also open the operator's desktop window\n"
+    "  --operator-window    also open the operator's desktop window (replay: instead of OSMesa;\n"
+    "                       needs a display, e.g. xvfb-run)\n"
     "Simulation (--simulate): --betas \"b0 b1 ...\" --noise M --seed N --frame-rate HZ\n"
     "  --dropout STEP --third-take STEP --early-release STEP --redo STEP\n";
 
@@ -223,13 +227,27 @@ int run_replay(const Args& a) {
   const std::string frames_dir = a.get("--frames-dir");
   if (!frames_dir.empty()) std::filesystem::create_directories(frames_dir);
 
-  std::unique_ptr<render::GlContext> ctx = render::make_osmesa_context(2 * eye_w, eye_h);
+  // Headless: both eyes side by side in an OSMesa framebuffer. With --operator-window: the
+  // operator's desktop window instead (needs a display; CI uses Xvfb).
+  const bool operator_window = a.has("--operator-window");
+  std::unique_ptr<render::GlContext> ctx;
+  render::GlfwWindowContext* window_ctx = nullptr;
+  if (operator_window) {
+    auto w = std::make_unique<render::GlfwWindowContext>(2 * eye_w, eye_h,
+                                                         "The Virtual Caliper - operator", true);
+    window_ctx = w.get();
+    ctx = std::move(w);
+  } else {
+    ctx = render::make_osmesa_context(2 * eye_w, eye_h);
+  }
   ctx->make_current();
   render::Renderer renderer(ctx->gl());
   std::unique_ptr<Audio> audio = open_audio(a);
   const std::string journal_path = o.journal_path;
   VrApp app(std::move(o), *audio, &renderer);
 
+  std::optional<OperatorWindow> op;
+  if (window_ctx) op.emplace(*window_ctx);
   std::unique_ptr<PoseSource> source = std::make_unique<ReplayPoseSource>(std::move(log));
   if (a.has("--record")) {
     PoseLogHeader h;
@@ -244,10 +262,15 @@ int run_replay(const Args& a) {
   double finished_at = -1.0;
   long n = 0;
   const auto save = [&](const std::string& name, const std::vector<render::View>& views) {
-    renderer.draw(scene, views);
+    if (op) {
+      op->frame(app, renderer, scene);
+    } else {
+      renderer.draw(scene, views);
+    }
     ctx->gl().Finish();
+    const std::string file = op ? "vr-operator-" + name.substr(3) : name;
     render::write_png(ctx->read_pixels(),
-                      (std::filesystem::path(frames_dir) / (name + ".png")).string());
+                      (std::filesystem::path(frames_dir) / (file + ".png")).string());
     saved[name] = true;
   };
   while (max_frames < 0 || n < max_frames) {
@@ -261,7 +284,11 @@ int run_replay(const Args& a) {
     app_cpu.push_back(c1 - c0);
     if (draw_every > 0 && n % draw_every == 0) {
       const auto w0 = std::chrono::steady_clock::now();
-      renderer.draw(scene, views);
+      if (op) {
+        for (const OperatorCommand& c : op->frame(app, renderer, scene)) app.command(c);
+      } else {
+        renderer.draw(scene, views);
+      }
       ctx->swap_buffers();
       draw_wall.push_back(
           std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count());
@@ -279,7 +306,7 @@ int run_replay(const Args& a) {
       if (!saved.count("vr-mirror") && finished_at >= 0.0 && app.time() - finished_at >= 0.2 &&
           app.avatar()) {
         save("vr-mirror", views);
-        save("vr-first-person", {app.first_person_view(2 * eye_w, eye_h)});
+        if (!op) save("vr-first-person", {app.first_person_view(2 * eye_w, eye_h)});
       }
     }
     ++n;

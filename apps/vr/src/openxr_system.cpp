@@ -28,6 +28,7 @@
 #include <sstream>
 
 #include "controller_config.hpp"
+#include "operator_window.hpp"
 #include "pivot.hpp"
 #include "render/glfw_context.hpp"
 #include "render/renderer.hpp"
@@ -599,78 +600,6 @@ void OpenXrSystem::submit(const render::Scene& scene) {
   CALIPER_XR(instance_, xrEndFrame(session_, &ei));
 }
 
-// ---------------------------------------------------------------------------------------------
-// Operator window: the left eye mirrored, plus start / redo / skip and typed weight and sex.
-
-class OperatorWindow {
- public:
-  explicit OperatorWindow(render::GlfwWindowContext& w) : window_(w) {
-    IMGUI_CHECKVERSION();
-    ImGui::CreateContext();
-    ImGui::GetIO().IniFilename = nullptr;
-    ImGui_ImplGlfw_InitForOpenGL(w.window(), true);
-    ImGui_ImplOpenGL3_Init("#version 330 core");
-  }
-  ~OperatorWindow() {
-    ImGui_ImplOpenGL3_Shutdown();
-    ImGui_ImplGlfw_Shutdown();
-    ImGui::DestroyContext();
-  }
-  OperatorWindow(const OperatorWindow&) = delete;
-  OperatorWindow& operator=(const OperatorWindow&) = delete;
-
-  /// Draws the mirror (`scene` from the head) and the controls; returns the commands clicked.
-  std::vector<OperatorCommand> frame(VrApp& app, render::Renderer& renderer,
-                                     const render::Scene& scene) {
-    std::vector<OperatorCommand> out;
-    window_.make_current();
-    const int w = window_.width(), h = window_.height();
-    render::View v = app.stereo_views(w, h)[0];
-    v.viewport = {0, 0, w, h};
-    renderer.draw(scene, v);
-    ImGui_ImplOpenGL3_NewFrame();
-    ImGui_ImplGlfw_NewFrame();
-    ImGui::NewFrame();
-    ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
-    ImGui::Begin("Operator");
-    const SessionView& sv = app.session().view();
-    const ProtocolStep* s = app.session().current_step();
-    ImGui::Text("Step: %s", s ? s->title.c_str()
-                              : (sv.phase == Phase::Floor  ? "Floor calibration"
-                                 : sv.phase == Phase::Done ? "Done"
-                                                           : "Waiting"));
-    ImGui::TextWrapped("%s", sv.message.c_str());
-    if (ImGui::Button("Start")) out.push_back({"start", Json()});
-    ImGui::SameLine();
-    if (ImGui::Button("Redo")) out.push_back({"redo", Json()});
-    ImGui::SameLine();
-    if (ImGui::Button("Skip")) out.push_back({"skip", Json()});
-    ImGui::InputDouble("Weight (kg)", &weight_, 0.5, 5.0, "%.1f");
-    if (ImGui::Button("Set weight")) out.push_back({"weight", Json(weight_)});
-    if (ImGui::RadioButton("female", sex_ == 0)) {
-      sex_ = 0;
-      out.push_back({"sex", Json("female")});
-    }
-    ImGui::SameLine();
-    if (ImGui::RadioButton("male", sex_ == 1)) {
-      sex_ = 1;
-      out.push_back({"sex", Json("male")});
-    }
-    for (const auto& kv : app.session().result().measurements)
-      ImGui::Text("%s: %.4f", kv.first.c_str(), kv.second);
-    ImGui::End();
-    ImGui::Render();
-    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
-    window_.swap_buffers();
-    return out;
-  }
-
- private:
-  render::GlfwWindowContext& window_;
-  double weight_ = 70.0;
-  int sex_ = -1;
-};
-
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -742,6 +671,7 @@ int run_openxr(const LiveOptions& o) {
         if (recorder) recorder->record_command(c);
         app.command(c);
       }
+    if (window) xr.window().swap_buffers();
     if (app.finished() && !written) {
       for (const std::string& file : app.write_outputs()) std::cout << "wrote " << file << "\n";
       written = true;

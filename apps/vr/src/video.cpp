@@ -22,7 +22,8 @@ struct VideoPlayer::Impl {
   int stream = -1;
   double time_base = 0.0;
   double last_pts = -1.0;    ///< seconds of the frame in image_
-  double loop_offset = 0.0;  ///< seconds added to pts after each loop
+  bool pending = false;      ///< a decoded frame waits in `frame` (not shown yet)
+  double pending_pts = 0.0;  ///< its time, seconds
   int out_w = 0, out_h = 0;
   std::string path;
 
@@ -93,19 +94,22 @@ bool VideoPlayer::seek_to(double seconds) {
   Impl& m = *impl_;
   const double length = duration();
   if (length > 0.0) seconds = std::fmod(seconds, length);
-  if (m.last_pts >= 0.0 && seconds < m.last_pts) {  // looped: start again
+  if (m.last_pts >= 0.0 && seconds + 1e-9 < m.last_pts) {  // looped: start again
     m.rewind();
     m.last_pts = -1.0;
+    m.pending = false;
   }
   bool changed = false;
-  while (m.last_pts < 0.0 || m.last_pts + 1e-9 < seconds) {
-    if (!m.decode_next()) {
-      if (m.last_pts < 0.0) m.fail("has no decodable frames");
-      break;
+  // Show the last frame whose time is at or before `seconds` (the first frame before that).
+  while (true) {
+    if (!m.pending) {
+      if (!m.decode_next()) break;
+      const int64_t pts = m.frame->best_effort_timestamp;
+      m.pending_pts = pts == AV_NOPTS_VALUE ? std::max(0.0, m.last_pts) + 1.0 / 25.0
+                                            : static_cast<double>(pts) * m.time_base;
+      m.pending = true;
     }
-    const int64_t pts = m.frame->best_effort_timestamp;
-    const double t =
-        pts == AV_NOPTS_VALUE ? m.last_pts + 1.0 / 25.0 : static_cast<double>(pts) * m.time_base;
+    if (m.last_pts >= 0.0 && m.pending_pts > seconds + 1e-9) break;
     m.sws = sws_getCachedContext(m.sws, m.frame->width, m.frame->height,
                                  static_cast<AVPixelFormat>(m.frame->format), m.out_w, m.out_h,
                                  AV_PIX_FMT_RGBA, SWS_BILINEAR, nullptr, nullptr, nullptr);
@@ -116,10 +120,11 @@ bool VideoPlayer::seek_to(double seconds) {
     uint8_t* dst[4] = {image_.rgba.data(), nullptr, nullptr, nullptr};
     int dst_stride[4] = {4 * m.out_w, 0, 0, 0};
     sws_scale(m.sws, m.frame->data, m.frame->linesize, 0, m.frame->height, dst, dst_stride);
-    m.last_pts = t;
+    m.last_pts = m.pending_pts;
+    m.pending = false;
     changed = true;
-    if (t + 1e-9 >= seconds) break;
   }
+  if (m.last_pts < 0.0) m.fail("has no decodable frames");
   return changed;
 }
 

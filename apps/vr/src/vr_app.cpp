@@ -25,7 +25,7 @@ constexpr float kFovYDegrees = 100.0f;  ///< vertical field of view of the stere
 const Eigen::Vector3d kPanelCentre(-0.15, 1.35, 0.95);  ///< in front of the user (who faces +Z)
 constexpr double kPanelHalfWidth = 0.36;
 const Eigen::Vector3d kDemoPosition(0.8, 0.0, 1.7);  ///< reference avatar beside the panel
-constexpr double kMirrorDistance = 1.6;               ///< m in front of the head
+constexpr double kMirrorDistance = 1.6;              ///< m in front of the head
 
 render::Vec3 f3(const Eigen::Vector3d& v) {
   return v.cast<float>();
@@ -507,9 +507,13 @@ void VrApp::build_scene(render::Scene& scene) {
     vq.texture = video_texture_;
     const float aspect = static_cast<float>(video_->image().height) /
                          static_cast<float>(std::max(1, video_->image().width));
-    vq.centre = f3(kPanelCentre + Eigen::Vector3d(-0.62, floor - 0.05, -0.05));
-    vq.right = render::Vec3(-0.18f, 0, 0);
-    vq.up = render::Vec3(0, 0.18f * aspect, 0);
+    // Under the panel, a little tilted towards the user's eyes.
+    const float half = 0.15f;
+    vq.centre =
+        f3(kPanelCentre +
+           Eigen::Vector3d(0.0, floor - kPanelHalfWidth * 5.0 / 8.0 - half * aspect - 0.02, 0.0));
+    vq.right = render::Vec3(-half, 0, 0);
+    vq.up = render::Vec3(0, half * aspect, 0);
     scene.quads.push_back(vq);
   }
   if (session_.view().phase == Phase::Steps) add_demo(scene);
