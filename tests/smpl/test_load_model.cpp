@@ -155,6 +155,11 @@ struct BadCase {
   const char* expected;
 };
 
+// Test names show the file and the expected message, not the struct's bytes.
+void PrintTo(const BadCase& c, std::ostream* os) {
+  *os << c.file << ": " << c.expected;
+}
+
 class BadFile : public ::testing::TestWithParam<BadCase> {};
 
 TEST_P(BadFile, GivesAClearError) {
