@@ -79,10 +79,16 @@ struct TorsoSection {
 };
 
 Eigen::Vector3d torso_point(const TorsoSection& s, int i) {
+  if (i > 8) {  // exact mirror of the left half
+    Eigen::Vector3d q = torso_point(s, 16 - i);
+    q.x() = -q.x();
+    return q;
+  }
   const double th = 2 * kPi * i / 16.0;
   const double sn = std::sin(th), cs = std::cos(th);
   const double e = 2.0 / s.p;
   Eigen::Vector3d q(s.a * sgnpow(sn, e), s.y, s.cz + (cs >= 0 ? s.df : s.db) * sgnpow(cs, e));
+  if (i == 0 || i == 8) q.x() = 0.0;  // on the midline exactly
   const int k = i <= 8 ? i : 16 - i;  // mirror index on the left half
   if (s.bust > 0) {
     const double w = k == 2 ? 1.0 : (k == 1 || k == 3) ? 0.55 : 0.0;
@@ -105,9 +111,31 @@ double torso_perimeter(const TorsoSection& s) {
   return per;
 }
 
-// Chooses the exponent so that the polygon perimeter matches `target` (clamped to [1.6, 6]).
+// Chooses the exponent so that the polygon perimeter matches `target`; when the exponent range
+// [1.7, 3.2] cannot reach it, the depths are scaled instead (the width is kept: it is a
+// measured breadth).
 void fit_exponent(TorsoSection& s, double target) {
-  double lo = 1.6, hi = 6.0;
+  constexpr double kMinP = 1.7, kMaxP = 3.2;
+  s.p = kMaxP;
+  const double at_max = torso_perimeter(s);
+  s.p = kMinP;
+  const double at_min = torso_perimeter(s);
+  if (target > at_max || target < at_min) {
+    s.p = target > at_max ? kMaxP : kMinP;
+    const TorsoSection base = s;
+    double lo = 0.4, hi = 2.5;
+    for (int it = 0; it < 50; ++it) {
+      const double f = 0.5 * (lo + hi);
+      s.df = base.df * f;
+      s.db = base.db * f;
+      s.bust = base.bust * f;
+      s.glute = base.glute * f;
+      s.front_dip = base.front_dip * f;
+      (torso_perimeter(s) < target ? lo : hi) = f;
+    }
+    return;
+  }
+  double lo = kMinP, hi = kMaxP;
   for (int it = 0; it < 50; ++it) {
     s.p = 0.5 * (lo + hi);
     (torso_perimeter(s) < target ? lo : hi) = s.p;
@@ -169,7 +197,7 @@ class Builder {
 
 }  // namespace
 
-Cage build_cage(const Eigen::VectorXd& d, bool female) {
+Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
   Cage cage;
   Builder b(cage);
 
@@ -205,6 +233,8 @@ Cage build_cage(const Eigen::VectorXd& d, bool female) {
     s0.a = s1.a * 0.97;
     s0.df = s1.df * 0.85;
     s0.db = s1.db * 0.92;
+    s0.df *= bulk;
+    s0.db *= bulk;
     s0.glute = glute * 0.6;
     TorsoSection& s3 = sec[3];  // waist (omphalion)
     s3.y = HW;
@@ -218,6 +248,8 @@ Cage build_cage(const Eigen::VectorXd& d, bool female) {
     s2.a = 0.5 * (s1.a + s3.a) * (female ? 1.0 : 0.98);
     s2.df = 0.5 * (s1.df + s3.df);
     s2.db = 0.5 * (s1.db + s3.db);
+    s2.df *= bulk;
+    s2.db *= bulk;
     s2.cz = 0.5 * (s1.cz + s3.cz);
     s2.p = 0.5 * (s1.p + s3.p);
     s2.glute = glute * 0.3;
@@ -235,6 +267,8 @@ Cage build_cage(const Eigen::VectorXd& d, bool female) {
     s4.a = 0.35 * s3.a + 0.65 * s5.a;
     s4.df = 0.4 * s3.df + 0.6 * s5.df;
     s4.db = 0.4 * s3.db + 0.6 * s5.db;
+    s4.df *= bulk;
+    s4.db *= bulk;
     s4.p = 0.5 * (s3.p + s5.p);
     s4.bust = 0.35 * bust;
     TorsoSection& s6 = sec[6];  // armpits
@@ -242,7 +276,8 @@ Cage build_cage(const Eigen::VectorXd& d, bool female) {
     s6.y = HX;
     s6.a = s5.a * 0.98;
     s6.df = d[kChestDepth] * 0.47 - 0.3 * bust;
-    s6.db = d[kChestDepth] * 0.5;
+    s6.db = d[kChestDepth] * 0.5 * bulk;
+    s6.df *= bulk;
     s6.bust = 0.2 * bust;
     s6.front_dip = 0;
     s6.p = std::min(s5.p, 3.0);
@@ -269,7 +304,7 @@ Cage build_cage(const Eigen::VectorXd& d, bool female) {
   const double xa = bia / 2;  // acromion
   const double arm_ry = (HA - HX) / 2;
   const double arm_y = (HA + HX) / 2;
-  const double r_bic = d[kBicepsCirc] / (2 * kPi) * 0.92;
+  const double r_bic = d[kBicepsCirc] / (2 * kPi) * 0.92 * bulk;
   const double arm_rz = std::max(r_bic * 1.25, arm_ry * 0.95);
   const double arm_tilt = 0.018;
   const double arm_xc = xa - arm_tilt;
@@ -301,10 +336,12 @@ Cage build_cage(const Eigen::VectorXd& d, bool female) {
     const int collar = left ? kLCollar : kLCollar + 1;
     const int shoulder = left ? kLShoulder : kLShoulder + 1;
     switch (r) {
-      case 0:
-        return (k == 0 || k == 8) ? skin2(kPelvis, kLHip, 0) : skin2(kPelvis, hip, 0.45);
+      case 0:  // the hip blend spans r1 .. G1 so that 90-degree flexion does not fold the groin
+        if (k == 0 || k == 8) return {{kPelvis, 0.6}, {kLHip, 0.2}, {kLHip + 1, 0.2}};
+        return skin2(kPelvis, hip, 0.42);
       case 1:
-        return (k >= 3 && k <= 5) ? skin2(kPelvis, hip, 0.2) : skin1(kPelvis);
+        if (k == 0 || k == 8) return {{kPelvis, 0.8}, {kLHip, 0.1}, {kLHip + 1, 0.1}};
+        return skin2(kPelvis, hip, 0.2);
       case 2:
         return skin2(kPelvis, kSpine1, 0.5);
       case 3:
@@ -345,7 +382,7 @@ Cage build_cage(const Eigen::VectorXd& d, bool female) {
         p = torso_point(sec[r], i);
         if (r == 9) {  // front of the shoulder line lower, back higher
           const double cs = std::cos(2 * kPi * i / 16.0);
-          p.y() += cs > 0 ? -0.045 * cs : 0.0;
+          p.y() += cs > 0 ? -0.02 * cs : 0.0;
         }
       }
       T[r][i] = b.vert(p, torso_skin(r, i));
@@ -379,13 +416,16 @@ Cage build_cage(const Eigen::VectorXd& d, bool female) {
   // Neck hole ring (8, counter-clockwise around +y from the front).
   const int nu[8] = {2, 3, 3, 3, 2, 1, 1, 1};
   const int nv[8] = {3, 3, 2, 1, 1, 1, 2, 3};
-  const double r_neck = d[kNeckCirc] / (2 * kPi);
+  const double r_neck = d[kNeckCirc] / (2 * kPi) * bulk;
   std::vector<int> N0(8);
   for (int k = 0; k < 8; ++k) {
-    const double th = 2 * kPi * k / 8.0;
+    const int kl = k <= 4 ? k : 8 - k;  // compute the left half, mirror exactly
+    const double th = 2 * kPi * kl / 8.0;
     const double cs = std::cos(th);
-    const Eigen::Vector3d p(r_neck * 1.12 * std::sin(th), HC7 - 0.03 - 0.028 * cs,
-                            -0.025 + r_neck * 1.1 * cs);
+    Eigen::Vector3d p(r_neck * 1.12 * std::sin(th), HC7 - 0.03 - 0.028 * cs,
+                      -0.025 + r_neck * 1.1 * cs);
+    if (k > 4) p.x() = -p.x();
+    if (kl == 0 || kl == 4) p.x() = 0.0;
     const int kk = k <= 4 ? k : 8 - k;
     VertexBlend sk =
         kk == 2 ? VertexBlend{{kSpine3, 0.4}, {kNeck, 0.4}, {k < 4 ? kLCollar : kLCollar + 1, 0.2}}
@@ -409,9 +449,12 @@ Cage build_cage(const Eigen::VectorXd& d, bool female) {
                        VertexBlend sk) {
     std::vector<int> ring(8);
     for (int k = 0; k < 8; ++k) {
-      const double th = 2 * kPi * k / 8.0;
+      const int kl = k <= 4 ? k : 8 - k;  // compute the left half, mirror exactly
+      const double th = 2 * kPi * kl / 8.0;
       const double sn = std::sin(th), cs = std::cos(th);
       Eigen::Vector3d p(a * sgnpow(sn, 0.85), y, cz + (cs >= 0 ? df : dbk) * sgnpow(cs, 0.85));
+      if (k > 4) p.x() = -p.x();
+      if (kl == 0 || kl == 4) p.x() = 0.0;
       if (k == 0) p.z() += nose;
       ring[k] = b.vert(p, sk);
     }
@@ -456,8 +499,8 @@ Cage build_cage(const Eigen::VectorXd& d, bool female) {
   const double ua = d[kAcromionRadiale], fa = d[kRadialeStylion];
   const double x_e = xa + (x_w - xa) * ua / (ua + fa);
   const double y_axis = HA - r_bic - 0.012;
-  const double r_fa = d[kForearmCirc] / (2 * kPi) * 0.9;
-  const double r_wr = d[kWristCirc] / (2 * kPi);
+  const double r_fa = d[kForearmCirc] / (2 * kPi) * 0.9 * bulk;
+  const double r_wr = d[kWristCirc] / (2 * kPi) * std::sqrt(bulk);
   const double palm = 0.56 * hand_len;
   const double hand_w = d[kHandBreadth] * 0.95;
   const double hand_t = 0.026 * hand_scale;
@@ -632,7 +675,8 @@ Cage build_cage(const Eigen::VectorXd& d, bool female) {
   }
 
   // ---------------------------------------------------------------- legs (left, then mirrored)
-  const int crotch = b.vert(Eigen::Vector3d(0, Hcr, -0.012), skin1(kPelvis));
+  const int crotch =
+      b.vert(Eigen::Vector3d(0, Hcr, -0.012), {{kPelvis, 0.4}, {kLHip, 0.3}, {kLHip + 1, 0.3}});
   const double x_t = d[kHipBreadth] / 4 + 0.004;
   const double foot_len = d[kFootLength];
   const double foot_w = d[kFootBreadth];
@@ -670,27 +714,29 @@ Cage build_cage(const Eigen::VectorXd& d, bool female) {
     };
     const Eigen::Vector3d ux = Eigen::Vector3d::UnitX();
     const Eigen::Vector3d vz = Eigen::Vector3d::UnitZ();
-    const double r_th = d[kThighCirc] / (2 * kPi) * 0.97;
+    const double r_th = d[kThighCirc] / (2 * kPi) * 0.97 * bulk;
     const double ax1 = std::min(x_t - 0.006, r_th * 0.97);
     const double bz1 = ellipse_b_for_perimeter(ax1, 2 * kPi * r_th);
-    const auto G1 = ring({x_t, Hcr - 0.03, -0.004}, ux, vz, ax1, bz1, 0.0, 0.0, skin1(kLHip));
-    const double r_lt = d[kLowerThighCirc] / (2 * kPi);
+    const auto G1 =
+        ring({x_t, Hcr - 0.03, -0.004}, ux, vz, ax1, bz1, 0.0, 0.0, skin2(kPelvis, kLHip, 0.62));
+    const double r_lt = d[kLowerThighCirc] / (2 * kPi) * bulk;
     const double r_mid = 0.5 * (r_th + r_lt) * 0.98;
     const double ax2 = std::min(x_t - 0.008, r_mid);
-    const auto G2 = ring({x_t - 0.004, Hcr - 0.4 * (Hcr - HK), 0.004}, ux, vz, ax2,
-                         ellipse_b_for_perimeter(ax2, 2 * kPi * r_mid), 0.0, 0.0, skin1(kLHip));
+    const auto G2 =
+        ring({x_t - 0.004, Hcr - 0.4 * (Hcr - HK), 0.004}, ux, vz, ax2,
+             ellipse_b_for_perimeter(ax2, 2 * kPi * r_mid), 0.0, 0.0, skin2(kPelvis, kLHip, 0.88));
     const auto G3 = ring({x_t - 0.008, HK + 0.085, 0.006}, ux, vz, r_lt * 0.95, r_lt * 0.98, 0.0,
                          0.0, skin2(kLHip, kLKnee, 0.2));
     const double r_kn = r_lt * 0.88;
     const auto G4 = ring({x_t - 0.01, HK, 0.008}, ux, vz, r_kn, r_kn * 0.98, 0.0, 0.008,
                          skin2(kLHip, kLKnee, 0.5));
-    const double r_cf = d[kCalfCirc] / (2 * kPi);
+    const double r_cf = d[kCalfCirc] / (2 * kPi) * bulk;
     const auto G5 = ring({x_t - 0.011, HK - 0.055, 0.002}, ux, vz, r_kn * 0.9, r_kn * 0.88, 0.004,
                          0.0, skin2(kLHip, kLKnee, 0.85));
     const double y_calf = HK - 0.3 * (HK - HM);
     const auto G6 = ring({x_t - 0.011, y_calf, -0.012}, ux, vz, r_cf * 0.9, r_cf * 0.96, 0.012, 0.0,
                          skin1(kLKnee));
-    const double r_an = d[kAnkleCirc] / (2 * kPi) * 0.96;
+    const double r_an = d[kAnkleCirc] / (2 * kPi) * 0.96 * bulk;
     const auto G7 =
         ring({x_t - 0.01, HM + 0.42 * (y_calf - HM), -0.012}, ux, vz, 0.5 * (r_cf + r_an) * 0.82,
              0.5 * (r_cf + r_an) * 0.84, 0.004, 0.0, skin1(kLKnee));
@@ -770,7 +816,13 @@ Cage build_cage(const Eigen::VectorXd& d, bool female) {
   for (int s = 0; s < 2; ++s) {
     const LegIds& leg = s == 0 ? lleg : rleg;
     const ArmIds& arm = s == 0 ? larm : rarm;
-    cage.joints[kLHip + s] = add(mean_of(leg.root, 0.6), mean_of(half_ring(1, s == 0), 0.4));
+    // hip joint: between the leg root and the hip ring, pulled forward towards the groin (the
+    // femoral head lies in front of the buttock's mid-plane; this also keeps the groin crease
+    // from folding in 90-degree flexion)
+    const std::vector<int> groin = {T[0][s == 0 ? 1 : 15], T[0][s == 0 ? 2 : 14],
+                                    T[0][s == 0 ? 3 : 13]};
+    cage.joints[kLHip + s] =
+        add(add(mean_of(leg.root, 0.4), mean_of(half_ring(1, s == 0), 0.2)), mean_of(groin, 0.4));
     cage.joints[kLKnee + s] = mean_of(leg.g4, 1.0);
     cage.joints[kLAnkle + s] = add(mean_of(leg.g8, 0.75), mean_of(leg.f1, 0.25));
     cage.joints[kLFoot + s] = mean_of(leg.f3, 1.0);

@@ -45,8 +45,11 @@ struct Cage {
 };
 
 /// Builds the cage for body dimensions `dims` (kNumDims values, metres and kg, see Dim).
-/// `female` adds breasts and a female pelvis shape. The topology (quads, mirror, skin, joints,
+/// `female` adds breasts and a female pelvis shape. `bulk` scales the girths that the survey
+/// table does not pin down through a validated measurement (limbs, neck, torso depth between the
+/// measured levels); the generator calibrates it so that the weight from volume matches. The
+/// topology (quads, mirror, skin, joints,
 /// landmarks) does not depend on `dims`.
-Cage build_cage(const Eigen::VectorXd& dims, bool female);
+Cage build_cage(const Eigen::VectorXd& dims, bool female, double bulk = 1.0);
 
 }  // namespace modelgen

@@ -75,6 +75,7 @@ using RowSparse = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 struct DimMapping {
   Eigen::VectorXd offset = Eigen::VectorXd::Zero(kNumDims);
   Eigen::VectorXd scale = Eigen::VectorXd::Ones(kNumDims);
+  double bulk = 1.0;  ///< factor on the sampled weight that the body's volume is matched to
 };
 
 class Sampler {
@@ -152,7 +153,7 @@ ModelTopology build_topology(const Cage& cage, std::vector<int>* fine_face_point
       nbr[static_cast<std::size_t>(q[(k + 1) % 4])].push_back(q[k]);
     }
   }
-  for (int it = 0; it < 2; ++it) {
+  for (int it = 0; it < 3; ++it) {
     Eigen::MatrixXd next = wc;
     for (int v = 0; v < nc; ++v) {
       Eigen::RowVectorXd avg = Eigen::RowVectorXd::Zero(24);
@@ -220,6 +221,30 @@ smpl::Vertices refine(const ModelTopology& t, const Eigen::MatrixXd& cage_pos,
   Eigen::MatrixXd shifted = cage_pos.rowwise() - pelvis;
   smpl::Vertices out = t.subdivision * shifted;
   return out;
+}
+
+// Builds the cage of one sampled body. The girths the survey dimensions leave free (bulk, see
+// build_cage()) are chosen per body so that the weight from volume matches the body's sampled
+// weight (times the calibrated factor `map.bulk`): two secant steps on log(weight) vs log(bulk).
+Cage body_cage(const Eigen::VectorXd& dims, bool female, double weight_factor,
+               const ModelTopology& topo, const smpl::Faces& faces,
+               const Eigen::RowVectorXd& pelvis_row, const caliper::WeightFormula& formula) {
+  const double target = dims[kWeight] * weight_factor;
+  auto weight_of = [&](const Cage& c) {
+    const smpl::Vertices v = topo.subdivision * cage_matrix(c);
+    (void)pelvis_row;
+    return caliper::weight_from_volume(caliper::mesh_volume(v, faces), formula);
+  };
+  double b0 = 1.0;
+  Cage c0 = build_cage(dims, female, b0);
+  double w0 = weight_of(c0);
+  double b1 = std::clamp(b0 * target / w0, 0.6, 1.8);
+  Cage c1 = build_cage(dims, female, b1);
+  const double w1 = weight_of(c1);
+  const double slope = std::log(w1 / w0) / std::log(b1 / b0);
+  if (!(std::abs(b1 - b0) > 1e-9) || !(slope > 0.2)) return c1;
+  const double b2 = std::clamp(b1 * std::pow(target / w1, 1.0 / slope), 0.6, 1.8);
+  return build_cage(dims, female, b2);
 }
 
 }  // namespace
@@ -296,13 +321,14 @@ DimMapping calibrate(const Sampler& sampler, bool female, const ModelTopology& t
                      const GeneratorOptions& opt, GenerationReport* report) {
   DimMapping map;
   const std::vector<std::string>& ids = validation_ids();
+  const caliper::WeightFormula formula = caliper::weight_formula_for(female ? "female" : "male");
   for (int round = 0; round < opt.calibration_rounds; ++round) {
     Rng rng(opt.seed ^ (female ? 0xf0ull : 0x0full) ^ (static_cast<std::uint64_t>(round) << 32));
     const int n = opt.calibration_bodies;
     std::map<std::string, std::vector<double>> vals;
     for (int b = 0; b < n; ++b) {
       const Eigen::VectorXd x = sampler.sample(rng, map);
-      const Cage cage = build_cage(x, female);
+      const Cage cage = body_cage(x, female, map.bulk, topo, proto.faces, pelvis_row, formula);
       const smpl::Vertices v = refine(topo, cage_matrix(cage), pelvis_row);
       const auto m = validation_measurements(proto, v);
       for (const auto& [k, val] : m) vals[k].push_back(val);
@@ -311,7 +337,7 @@ DimMapping calibrate(const Sampler& sampler, bool female, const ModelTopology& t
                        std::to_string(round) + ":";
     for (const std::string& id : ids) {
       const int d = validation_dim(id);
-      if (d < 0 || d == kWeight) continue;
+      if (d < 0) continue;
       const auto& v = vals[id];
       double mean = 0, var = 0;
       for (double x : v) mean += x;
@@ -319,8 +345,12 @@ DimMapping calibrate(const Sampler& sampler, bool female, const ModelTopology& t
       for (double x : v) var += (x - mean) * (x - mean);
       const double sd = std::sqrt(var / static_cast<double>(v.size() - 1));
       const double tm = sampler.stats().mean[d], ts = sampler.stats().sd[d];
-      map.offset[d] += tm - mean;
-      map.scale[d] *= std::clamp(ts / sd, 0.7, 1.4);
+      if (d == kWeight) {
+        map.bulk *= tm / mean;
+      } else {
+        map.offset[d] += tm - mean;
+        map.scale[d] *= std::clamp(ts / sd, 0.7, 1.4);
+      }
       line += " " + id + " " + num(mean, 4) + "/" + num(tm, 4);
     }
     log_line(report, line);
@@ -383,7 +413,8 @@ smpl::BodyModel generate_model(const SurveyStats& stats, const std::string& gend
     for (int b = 0; b < n; ++b) {
       const std::size_t s = static_cast<std::size_t>(b % static_cast<int>(sexes.size()));
       const Eigen::VectorXd dims = samplers[s].sample(rng, maps[s]);
-      const Cage cage = build_cage(dims, sexes[s] == "female");
+      const Cage cage = body_cage(dims, sexes[s] == "female", maps[s].bulk, topo, topo.faces,
+                                  pelvis_row, caliper::weight_formula_for(sexes[s]));
       Eigen::MatrixXd p = cage_matrix(cage);
       const Eigen::RowVector3d pelvis = pelvis_row * p;
       p.rowwise() -= pelvis;
@@ -480,6 +511,80 @@ smpl::BodyModel generate_model(const SurveyStats& stats, const std::string& gend
   model.meta.extra["pose_blend_shapes"] = "none (posedirs has 0 columns)";
   smpl::validate(model, model.meta.name);
   return model;
+}
+
+// ------------------------------------------------------------------------------------ validation
+
+ValidationFigures survey_figures(const SurveyStats& stats, const std::string& gender) {
+  Eigen::VectorXd mu;
+  Eigen::MatrixXd cov;
+  int count = 0;
+  if (gender == "neutral") {
+    const Eigen::VectorXd df = stats.female.mean - stats.male.mean;
+    mu = 0.5 * (stats.female.mean + stats.male.mean);
+    cov = 0.5 * (stats.female.covariance() + stats.male.covariance()) + 0.25 * df * df.transpose();
+    count = stats.female.count + stats.male.count;
+  } else {
+    const SexStats& s = stats.of(gender);
+    mu = s.mean;
+    cov = s.covariance();
+    count = s.count;
+  }
+  ValidationFigures f;
+  f.count = count;
+  for (const std::string& id : validation_ids()) {
+    const int d = validation_dim(id);
+    if (d >= 0) {
+      f.mean[id] = mu[d];
+      f.sd[id] = std::sqrt(cov(d, d));
+    } else {
+      f.mean[id] = mu[kAcromionRadiale] + mu[kRadialeStylion];
+      f.sd[id] = std::sqrt(cov(kAcromionRadiale, kAcromionRadiale) +
+                           cov(kRadialeStylion, kRadialeStylion) +
+                           2 * cov(kAcromionRadiale, kRadialeStylion));
+    }
+  }
+  auto corr = [&](int a, int b) { return cov(a, b) / std::sqrt(cov(a, a) * cov(b, b)); };
+  f.corr_stature_span = corr(kStature, kSpan);
+  f.corr_stature_weight = corr(kStature, kWeight);
+  return f;
+}
+
+ValidationFigures model_figures(const smpl::BodyModel& model, int samples, std::uint64_t seed) {
+  Rng rng(seed);
+  std::map<std::string, std::vector<double>> vals;
+  Eigen::VectorXd betas(model.num_betas());
+  for (int b = 0; b < samples; ++b) {
+    for (int k = 0; k < betas.size(); ++k) betas[k] = rng.normal();
+    const Eigen::VectorXd flat = model.shapedirs * betas;
+    smpl::Vertices v = model.v_template;
+    for (int i = 0; i < v.rows(); ++i) {
+      for (int c = 0; c < 3; ++c) v(i, c) += flat[3 * i + c];
+    }
+    for (const auto& [k, x] : validation_measurements(model, v)) vals[k].push_back(x);
+  }
+  ValidationFigures f;
+  f.count = samples;
+  auto moments = [](const std::vector<double>& x, double& mean, double& sd) {
+    mean = 0;
+    for (double v : x) mean += v;
+    mean /= static_cast<double>(x.size());
+    double var = 0;
+    for (double v : x) var += (v - mean) * (v - mean);
+    sd = std::sqrt(var / static_cast<double>(x.size() - 1));
+  };
+  for (const auto& [k, x] : vals) moments(x, f.mean[k], f.sd[k]);
+  auto corr = [&](const std::string& a, const std::string& b) {
+    const auto& xa = vals[a];
+    const auto& xb = vals[b];
+    double c = 0;
+    for (std::size_t i = 0; i < xa.size(); ++i) c += (xa[i] - f.mean[a]) * (xb[i] - f.mean[b]);
+    c /= static_cast<double>(xa.size() - 1);
+    return c / (f.sd[a] * f.sd[b]);
+  };
+  f.corr_stature_span = corr("stature", "span");
+  f.corr_stature_weight = corr("stature", "weight");
+  return f;
 }
 
 }  // namespace modelgen

@@ -23,7 +23,7 @@ namespace modelgen {
 /// Generator settings.
 struct GeneratorOptions {
   int population = 2000;                    ///< bodies in the synthetic population used for PCA
-  int components = 10;                      ///< shape components kept (betas)
+  int components = 16;                      ///< shape components kept (betas)
   int calibration_rounds = 3;               ///< feedback rounds correcting the cage mapping
   int calibration_bodies = 600;             ///< bodies measured per calibration round
   std::uint64_t seed = 0x5eed0fca11be7ull;  ///< RNG seed (splitmix64 / xoshiro256**)
@@ -64,6 +64,24 @@ int validation_dim(const std::string& id);
 
 /// Ids of validation_measurements(), in table order.
 const std::vector<std::string>& validation_ids();
+
+/// Population figures of the validation measurements: means, SDs and two correlations.
+struct ValidationFigures {
+  std::map<std::string, double> mean;  ///< by validation id (metres, kg)
+  std::map<std::string, double> sd;    ///< sample standard deviations
+  double corr_stature_span = 0.0;
+  double corr_stature_weight = 0.0;
+  int count = 0;  ///< bodies (model samples) or subjects (survey)
+};
+
+/// The survey's figures for `gender` ("female", "male"; "neutral" = the 50/50 mixture of both
+/// sexes, its moments computed from the two sexes' means and covariances). arm_length is
+/// acromion-radiale + radiale-stylion length.
+ValidationFigures survey_figures(const SurveyStats& stats, const std::string& gender);
+
+/// Samples `samples` bodies with betas ~ N(0, I) (fixed seed) and measures them with libcaliper
+/// (validation_measurements()).
+ValidationFigures model_figures(const smpl::BodyModel& model, int samples, std::uint64_t seed);
 
 /// What generate_model() did, for the log and the docs.
 struct GenerationReport {

@@ -33,6 +33,8 @@ int main(int argc, char** argv) {
     std::string out, stats_path, stats_from, stats_out, gender = "all";
     modelgen::GeneratorOptions opt;
     bool quiet = false;
+    std::string validate;
+    int samples = 10000;
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
       auto next = [&]() -> std::string {
@@ -53,6 +55,10 @@ int main(int argc, char** argv) {
         opt.population = std::stoi(next());
       } else if (a == "--components") {
         opt.components = std::stoi(next());
+      } else if (a == "--validate") {
+        validate = next();
+      } else if (a == "--samples") {
+        samples = std::stoi(next());
       } else if (a == "--quiet") {
         quiet = true;
       } else if (a == "-h" || a == "--help") {
@@ -66,6 +72,35 @@ int main(int argc, char** argv) {
       if (stats_out.empty()) throw std::runtime_error("--stats-from needs --stats-out FILE");
       modelgen::write_stats_table(modelgen::stats_from_survey(stats_from), stats_out);
       if (!quiet) std::cout << "wrote " << stats_out << "\n";
+      if (out.empty()) return 0;
+    }
+    if (!validate.empty()) {
+      if (stats_path.empty()) throw std::runtime_error("--validate needs --stats FILE");
+      const modelgen::SurveyStats st = modelgen::read_stats_table(stats_path);
+      const smpl::BodyModel model = smpl::load_model(validate);
+      const auto t0 = std::chrono::steady_clock::now();
+      const modelgen::ValidationFigures m = modelgen::model_figures(model, samples, 12345);
+      const modelgen::ValidationFigures s = modelgen::survey_figures(st, model.meta.gender);
+      const double secs =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      std::printf("%s: %d bodies with betas ~ N(0, I) vs ANSUR II (%d subjects), %.1f s\n",
+                  validate.c_str(), samples, s.count, secs);
+      std::printf(
+          "| measurement | model mean | survey mean | mean error | model SD | survey SD | SD ratio "
+          "|\n");
+      std::printf("|---|---|---|---|---|---|---|\n");
+      for (const std::string& id : modelgen::validation_ids()) {
+        const double scale = id == "weight" ? 1.0 : 1000.0;
+        const char* unit = id == "weight" ? "kg" : "mm";
+        std::printf("| %s (%s) | %.1f | %.1f | %+.2f %% | %.1f | %.1f | %.2f |\n", id.c_str(), unit,
+                    m.mean.at(id) * scale, s.mean.at(id) * scale,
+                    100.0 * (m.mean.at(id) / s.mean.at(id) - 1.0), m.sd.at(id) * scale,
+                    s.sd.at(id) * scale, m.sd.at(id) / s.sd.at(id));
+      }
+      std::printf("| corr(stature, span) | %.3f | %.3f | %+.3f | | | |\n", m.corr_stature_span,
+                  s.corr_stature_span, m.corr_stature_span - s.corr_stature_span);
+      std::printf("| corr(stature, weight) | %.3f | %.3f | %+.3f | | | |\n", m.corr_stature_weight,
+                  s.corr_stature_weight, m.corr_stature_weight - s.corr_stature_weight);
       if (out.empty()) return 0;
     }
     if (out.empty()) {

@@ -1,0 +1,176 @@
+// Unit tests of the generator's parts: RNG, Catmull-Clark operator, cage invariants,
+// statistics table round trip, and byte-identical output for identical settings.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <fstream>
+#include <string>
+
+#include "ansur_stats.hpp"
+#include "cage.hpp"
+#include "caliper/volume.hpp"
+#include "generator.hpp"
+#include "mesh_checks.hpp"
+#include "smpl/io.hpp"
+#include "subdivision.hpp"
+
+namespace {
+
+modelgen::SurveyStats committed_stats() {
+  return modelgen::read_stats_table(std::string(CALIPER_MODELS_DIR) + "/ansur_stats.csv");
+}
+
+std::string read_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in) return {};
+  const std::streamsize n = in.tellg();
+  std::string out(static_cast<std::size_t>(n), '\0');
+  in.seekg(0);
+  in.read(out.data(), n);
+  return out;
+}
+
+TEST(Rng, IsDeterministicAndStandardNormal) {
+  modelgen::Rng a(42), b(42), c(43);
+  EXPECT_EQ(a.next(), b.next());
+  EXPECT_NE(a.next(), c.next());
+  modelgen::Rng r(7);
+  const int n = 200000;
+  double sum = 0, sq = 0;
+  for (int i = 0; i < n; ++i) {
+    const double x = r.normal();
+    sum += x;
+    sq += x * x;
+  }
+  const double mean = sum / n, var = sq / n - mean * mean;
+  constexpr double kTol = 0.01;  // about 4.5 standard errors at n = 200000
+  EXPECT_NEAR(mean, 0.0, kTol);
+  EXPECT_NEAR(var, 1.0, 2 * kTol);
+}
+
+// A unit cube as 6 quads, counter-clockwise seen from outside.
+std::vector<std::array<int, 4>> cube_quads() {
+  return {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+}
+Eigen::MatrixXd cube_points() {
+  Eigen::MatrixXd p(8, 3);
+  p << 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1;
+  return p;
+}
+
+smpl::Faces triangulate(const std::vector<std::array<int, 4>>& q) {
+  smpl::Faces f(static_cast<Eigen::Index>(2 * q.size()), 3);
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    f.row(static_cast<Eigen::Index>(2 * i)) << q[i][0], q[i][1], q[i][2];
+    f.row(static_cast<Eigen::Index>(2 * i + 1)) << q[i][0], q[i][2], q[i][3];
+  }
+  return f;
+}
+
+TEST(CatmullClark, CubeCountsRowsAndShrinkage) {
+  const modelgen::Subdivision s1 = modelgen::catmull_clark(8, cube_quads(), 1);
+  EXPECT_EQ(s1.s.rows(), 8 + 12 + 6);  // V + E + F
+  EXPECT_EQ(s1.quads.size(), 24u);
+  const modelgen::Subdivision s2 = modelgen::catmull_clark(8, cube_quads(), 2);
+  EXPECT_EQ(s2.s.rows(), 98);
+  EXPECT_EQ(s2.quads.size(), 96u);
+  for (int r = 0; r < s2.s.rows(); ++r) {
+    EXPECT_NEAR(s2.s.row(r).sum(), 1.0, 1e-12);  // affine: rows sum to 1
+  }
+  // known first-level positions: a corner goes to (F + 2R + (n-3)P)/n with n = 3
+  const Eigen::MatrixXd p1 = s1.s * cube_points();
+  // Q = mean of the face centres around (0,0,0) = (1/3,1/3,1/3); R = mean of the edge
+  // midpoints = (1/6,1/6,1/6); (Q + 2R + 0 P) / 3 = (2/9, 2/9, 2/9)
+  EXPECT_NEAR(p1(0, 0), 2.0 / 9.0, 1e-12);
+  EXPECT_NEAR(p1(0, 1), 2.0 / 9.0, 1e-12);
+  // closed, oriented, positive volume that shrinks with each level (the limit surface lies
+  // inside the cage)
+  smpl::Vertices v = s2.s * cube_points();
+  const smpl::Faces f = triangulate(s2.quads);
+  const auto rep = modelgen_test::topology_report(static_cast<int>(v.rows()), f);
+  EXPECT_TRUE(rep.closed);
+  EXPECT_TRUE(rep.oriented);
+  EXPECT_EQ(rep.euler, 2);
+  const double vol = caliper::mesh_volume(v, f);
+  const smpl::Vertices v1 = s1.s * cube_points();
+  const double vol1 = caliper::mesh_volume(v1, triangulate(s1.quads));
+  EXPECT_LT(vol1, 1.0);
+  EXPECT_LT(vol, vol1);
+  EXPECT_GT(vol, 0.25);  // contains the sphere of radius 0.39 about the centre
+  // face points: the first-level face point of face 1 (z = 1) is the centre of that face
+  const Eigen::MatrixXd p2 = s2.s * cube_points();
+  EXPECT_NEAR(p1(s1.face_point[1], 2), 1.0, 1e-12);
+  EXPECT_NEAR(p2(s2.face_point[1], 0), 0.5, 1e-12);
+}
+
+TEST(Cage, TopologyIsTheSameForEveryBodyAndSymmetric) {
+  const modelgen::SurveyStats st = committed_stats();
+  const modelgen::Cage f = modelgen::build_cage(st.female.mean, true);
+  Eigen::VectorXd big = st.male.mean + 2 * st.male.sd;
+  const modelgen::Cage m = modelgen::build_cage(big, false, 1.3);
+  ASSERT_EQ(f.quads, m.quads);
+  ASSERT_EQ(f.positions.size(), m.positions.size());
+  EXPECT_EQ(f.mirror, m.mirror);
+  for (std::size_t v = 0; v < f.positions.size(); ++v) {
+    const int w = f.mirror[v];
+    ASSERT_EQ(f.mirror[static_cast<std::size_t>(w)], static_cast<int>(v));
+    EXPECT_NEAR(f.positions[v].x(), -f.positions[static_cast<std::size_t>(w)].x(), 1e-12);
+    EXPECT_NEAR(f.positions[v].y(), f.positions[static_cast<std::size_t>(w)].y(), 1e-12);
+    double sum = 0;
+    for (const auto& s : f.skin[v]) sum += s.second;
+    EXPECT_NEAR(sum, 1.0, 1e-12);
+  }
+  ASSERT_EQ(f.joints.size(), 24u);
+  for (const auto& j : f.joints) {
+    double sum = 0;
+    for (const auto& s : j) sum += s.second;
+    EXPECT_NEAR(sum, 1.0, 1e-12);
+  }
+  // the refined cage is a closed oriented sphere
+  const modelgen::Subdivision s =
+      modelgen::catmull_clark(static_cast<int>(f.positions.size()), f.quads, 1);
+  const auto rep =
+      modelgen_test::topology_report(static_cast<int>(s.s.rows()), triangulate(s.quads));
+  EXPECT_TRUE(rep.closed);
+  EXPECT_TRUE(rep.oriented);
+  EXPECT_TRUE(rep.vertex_manifold);
+  EXPECT_EQ(rep.euler, 2);
+}
+
+TEST(StatsTable, RoundTripsAndHoldsSurveyFigures) {
+  const modelgen::SurveyStats st = committed_stats();
+  EXPECT_EQ(st.female.count, 1986);
+  EXPECT_EQ(st.male.count, 4082);
+  EXPECT_NEAR(st.female.mean[modelgen::kStature], 1.6285, 0.001);
+  EXPECT_NEAR(st.male.mean[modelgen::kWeight], 85.52, 0.05);
+  const std::string path = std::string(CALIPER_TEST_DATA_DIR) + "/modelgen_stats_roundtrip.csv";
+  modelgen::write_stats_table(st, path);
+  const modelgen::SurveyStats back = modelgen::read_stats_table(path);
+  EXPECT_TRUE(back.male.mean.isApprox(st.male.mean, 1e-8));
+  EXPECT_TRUE(back.female.correlation.isApprox(st.female.correlation, 1e-5));
+  modelgen::write_stats_table(back, path + "2");
+  EXPECT_EQ(read_bytes(path), read_bytes(path + "2"));
+}
+
+TEST(Generator, SameSettingsGiveTheSameBytes) {
+  const modelgen::SurveyStats st = committed_stats();
+  modelgen::GeneratorOptions o;
+  o.population = 120;
+  o.components = 4;
+  o.calibration_rounds = 1;
+  o.calibration_bodies = 60;
+  const std::string a = std::string(CALIPER_TEST_DATA_DIR) + "/modelgen_det_a.npz";
+  const std::string b = std::string(CALIPER_TEST_DATA_DIR) + "/modelgen_det_b.npz";
+  smpl::SaveOptions so;
+  so.compress = true;
+  smpl::save_model(modelgen::generate_model(st, "male", o, nullptr), a, so);
+  smpl::save_model(modelgen::generate_model(st, "male", o, nullptr), b, so);
+  const std::string ba = read_bytes(a);
+  EXPECT_FALSE(ba.empty());
+  EXPECT_EQ(ba, read_bytes(b));
+  const smpl::BodyModel m = smpl::load_model(a);
+  EXPECT_EQ(m.num_betas(), 4);
+}
+
+}  // namespace

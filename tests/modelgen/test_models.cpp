@@ -1,0 +1,159 @@
+// Geometry of the committed open models (assets/models/caliper-*.npz): closed 2-manifold with
+// outward winding, positive volume, no self-intersection at the mean and at +/- 2 SD along the
+// first 10 components, no flipped triangles in the test poses, SMPL layout through libsmpl.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "caliper/measurements.hpp"
+#include "caliper/volume.hpp"
+#include "mesh_checks.hpp"
+#include "smpl/evaluate.hpp"
+#include "smpl/io.hpp"
+
+namespace {
+
+const char* const kGenders[] = {"female", "male", "neutral"};
+
+std::string model_path(const std::string& gender) {
+  return std::string(CALIPER_MODELS_DIR) + "/caliper-" + gender + ".npz";
+}
+
+smpl::Vertices shaped(const smpl::BodyModel& m, const Eigen::VectorXd& betas) {
+  return smpl::shape(m, betas).vertices;
+}
+
+class OpenModel : public ::testing::TestWithParam<const char*> {
+ protected:
+  void SetUp() override { model_ = smpl::load_model(model_path(GetParam())); }
+  smpl::BodyModel model_;
+};
+
+TEST_P(OpenModel, HasTheSmplStructure) {
+  EXPECT_GE(model_.num_vertices(), 6000);
+  EXPECT_LE(model_.num_vertices(), 15000);
+  EXPECT_EQ(model_.num_joints(), 24);
+  EXPECT_EQ(model_.parents, smpl::smpl_parents());
+  EXPECT_EQ(model_.joint_names, smpl::smpl_joint_names());
+  EXPECT_GE(model_.num_betas(), 10);
+  EXPECT_EQ(model_.meta.gender, GetParam());
+  // regressor and weight rows sum to 1, at most 4 weights per vertex, none negative
+  constexpr double kSumTol = 1e-9;  // renormalised in double precision
+  for (int j = 0; j < model_.j_regressor.rows(); ++j) {
+    EXPECT_NEAR(model_.j_regressor.row(j).sum(), 1.0, kSumTol) << "joint " << j;
+  }
+  for (int v = 0; v < model_.weights.rows(); ++v) {
+    int nnz = 0;
+    double sum = 0;
+    for (smpl::SparseMatrix::InnerIterator it(model_.weights, v); it; ++it) {
+      if (it.value() != 0.0) ++nnz;
+      EXPECT_GE(it.value(), 0.0);
+      sum += it.value();
+    }
+    ASSERT_LE(nnz, 4) << "vertex " << v;
+    ASSERT_NEAR(sum, 1.0, kSumTol) << "vertex " << v;
+  }
+  // mirror is an involution
+  ASSERT_EQ(static_cast<int>(model_.mirror.size()), model_.num_vertices());
+  for (int v = 0; v < model_.num_vertices(); ++v) {
+    ASSERT_EQ(model_.mirror[static_cast<std::size_t>(model_.mirror[static_cast<std::size_t>(v)])],
+              v);
+  }
+}
+
+TEST_P(OpenModel, HasEveryLandmarkOfTheSharedVocabulary) {
+  for (const std::string& name : caliper::landmark_names()) {
+    ASSERT_TRUE(model_.landmarks.count(name)) << name;
+  }
+  const smpl::Vertices& v = model_.v_template;
+  auto pt = [&](const std::string& n) {
+    return caliper::landmark_point(v, model_.landmarks.at(n));
+  };
+  const double floor = v.col(1).minCoeff();
+  constexpr double kTopTol = 0.005;  // head_top is the mesh's highest point within 5 mm
+  EXPECT_NEAR(pt("head_top").y(), v.col(1).maxCoeff(), kTopTol);
+  constexpr double kSoleTol = 0.01;  // the sole landmark lies on the floor within 1 cm
+  EXPECT_NEAR(pt("left_sole").y(), floor, kSoleTol);
+  EXPECT_GT(pt("left_fingertip").x(), 0.7);  // the middle fingertip ends the arm span
+  EXPECT_NEAR(pt("left_fingertip").x(), v.col(0).maxCoeff(), 0.005);
+  EXPECT_GT(pt("left_nipple").z(), pt("left_chest").z());
+  EXPECT_GT(pt("navel").z(), pt("torso_back").z());
+  // left/right pairs mirror each other
+  for (const char* base : {"fingertip", "wrist", "shoulder", "elbow", "hip", "nipple", "waist",
+                           "chest", "heel", "sole"}) {
+    const Eigen::Vector3d l = pt(std::string("left_") + base), r = pt(std::string("right_") + base);
+    constexpr double kMirrorTol = 1e-6;
+    EXPECT_NEAR(l.x(), -r.x(), kMirrorTol) << base;
+    EXPECT_NEAR(l.y(), r.y(), kMirrorTol) << base;
+    EXPECT_GT(l.x(), 0.0) << base;
+  }
+  // origin near the pelvis, like SMPL
+  const smpl::Joints joints = model_.j_regressor * v;
+  constexpr double kPelvisTol = 0.01;  // the generator puts the pelvis joint at the origin
+  EXPECT_LT(std::abs(joints(0, 0)) + std::abs(joints(0, 1)) + std::abs(joints(0, 2)), kPelvisTol);
+}
+
+TEST_P(OpenModel, IsAClosedOrientedManifoldWithPositiveVolume) {
+  const modelgen_test::TopologyReport r =
+      modelgen_test::topology_report(model_.num_vertices(), model_.faces);
+  EXPECT_TRUE(r.closed);
+  EXPECT_TRUE(r.oriented);
+  EXPECT_TRUE(r.vertex_manifold);
+  EXPECT_EQ(r.euler, 2);  // a sphere: genus 0
+  EXPECT_EQ(r.unused_vertices, 0);
+  EXPECT_GT(caliper::mesh_volume(model_.v_template, model_.faces), 0.04);
+}
+
+TEST_P(OpenModel, HasNoSelfIntersectionAtMeanAndTwoSdAlongTenComponents) {
+  Eigen::VectorXd betas = Eigen::VectorXd::Zero(model_.num_betas());
+  auto hits = modelgen_test::self_intersections(shaped(model_, betas), model_.faces);
+  EXPECT_TRUE(hits.empty()) << hits.size() << " intersecting pairs at the mean";
+  for (int k = 0; k < 10; ++k) {
+    for (double s : {-2.0, 2.0}) {
+      betas.setZero();
+      betas[k] = s;
+      const smpl::Vertices v = shaped(model_, betas);
+      hits = modelgen_test::self_intersections(v, model_.faces);
+      EXPECT_TRUE(hits.empty()) << hits.size() << " intersecting pairs at beta[" << k
+                                << "] = " << s;
+      EXPECT_GT(caliper::mesh_volume(v, model_.faces), 0.0);
+    }
+  }
+}
+
+// Test poses: each bends one joint pair by 90 degrees (axis-angle, radians).
+struct TestPose {
+  const char* name;
+  int joint;
+  Eigen::Vector3d axis_angle;
+};
+
+TEST_P(OpenModel, HasNoFlippedTrianglesInTestPoses) {
+  constexpr double kRight = 1.5707963267948966;
+  const TestPose poses[] = {
+      {"left elbow flexed", 18, {0, -kRight, 0}},
+      {"right elbow flexed", 19, {0, kRight, 0}},
+      {"left knee flexed", 4, {kRight, 0, 0}},
+      {"right knee flexed", 5, {kRight, 0, 0}},
+      {"left shoulder down", 16, {0, 0, -kRight}},
+      {"right shoulder down", 17, {0, 0, kRight}},
+      {"left shoulder forward", 16, {0, -kRight, 0}},
+      {"left hip flexed", 1, {-kRight, 0, 0}},
+      {"right hip flexed", 2, {-kRight, 0, 0}},
+      {"left hip abducted 45", 1, {0, 0, kRight / 2}},
+  };
+  const Eigen::VectorXd betas = Eigen::VectorXd::Zero(model_.num_betas());
+  const smpl::Vertices rest = shaped(model_, betas);
+  for (const TestPose& p : poses) {
+    Eigen::VectorXd theta = Eigen::VectorXd::Zero(3 * model_.num_joints());
+    theta.segment<3>(3 * p.joint) = p.axis_angle;
+    const smpl::Body body = smpl::evaluate(model_, betas, theta);
+    const std::vector<int> flipped = modelgen_test::flipped_triangles(model_, rest, body);
+    EXPECT_TRUE(flipped.empty()) << p.name << ": " << flipped.size() << " flipped triangles";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Committed, OpenModel, ::testing::ValuesIn(kGenders));
+
+}  // namespace
