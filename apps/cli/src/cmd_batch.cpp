@@ -57,7 +57,6 @@ void fast_avatar(const ModelBundle& b, const ShapeMeasurer& measurer, const std:
   Eigen::VectorXd k_betas;
   if (regressor == "noise-aware") {
     if (!b.regressors.noise_aware) throw RuntimeError("no noise-aware regressor in the set");
-    b.regressors.noise_aware->signature().check(b.model);
     k_betas = b.regressors.noise_aware->predict(mapped).mean;
   } else {
     const LinearRegressor* r = b.regressors.find(regressor);
