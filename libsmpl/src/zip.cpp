@@ -21,6 +21,8 @@ constexpr std::uint32_t kEnd64Sig = 0x06064b50;
 constexpr std::uint32_t kEnd64LocatorSig = 0x07064b50;
 // Deflate cannot expand data by more than 1032:1; a larger claim is a corrupt or hostile file.
 constexpr std::uint64_t kMaxDeflateRatio = 1032;
+// No model array comes near this (SMPL-X's 400-component shapedirs are 100 MB).
+constexpr std::uint64_t kMaxMember = std::uint64_t{16} << 30;
 
 std::uint64_t le(const std::uint8_t* p, int n) {
   std::uint64_t v = 0;
@@ -37,38 +39,49 @@ std::uint32_t crc_of(const std::uint8_t* p, std::size_t n) {
   return static_cast<std::uint32_t>(crc32_z(crc, p, n));
 }
 
+// Inflates raw deflate data that the zip directory says gives `out_size` bytes. The output grows
+// with the data actually produced (no allocation of the claimed size up front).
 std::vector<std::uint8_t> inflate_raw(const std::uint8_t* in, std::size_t in_size,
                                       std::size_t out_size, const std::string& context) {
-  std::vector<std::uint8_t> out(out_size);
+  constexpr std::size_t kChunk = std::numeric_limits<uInt>::max();
+  constexpr std::size_t kInitial = std::size_t{64} << 20;
+  std::vector<std::uint8_t> out(std::min(out_size, kInitial));
   z_stream zs{};
   if (inflateInit2(&zs, -15) != Z_OK) fail(context, "zlib inflateInit2 failed");
   zs.next_in = const_cast<Bytef*>(in);
-  zs.next_out = out.data();
   std::size_t in_left = in_size;
-  std::size_t out_left = out_size;
+  std::size_t produced = 0;
   int rc = Z_OK;
-  constexpr std::size_t kChunk = std::numeric_limits<uInt>::max();
+  std::string problem;
   while (true) {
+    if (produced == out.size() && out.size() < out_size) {
+      out.resize(std::min(out_size, 2 * out.size()));
+    }
     const std::size_t in_chunk = std::min(in_left, kChunk);
-    const std::size_t out_chunk = std::min(out_left, kChunk);
+    const std::size_t out_chunk = std::min(out.size() - produced, kChunk);
+    zs.next_out = out.data() + produced;
     zs.avail_in = static_cast<uInt>(in_chunk);
     zs.avail_out = static_cast<uInt>(out_chunk);
     rc = inflate(&zs, Z_NO_FLUSH);
     in_left -= in_chunk - zs.avail_in;
-    out_left -= out_chunk - zs.avail_out;
+    produced += out_chunk - zs.avail_out;
     if (rc == Z_STREAM_END) break;
-    if (rc == Z_BUF_ERROR && in_left == 0) break;  // input ended early
-    if (rc != Z_OK) break;
-    if (in_chunk == 0 && out_chunk == 0) break;
-    if (out_left == 0 && zs.avail_out == 0 && in_left == 0) break;
+    if (rc == Z_OK) continue;
+    if (rc == Z_BUF_ERROR && produced == out_size) {
+      problem = "the deflate data gives more than the " + std::to_string(out_size) +
+                " bytes the zip directory says";
+    } else if (rc == Z_BUF_ERROR) {
+      problem = "truncated deflate data";
+    } else {
+      problem =
+          std::string("corrupt deflate data") + (zs.msg ? std::string(" (") + zs.msg + ")" : "");
+    }
+    break;
   }
   inflateEnd(&zs);
-  if (rc != Z_STREAM_END) {
-    fail(context, std::string("corrupt or truncated deflate data") +
-                      (zs.msg ? std::string(" (") + zs.msg + ")" : ""));
-  }
-  if (out_left != 0) {
-    fail(context, "deflate data gives " + std::to_string(out_size - out_left) +
+  if (!problem.empty()) fail(context, problem);
+  if (produced != out_size) {
+    fail(context, "deflate data gives " + std::to_string(produced) +
                       " bytes, the zip directory says " + std::to_string(out_size));
   }
   return out;
@@ -213,6 +226,10 @@ NpzArchive parse_npz(const std::uint8_t* bytes, std::size_t size, const std::str
       if (m.compressed != m.uncompressed) fail(where, "bad zip: stored member sizes disagree");
       npy_size = static_cast<std::size_t>(m.compressed);
     } else if (m.method == 8) {
+      if (m.uncompressed > kMaxMember) {
+        fail(where, "claims " + std::to_string(m.uncompressed) +
+                        " uncompressed bytes, more than the 16 GiB a model member may have");
+      }
       if (m.uncompressed > m.compressed * kMaxDeflateRatio + 1024) {
         fail(where, "bad zip: claims " + std::to_string(m.uncompressed) +
                         " uncompressed bytes from " + std::to_string(m.compressed) +

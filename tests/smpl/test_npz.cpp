@@ -279,6 +279,25 @@ TEST(Npz, ImplausibleUncompressedSizeIsRefused) {
                {"bomb.npz", "more than deflate can produce"});
 }
 
+// The directory's uncompressed size disagrees with what the deflate stream gives.
+TEST(Npz, DeflateSizeMismatchIsAnError) {
+  NpzArchive z;
+  z["a"] = smpl::make_npy(std::vector<double>(1000, 1.0), {1000});
+  const std::vector<std::uint8_t> good = smpl::npz_bytes(z, true);
+  const std::size_t cd = good.size() - 22 - 51;
+  const std::uint32_t real = 128 + 8000;  // .npy header + data
+  for (std::uint32_t claimed : {real - 10, real + 10}) {
+    std::vector<std::uint8_t> b = good;
+    for (std::size_t off : {std::size_t{22}, cd + 24}) {
+      for (int i = 0; i < 4; ++i)
+        b[off + static_cast<std::size_t>(i)] = (claimed >> (8 * i)) & 0xFF;
+    }
+    expect_error(
+        [&] { smpl::parse_npz(b.data(), b.size(), "size.npz"); },
+        {"size.npz", "a.npy", claimed < real ? "gives more than the" : "deflate data gives"});
+  }
+}
+
 // zip64: sizes and offset in the central directory's zip64 extra field, zip64 end records.
 TEST(Npz, ReadsZip64Records) {
   NpzArchive z;
