@@ -89,9 +89,12 @@ TEST_P(OpenModel, HasEveryLandmarkOfTheSharedVocabulary) {
     EXPECT_GT(l.x(), 0.0) << base;
   }
   // origin near the pelvis, like SMPL
-  const smpl::Joints joints = model_.j_regressor * v;
+  Eigen::Vector3d pelvis = Eigen::Vector3d::Zero();
+  for (smpl::SparseMatrix::InnerIterator it(model_.j_regressor, 0); it; ++it) {
+    pelvis += it.value() * caliper::landmark_point(v, {static_cast<int>(it.col())});
+  }
   constexpr double kPelvisTol = 0.01;  // the generator puts the pelvis joint at the origin
-  EXPECT_LT(std::abs(joints(0, 0)) + std::abs(joints(0, 1)) + std::abs(joints(0, 2)), kPelvisTol);
+  EXPECT_LT(pelvis.norm(), kPelvisTol);
 }
 
 TEST_P(OpenModel, IsAClosedOrientedManifoldWithPositiveVolume) {

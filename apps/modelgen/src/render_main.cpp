@@ -1,7 +1,7 @@
 /// \file render_main.cpp
 /// caliper-modelgen-render: the model card's pictures, rendered headless (OSMesa) with the
 /// project's renderer: front, side and three-quarter views of the mean body and of +/- 2 SD
-/// along the first three shape components.
+/// along the first three shape components (one picture per component: -2 SD, mean, +2 SD).
 ///
 ///   caliper-modelgen-render assets/models/caliper-female.npz docs/images/model-female
 #include <cstdio>
@@ -18,7 +18,7 @@ int main(int argc, char** argv) {
     if (argc < 3) {
       std::cerr << "usage: caliper-modelgen-render MODEL.npz PREFIX [--components N] [--pose]\n"
                    "writes PREFIX-mean-{front,side,three_quarter}.png and\n"
-                   "PREFIX-pc<k>-{minus2,plus2}.png for k = 1..N (default 3)\n";
+                   "PREFIX-pc<k>.png (-2 SD, mean, +2 SD) for k = 1..N (default 3)\n";
       return 2;
     }
     const std::string model_path = argv[1], prefix = argv[2];
@@ -40,17 +40,27 @@ int main(int argc, char** argv) {
       caliper::render::render_mesh_png(mean.vertices, model.faces,
                                        prefix + "-mean-" + view + ".png", o);
     }
+    // -2 SD, mean and +2 SD side by side in one picture, so that sizes compare at one scale.
     o.view = "front";
+    o.width = 1200;
+    o.height = 560;
     for (int k = 0; k < components && k < model.num_betas(); ++k) {
-      for (int s : {-2, 2}) {
+      const int nv = model.num_vertices(), nf = model.num_faces();
+      smpl::Vertices v(3 * nv, 3);
+      smpl::Faces f(3 * nf, 3);
+      for (int s = -1; s <= 1; ++s) {
         betas.setZero();
-        betas[k] = s;
-        const smpl::Body b = smpl::shape(model, betas);
-        caliper::render::render_mesh_png(
-            b.vertices, model.faces,
-            prefix + "-pc" + std::to_string(k + 1) + (s < 0 ? "-minus2" : "-plus2") + ".png", o);
+        betas[k] = 2.0 * s;
+        smpl::Vertices b = smpl::shape(model, betas).vertices;
+        b.col(0).array() += 1.9 * s;
+        const int slot = s + 1;
+        v.middleRows(slot * nv, nv) = b;
+        f.middleRows(slot * nf, nf) = model.faces.array() + slot * nv;
       }
+      caliper::render::render_mesh_png(v, f, prefix + "-pc" + std::to_string(k + 1) + ".png", o);
     }
+    o.width = 480;
+    o.height = 640;
     if (pose) {
       Eigen::VectorXd theta = Eigen::VectorXd::Zero(3 * model.num_joints());
       betas.setZero();
