@@ -270,7 +270,7 @@ int cmd_create(const std::vector<std::string>& args, Io& io) {
          << " (" << (bundle->model.meta.gender.empty() ? "?" : bundle->model.meta.gender) << ", "
          << bundle->path << ")\n"
          << "regressor: " << regressor;
-  if (mapping) io.out << " with mapping " << *a.get("mapping");
+  if (mapping) io.out << " with mapping " << *a.get("mapping") << " (input column: mapped values)";
   io.out << "\n\n" << measurement_table(mapping ? avatar.mapped : avatar.input, avatar.achieved);
   io.out << "\nbetas: " << format_betas(avatar.betas) << "\n";
   if (avatar.covariance) {
