@@ -135,7 +135,12 @@ void BM_BatchAnsur(benchmark::State& state) {
   state.SetLabel(pos == std::string::npos ? "" : last.substr(pos, last.find('\n', pos) - pos));
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * 6068);
 }
-BENCHMARK(BM_BatchAnsur)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->Iterations(3)->UseRealTime();
+BENCHMARK(BM_BatchAnsur)
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3)
+    ->UseRealTime();
 
 void BM_TrainRegressors_FullSizeTestModel(benchmark::State& state) {
   const smpl::BodyModel& m = full_size_test_model();
