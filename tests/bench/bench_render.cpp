@@ -11,6 +11,7 @@
 
 #include "app/editor_core.hpp"
 #include "caliper_test/random_model.hpp"
+#include "editor_app.hpp"
 #include "render/camera.hpp"
 #include "render/render_mesh.hpp"
 
@@ -96,6 +97,33 @@ void BM_DragFrameCpu(benchmark::State& state) {
 }
 BENCHMARK(BM_DragFrameCpu)->Args({1200, 1000})->Unit(benchmark::kMillisecond);
 
+/// Upload only: float conversion, normals (13776 faces) and glBufferSubData of positions and
+/// normals.
+void BM_UploadPositions(benchmark::State& state) {
+  DragFixture f(64, 64, 1);
+  const std::vector<float> p = floats(f.core.avatar().vertices);
+  for (auto _ : state) {
+    f.off->renderer().update_positions(f.mesh, floats(f.core.avatar().vertices));
+  }
+  benchmark::DoNotOptimize(p.data());
+}
+BENCHMARK(BM_UploadPositions)->Unit(benchmark::kMillisecond);
+
+/// Draw calls only (mesh, no upload), CPU side of llvmpipe's vertex processing and binning.
+void BM_DrawCallsOnly(benchmark::State& state) {
+  DragFixture f(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  const cr::GlFunctions& gl = f.off->context().gl();
+  for (auto _ : state) {
+    f.off->bind();
+    f.off->renderer().draw(f.scene, f.view);
+    state.PauseTiming();
+    f.off->resolve();
+    gl.Finish();
+    state.ResumeTiming();
+  }
+}
+BENCHMARK(BM_DrawCallsOnly)->Args({1200, 1000})->Unit(benchmark::kMillisecond);
+
 /// The same frame including llvmpipe's rasterization and the multisample resolve (glFinish):
 /// the wall time of a whole software-rendered frame.
 void BM_DragFrameFinished(benchmark::State& state) {
@@ -114,6 +142,42 @@ BENCHMARK(BM_DragFrameFinished)
     ->Args({1024, 1024})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+
+/// A whole editor frame while the height slider is dragged: regress + evaluate + ImGui panels +
+/// scene (avatar, grid, measurement overlay) + upload + draw calls + ImGui drawing, CPU side
+/// (the wait for llvmpipe's rasterizer threads runs outside the timed region).
+void BM_EditorDragFrameCpu(benchmark::State& state) {
+  const int w = static_cast<int>(state.range(0)), h = static_cast<int>(state.range(1));
+  ca::EditorCore core;
+  core.add_model(full_size_entry());
+  cr::OffscreenRenderer off(w, h, 4);
+  ImGui::CreateContext();
+  ImGuiIO& io = ImGui::GetIO();
+  io.IniFilename = nullptr;
+  io.DisplaySize = ImVec2(static_cast<float>(w), static_cast<float>(h));
+  io.DeltaTime = 1.0f / 60.0f;
+  {
+    caliper::editor::EditorApp app(core, off.context().gl());
+    for (int i = 0; i < 3; ++i) {  // let ImGui lay its windows out
+      off.bind();
+      app.frame(w, h);
+      off.resolve();
+    }
+    core.begin_drag();
+    int64_t i = 0;
+    for (auto _ : state) {
+      core.drag_value("height", drag_height(i++));
+      off.bind();
+      app.frame(w, h);
+      state.PauseTiming();
+      off.resolve();
+      state.ResumeTiming();
+    }
+    core.end_drag();
+  }
+  ImGui::DestroyContext();
+}
+BENCHMARK(BM_EditorDragFrameCpu)->Args({1600, 1000})->Unit(benchmark::kMillisecond);
 
 /// OSMesa 1024 x 1024: draw + resolve + read back the image (what `caliper render` does per
 /// picture, without the PNG encoding).

@@ -549,6 +549,7 @@ bool EditorCore::save_profile(const std::string& path) {
 }
 
 bool EditorCore::open_profile(const std::string& path) {
+  const int previous_model = current_;
   try {
     const Json j = read_json_file(path);
     if (!j.is_object() || !j.contains("format") ||
@@ -600,6 +601,14 @@ bool EditorCore::open_profile(const std::string& path) {
     post(Message::Level::Info, "opened profile " + path);
     return true;
   } catch (const std::exception& e) {
+    if (current_ != previous_model) {  // the profile's sex switched the model: switch back
+      current_ = previous_model;
+      try {
+        recompute(true);
+      } catch (const std::exception&) {
+        // The previous state was valid a moment ago; nothing more to do.
+      }
+    }
     post(Message::Level::Error,
          "could not open profile " + path + ": " + e.what() + " (the current avatar is unchanged)");
     return false;
