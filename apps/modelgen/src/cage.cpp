@@ -91,7 +91,7 @@ Eigen::Vector3d torso_point(const TorsoSection& s, int i) {
   if (i == 0 || i == 8) q.x() = 0.0;  // on the midline exactly
   const int k = i <= 8 ? i : 16 - i;  // mirror index on the left half
   if (s.bust > 0) {
-    const double w = k == 2 ? 1.0 : (k == 1 || k == 3) ? 0.55 : 0.0;
+    const double w = k == 2 ? 1.0 : (k == 1 || k == 3) ? 0.65 : 0.0;
     q.z() += w * s.bust;
     if (k == 0) q.z() -= s.front_dip;
   }
@@ -216,7 +216,7 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
 
   // ---------------------------------------------------------------- torso sections (r0..r9)
   std::array<TorsoSection, 10> sec;
-  const double bust = female ? std::max(0.012, 0.22 * d[kChestDepth] - 0.012) : 0.0;
+  const double bust = female ? std::max(0.015, 0.28 * d[kChestDepth] - 0.015) : 0.0;
   const double glute = (female ? 0.022 : 0.016) + 0.1 * (d[kButtockDepth] - 0.23);
   {
     TorsoSection& s1 = sec[1];  // buttocks, widest hips
@@ -270,7 +270,7 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
     s4.df *= bulk;
     s4.db *= bulk;
     s4.p = 0.5 * (s3.p + s5.p);
-    s4.bust = 0.35 * bust;
+    s4.bust = 0.5 * bust;
     TorsoSection& s6 = sec[6];  // armpits
     s6 = s5;
     s6.y = HX;
@@ -466,20 +466,20 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
   const std::vector<int> N2 = head_ring(chin + 0.01, -0.012, r_neck * 1.02, r_neck * 1.05,
                                         r_neck * 1.0, 0, skin2(kNeck, kHead, 0.5));
   const std::vector<int> H0 =
-      head_ring(chin + 0.03, 0.012, hb2 * 0.78, hl2 * 0.92, hl2 * 0.55, 0, skin1(kHead));
+      head_ring(chin + 0.03, -0.003, hb2 * 0.78, hl2 * 0.92, hl2 * 0.55, 0, skin1(kHead));
   const std::vector<int> H1 =
-      head_ring(chin + 0.36 * hh, 0.0, hb2 * 0.93, hl2 * 0.98, hl2 * 0.9, 0.016, skin1(kHead));
+      head_ring(chin + 0.36 * hh, -0.015, hb2 * 0.93, hl2 * 0.98, hl2 * 0.9, 0.016, skin1(kHead));
   const std::vector<int> H2 =
-      head_ring(chin + 0.58 * hh, -0.004, hb2 * 1.0, hl2 * 0.93, hl2 * 1.0, 0.004, skin1(kHead));
+      head_ring(chin + 0.58 * hh, -0.019, hb2 * 1.0, hl2 * 0.93, hl2 * 1.0, 0.004, skin1(kHead));
   const std::vector<int> H3 =
-      head_ring(chin + 0.82 * hh, -0.006, hb2 * 0.9, hl2 * 0.85, hl2 * 0.92, 0, skin1(kHead));
+      head_ring(chin + 0.82 * hh, -0.021, hb2 * 0.9, hl2 * 0.85, hl2 * 0.92, 0, skin1(kHead));
   b.connect(N0, N1);
   b.connect(N1, N2);
   b.connect(N2, H0);
   b.connect(H0, H1);
   b.connect(H1, H2);
   b.connect(H2, H3);
-  const int head_top = b.vert(Eigen::Vector3d(0, H + 0.028, -0.008), skin1(kHead));
+  const int head_top = b.vert(Eigen::Vector3d(0, H + 0.028, -0.023), skin1(kHead));
   {
     // 3 x 3 grid: boundary H3, centre head_top. (u: 0 right..2 left, v: 0 back..2 front)
     std::array<std::array<int, 3>, 3> g{};
