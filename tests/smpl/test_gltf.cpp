@@ -232,7 +232,8 @@ TEST(GltfValidator, ExportedAvatarsHaveNoErrors) {
   const int status = run_validator(files, output);
   EXPECT_EQ(status, 0) << output;
   for (const auto& f : files) {
-    EXPECT_NE(output.find(f.string() + ": errors=0 "), std::string::npos) << output;
+    // Zero errors is the requirement; zero warnings holds today and keeps the files clean.
+    EXPECT_NE(output.find(f.string() + ": errors=0 warnings=0 "), std::string::npos) << output;
   }
   RecordProperty("validator_report", output);
   std::printf("%s", output.c_str());
