@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdio>
 #include <exception>
+#include <fstream>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -23,7 +24,9 @@ void usage() {
          "                        [--population N] [--components K] [--quiet]\n"
          "       caliper-modelgen --stats-from ANSUR_DIR --stats-out FILE\n"
          "Writes DIR/caliper-<gender>.npz. The statistics table defaults to\n"
-         "DIR/ansur_stats.csv; --stats-from recomputes it from the ANSUR II survey files.\n";
+         "DIR/ansur_stats.csv, else ./assets/models/ansur_stats.csv; --stats-from recomputes it\n"
+         "from the ANSUR II survey files.\n"
+         "       caliper-modelgen --validate MODEL.npz --stats FILE [--samples N]\n";
 }
 
 }  // namespace
@@ -107,7 +110,12 @@ int main(int argc, char** argv) {
       usage();
       return 2;
     }
-    if (stats_path.empty()) stats_path = out + "/ansur_stats.csv";
+    if (stats_path.empty()) {
+      // The committed table: beside the output, else assets/models/ under the working directory
+      // (the repository root in CI).
+      stats_path = out + "/ansur_stats.csv";
+      if (!std::ifstream(stats_path)) stats_path = "assets/models/ansur_stats.csv";
+    }
     const modelgen::SurveyStats stats = modelgen::read_stats_table(stats_path);
     std::vector<std::string> genders;
     if (gender == "all") {
