@@ -36,8 +36,8 @@ void validate(const BodyModel& m, const std::string& context) {
                       " but the model has " + std::to_string(V) + " vertices");
   }
   if (m.shapedirs.rows() != 3 * V) {
-    fail(context, "'shapedirs' has " + std::to_string(m.shapedirs.rows()) +
-                      " rows, expected 3 x " + std::to_string(V) + " = " + std::to_string(3 * V));
+    fail(context, "'shapedirs' has " + std::to_string(m.shapedirs.rows()) + " rows, expected 3 x " +
+                      std::to_string(V) + " = " + std::to_string(3 * V));
   }
   check_finite(m.shapedirs, context, "shapedirs");
   if (m.posedirs.cols() != 0) {
@@ -48,8 +48,9 @@ void validate(const BodyModel& m, const std::string& context) {
     check_finite(m.posedirs, context, "posedirs");
   }
   if (m.j_regressor.rows() != K || m.j_regressor.cols() != V) {
-    fail(context, "'J_regressor' has shape " + shape_str(m.j_regressor.rows(), m.j_regressor.cols()) +
-                      ", expected " + shape_str(K, V));
+    fail(context, "'J_regressor' has shape " +
+                      shape_str(m.j_regressor.rows(), m.j_regressor.cols()) + ", expected " +
+                      shape_str(K, V));
   }
   if (m.weights.rows() != V || m.weights.cols() != K) {
     fail(context, "'weights' has shape " + shape_str(m.weights.rows(), m.weights.cols()) +
@@ -98,17 +99,16 @@ void validate(const BodyModel& m, const std::string& context) {
 
 const std::vector<std::string>& smpl_joint_names() {
   static const std::vector<std::string> names = {
-      "pelvis",         "left_hip",       "right_hip",  "spine1",      "left_knee",
-      "right_knee",     "spine2",         "left_ankle", "right_ankle", "spine3",
-      "left_foot",      "right_foot",     "neck",       "left_collar", "right_collar",
-      "head",           "left_shoulder",  "right_shoulder", "left_elbow", "right_elbow",
-      "left_wrist",     "right_wrist",    "left_hand",  "right_hand"};
+      "pelvis",     "left_hip",    "right_hip",    "spine1",      "left_knee",     "right_knee",
+      "spine2",     "left_ankle",  "right_ankle",  "spine3",      "left_foot",     "right_foot",
+      "neck",       "left_collar", "right_collar", "head",        "left_shoulder", "right_shoulder",
+      "left_elbow", "right_elbow", "left_wrist",   "right_wrist", "left_hand",     "right_hand"};
   return names;
 }
 
 const std::vector<int>& smpl_parents() {
-  static const std::vector<int> parents = {-1, 0,  0,  0,  1,  2,  3,  4,  5,  6,  7,  8,
-                                           9,  9,  9,  12, 13, 14, 16, 17, 18, 19, 20, 21};
+  static const std::vector<int> parents = {-1, 0, 0, 0,  1,  2,  3,  4,  5,  6,  7,  8,
+                                           9,  9, 9, 12, 13, 14, 16, 17, 18, 19, 20, 21};
   return parents;
 }
 

@@ -21,14 +21,15 @@ TEST(Json, ParsesNestedDocument) {
 }
 
 TEST(Json, DoublesRoundTripExactly) {
-  const std::vector<double> values = {0.1, 1.0 / 3.0, -2.718281828459045, 1e-300, 6.02214076e23,
-                                      std::nextafter(1.0, 2.0)};
+  const std::vector<double> values = {0.1,    1.0 / 3.0,     -2.718281828459045,
+                                      1e-300, 6.02214076e23, std::nextafter(1.0, 2.0)};
   const Json parsed = parse_json(Json(values).dump());
   EXPECT_EQ(parsed.as_numbers(), values);
 }
 
 TEST(Json, UnicodeEscapes) {
-  EXPECT_EQ(parse_json(R"("M\u00e9tis \ud83d\ude00")").as_string(), "M\xC3\xA9tis \xF0\x9F\x98\x80");
+  EXPECT_EQ(parse_json(R"("M\u00e9tis \ud83d\ude00")").as_string(),
+            "M\xC3\xA9tis \xF0\x9F\x98\x80");
   const Json s(std::string("tab\there \"q\" \x01"));
   EXPECT_EQ(parse_json(s.dump()).as_string(), s.as_string());
 }
@@ -53,8 +54,8 @@ TEST(Json, ErrorsNameLineAndColumn) {
 }
 
 TEST(Json, RefusesMalformedInput) {
-  for (const char* bad : {"", "{", "[1 2]", "{\"a\" 1}", "nul", "01", "1.", "\"abc", "NaN",
-                          "[1] x", "\"\\q\"", "{\"a\":1,}"}) {
+  for (const char* bad : {"", "{", "[1 2]", "{\"a\" 1}", "nul", "01", "1.", "\"abc", "NaN", "[1] x",
+                          "\"\\q\"", "{\"a\":1,}"}) {
     EXPECT_THROW(parse_json(bad), JsonError) << bad;
   }
 }

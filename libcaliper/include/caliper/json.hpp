@@ -30,8 +30,8 @@ class Json {
   using Array = std::vector<Json>;
   using Object = std::vector<std::pair<std::string, Json>>;
 
-  Json() = default;                           ///< null
-  Json(std::nullptr_t) {}                     ///< null
+  Json() = default;        ///< null
+  Json(std::nullptr_t) {}  ///< null
   Json(bool b) : type_(Type::Bool), bool_(b) {}
   Json(double d) : type_(Type::Number), number_(d) {}
   Json(int i) : type_(Type::Number), number_(i) {}
@@ -43,8 +43,16 @@ class Json {
   Json(std::string s) : type_(Type::String), string_(std::move(s)) {}
   Json(Array a) : type_(Type::Array), array_(std::move(a)) {}
   Json(const std::vector<double>& v);
-  static Json object() { Json j; j.type_ = Type::Object; return j; }
-  static Json array() { Json j; j.type_ = Type::Array; return j; }
+  static Json object() {
+    Json j;
+    j.type_ = Type::Object;
+    return j;
+  }
+  static Json array() {
+    Json j;
+    j.type_ = Type::Array;
+    return j;
+  }
 
   Type type() const { return type_; }
   bool is_null() const { return type_ == Type::Null; }

@@ -36,9 +36,9 @@ class ModelError : public std::runtime_error {
 
 /// Free-form description of where a model comes from.
 struct ModelMetadata {
-  std::string name;    ///< e.g. "SMPL female v1.1.0", "caliper-open-female"
-  std::string gender;  ///< "female", "male" or "neutral" ("" when unknown)
-  std::string source;  ///< file path or generator that produced it
+  std::string name;                          ///< e.g. "SMPL female v1.1.0", "caliper-open-female"
+  std::string gender;                        ///< "female", "male" or "neutral" ("" when unknown)
+  std::string source;                        ///< file path or generator that produced it
   std::map<std::string, std::string> extra;  ///< anything else worth keeping (licence, version)
 };
 
@@ -53,11 +53,11 @@ struct BodyModel {
   /// 3V x P pose blend shapes, row 3 v + c (numpy's `posedirs.reshape(-1, P)`); may have zero
   /// columns when the model has no pose correctives.
   Eigen::MatrixXd posedirs;
-  SparseMatrix j_regressor;  ///< K x V, each row sums to 1: J = j_regressor * v_shaped.
-  SparseMatrix weights;      ///< V x K skinning weights, each row sums to 1.
-  std::vector<int> parents;  ///< K, parents[0] == -1, parents[k] < k.
-  std::vector<std::string> joint_names;                ///< K names ("pelvis", "left_hip", ...).
-  std::map<std::string, std::vector<int>> landmarks;   ///< name -> vertex ids (0-based).
+  SparseMatrix j_regressor;              ///< K x V, each row sums to 1: J = j_regressor * v_shaped.
+  SparseMatrix weights;                  ///< V x K skinning weights, each row sums to 1.
+  std::vector<int> parents;              ///< K, parents[0] == -1, parents[k] < k.
+  std::vector<std::string> joint_names;  ///< K names ("pelvis", "left_hip", ...).
+  std::map<std::string, std::vector<int>> landmarks;  ///< name -> vertex ids (0-based).
   std::vector<int> mirror;  ///< V left/right mirror vertex index, or empty.
   ModelMetadata meta;
 
