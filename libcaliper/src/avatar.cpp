@@ -102,7 +102,7 @@ Eigen::VectorXd refine_to_inputs(const smpl::BodyModel& model, const Eigen::Vect
   }
   const auto rows = [&](const std::vector<int>& ids) {  // 3 x k mean shape rows
     Eigen::MatrixXd P = Eigen::MatrixXd::Zero(3, k);
-    for (int v : ids) P += model.shapedirs.block(3 * v, 0, 3, k);
+    for (int v : ids) P += model.shapedirs.block(3 * static_cast<Eigen::Index>(v), 0, 3, k);
     return Eigen::MatrixXd(P / static_cast<double>(ids.size()));
   };
   const auto lookup = [&](const std::string& name,

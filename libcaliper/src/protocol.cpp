@@ -145,9 +145,10 @@ PivotCalibration calibrate_pivot(const std::vector<Pose>& poses) {
   Eigen::Matrix<double, Eigen::Dynamic, 6> A(3 * n, 6);
   Eigen::VectorXd b(3 * n);
   for (int i = 0; i < n; ++i) {
-    A.block<3, 3>(3 * i, 0) = rot[i];
-    A.block<3, 3>(3 * i, 3) = -Eigen::Matrix3d::Identity();
-    b.segment<3>(3 * i) = -poses[i].position;
+    const Eigen::Index row = 3 * static_cast<Eigen::Index>(i);
+    A.block<3, 3>(row, 0) = rot[static_cast<std::size_t>(i)];
+    A.block<3, 3>(row, 3) = -Eigen::Matrix3d::Identity();
+    b.segment<3>(row) = -poses[static_cast<std::size_t>(i)].position;
   }
   const Eigen::JacobiSVD<Eigen::Matrix<double, Eigen::Dynamic, 6>> svd(
       A, Eigen::ComputeThinU | Eigen::ComputeThinV);

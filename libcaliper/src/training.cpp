@@ -113,7 +113,7 @@ ShapeMeasurer::ShapeMeasurer(const smpl::BodyModel& model, const LandmarkTable& 
   if (V == 0 || model.faces.rows() == 0) {
     throw InvalidInputError("ShapeMeasurer: the model '" + model.meta.name + "' has no mesh");
   }
-  if (model.shapedirs.rows() != 3 * V) {
+  if (model.shapedirs.rows() != 3 * static_cast<Eigen::Index>(V)) {
     throw InvalidInputError("ShapeMeasurer: shapedirs has " +
                             std::to_string(model.shapedirs.rows()) + " rows, expected 3 x " +
                             std::to_string(V));
@@ -139,7 +139,7 @@ ShapeMeasurer::ShapeMeasurer(const smpl::BodyModel& model, const LandmarkTable& 
                             ", out of range for the model '" + model.meta.name + "'");
       }
       a.p0 += model.v_template.row(v).transpose();
-      a.P += model.shapedirs.block(3 * v, 0, 3, k);
+      a.P += model.shapedirs.block(3 * static_cast<Eigen::Index>(v), 0, 3, k);
     }
     a.p0 /= static_cast<double>(lm->second.size());
     a.P /= static_cast<double>(lm->second.size());
