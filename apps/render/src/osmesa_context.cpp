@@ -69,6 +69,8 @@ class OsMesaGlContext final : public GlContext {
   ~OsMesaGlContext() override { OSMesaDestroyContext(ctx_); }
 
   void make_current() override {
+    // Already current with our buffer: OSMesaMakeCurrent would re-validate the framebuffer.
+    if (OSMesaGetCurrentContext() == ctx_) return;
     if (!OSMesaMakeCurrent(ctx_, buffer_.data(), GL_UNSIGNED_BYTE, width_, height_)) {
       throw RenderError("OSMesaMakeCurrent failed for a " + std::to_string(width_) + " x " +
                         std::to_string(height_) + " buffer");
