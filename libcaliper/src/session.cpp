@@ -96,7 +96,7 @@ MeasuringSession::MeasuringSession(Protocol protocol, SessionOptions options)
     : protocol_(std::move(protocol)), options_(std::move(options)) {
   steps_.resize(protocol_.steps.size());
   if (options_.weight) typed_["weight"] = Json(*options_.weight);
-  if (options_.sex) typed_["sex"] = Json(*options_.sex);
+  if (!options_.sex.empty()) typed_["sex"] = Json(options_.sex);
   if (options_.role != "operator") {
     view_.phase = Phase::Floor;
     view_.message = protocol_.floor.instruction;

@@ -281,6 +281,83 @@ TEST(VrApp, CommittedSampleLogsReplay) {
   }
 }
 
+TEST(VrApp, HipWidthMappingIsApplied) {
+  // A learned real->virtual mapping of the hip width changes the regressor's input: the avatar
+  // is the R5 prediction for the mapped hip width.
+  const std::string dir = work_dir("mapping");
+  const Json truth = simulate(dir, "log.jsonl", "");
+  std::ofstream(dir + "/mapping.json")
+      << R"({"format":"caliper-mapping","version":1,"maps":{"hip_width":{"a":1.0,"b":0.03,"count":20}}})";
+  const RunResult r = run_vr(dir, "--replay log.jsonl --mapping mapping.json" + kReplayArgs);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json session = caliper::read_json_file(dir + "/out/session.json");
+  EXPECT_EQ(session.at("avatar").at("mapping").as_string(), "mapping.json");
+  const smpl::BodyModel model = smpl::load_model(kModel);
+  const caliper::RegressorSet set = caliper::train_regressors(model);
+  const caliper::LinearRegressor& r5 = *set.find("R5");
+  caliper::MeasurementMap in;
+  for (const std::string& id : r5.inputs())
+    in[id] = session.at("measurements").at(id).at("value").as_number();
+  const Eigen::VectorXd unmapped = r5.predict(in);
+  in["hip_width"] += 0.03;
+  const Eigen::VectorXd mapped = r5.predict(in);
+  const std::vector<double> betas = session.at("avatar").at("betas").as_numbers();
+  // Same inputs, same arithmetic: equal to rounding.
+  constexpr double kSameArithmetic = 1e-9;
+  double to_mapped = 0.0, to_unmapped = 0.0;
+  for (Eigen::Index i = 0; i < mapped.size(); ++i) {
+    to_mapped = std::max(to_mapped, std::abs(betas[static_cast<size_t>(i)] - mapped[i]));
+    to_unmapped = std::max(to_unmapped, std::abs(betas[static_cast<size_t>(i)] - unmapped[i]));
+  }
+  EXPECT_LT(to_mapped, kSameArithmetic);
+  EXPECT_GT(to_unmapped, 100 * kSameArithmetic);
+}
+
+TEST(VrApp, PivotCalibrationStepWritesTheTipOffset) {
+  // A log of the pivot step: the right tip rests on a fixed point while the grip rotates.
+  const std::string dir = work_dir("pivot");
+  caliper::PoseLog log;
+  const Eigen::Vector3d t(0.003, -0.028, 0.094), q(0.1, 0.02, 0.4);
+  for (int i = 0; i < 400; ++i) {
+    caliper::PoseFrame f;
+    f.time = i / 90.0;
+    caliper::DevicePose& d = f.device(caliper::Device::Right);
+    d.valid = true;
+    const double a = 0.015 * i;
+    d.orientation =
+        Eigen::Quaterniond(Eigen::AngleAxisd(0.5 * std::sin(a), Eigen::Vector3d::UnitX()) *
+                           Eigen::AngleAxisd(0.6 * std::cos(1.3 * a), Eigen::Vector3d::UnitZ()));
+    d.position = q - d.orientation * t;
+    d.trigger = i >= 20 && i < 380 ? 1.0 : 0.0;
+    log.frames.push_back(f);
+  }
+  caliper::write_pose_log(dir + "/pivot.jsonl", log);
+  fs::copy_file(kSource + "/assets/protocol/controllers.json", dir + "/controllers.json");
+  const RunResult r =
+      run_vr(dir, "--replay pivot.jsonl --calibrate-tip right --controllers controllers.json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("RMS residual"), std::string::npos) << r.out;
+  const Json c = caliper::read_json_file(dir + "/controllers.json");
+  const std::vector<double> got =
+      c.at("profiles").at("/interaction_profiles/htc/vive_controller").at("right").as_numbers();
+  // The log keeps 6 decimals (half a micrometre) of every pose.
+  constexpr double kLogPrecision = 2e-5;
+  ASSERT_EQ(got.size(), 3u);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(got[static_cast<size_t>(k)], t[k], kLogPrecision);
+  // The left offset is untouched.
+  EXPECT_EQ(
+      c.at("profiles").at("/interaction_profiles/htc/vive_controller").at("left").as_numbers(),
+      (std::vector<double>{0.0, -0.03, 0.09}));
+  // No hold in the log: a clear message.
+  caliper::PoseLog idle = log;
+  for (caliper::PoseFrame& f : idle.frames) f.device(caliper::Device::Right).trigger = 0.0;
+  caliper::write_pose_log(dir + "/idle.jsonl", idle);
+  const RunResult r2 =
+      run_vr(dir, "--replay idle.jsonl --calibrate-tip right --controllers controllers.json");
+  EXPECT_EQ(r2.exit_code, 1);
+  EXPECT_NE(r2.err.find("no trigger hold"), std::string::npos) << r2.err;
+}
+
 TEST(VrApp, BadLogsGiveTheLineNumber) {
   const std::string dir = work_dir("bad_log");
   const std::string header =

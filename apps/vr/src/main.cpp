@@ -25,6 +25,7 @@
 #include "controller_config.hpp"
 #include "openxr_system.hpp"
 #include "operator_window.hpp"
+#include "pivot.hpp"
 #include "render/context.hpp"
 #include "render/glfw_context.hpp"
 #include "render/renderer.hpp"
@@ -325,6 +326,39 @@ int run_replay(const Args& a) {
   return finish(app, *audio, journal_path);
 }
 
+/// The pivot-calibration step driven by a pose log (the same code as live).
+int run_pivot_replay(const Args& a) {
+  const std::string log_path = a.get("--replay");
+  const PoseLog log = read_pose_log(log_path);
+  const std::string hand = a.get("--calibrate-tip");
+  if (hand != "left" && hand != "right")
+    throw std::invalid_argument("--calibrate-tip needs left or right");
+  const std::string controllers =
+      a.get("--controllers", assets_dir(a) + "/protocol/controllers.json");
+  PivotCollector pivot(hand == "left" ? Tip::Left : Tip::Right);
+  for (const PoseFrame& f : log.frames) {
+    const std::optional<PivotCalibration> r = pivot.feed(f);
+    if (!r) continue;
+    ControllerConfig cc = read_controller_config(controllers);
+    const std::string profile = log.header.interaction_profile;
+    TipOffsets t = cc.offsets(profile);
+    (hand == "left" ? t.left : t.right) = r->tip_offset;
+    cc.profiles[profile] = t;
+    write_controller_config(controllers, cc);
+    std::printf(
+        "tip offset %.4f %.4f %.4f m, RMS residual %.2f mm over %d poses (%.0f degrees of "
+        "rotation); "
+        "saved for %s in %s\n",
+        r->tip_offset.x(), r->tip_offset.y(), r->tip_offset.z(), r->rms_residual * 1e3,
+        r->num_samples, r->max_rotation_degrees, profile.c_str(), controllers.c_str());
+    return 0;
+  }
+  throw std::runtime_error(
+      log_path + ": no trigger hold with at least " + std::to_string(PivotCollector::kMinPoses) +
+      " tracked poses of the " + hand +
+      " controller; hold the trigger while rotating the controller about its resting tip");
+}
+
 int run_simulate(const Args& a) {
   const std::string assets = assets_dir(a);
   const Protocol protocol =
@@ -412,6 +446,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (args.has("--simulate")) return run_simulate(args);
+    if (args.has("--replay") && args.has("--calibrate-tip")) return run_pivot_replay(args);
     if (args.has("--replay")) return run_replay(args);
     return run_live(args);
   } catch (const NoRuntimeError& e) {

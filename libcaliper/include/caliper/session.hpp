@@ -63,8 +63,8 @@ struct SessionOptions {
   double trigger_release = 0.25;  ///< below this the trigger counts as released (hysteresis)
   double max_target_distance =
       0.25;  ///< floor tip further than this from its ring (x, z) is rejected, m
-  std::optional<double> weight;    ///< typed in advance (kg), e.g. --weight
-  std::optional<std::string> sex;  ///< typed in advance, e.g. --sex
+  std::optional<double> weight;  ///< typed in advance (kg), e.g. --weight
+  std::string sex;               ///< typed in advance, e.g. --sex ("" = not given)
 };
 
 enum class Phase { WaitingForStart, Floor, Steps, Done };
