@@ -23,7 +23,9 @@ modelgen::SurveyStats committed_stats() {
 
 std::string read_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) return {};
+  if (!in) {
+    return {};
+  }
   const std::streamsize n = in.tellg();
   std::string out(static_cast<std::size_t>(n), '\0');
   in.seekg(0);
@@ -118,13 +120,17 @@ TEST(Cage, TopologyIsTheSameForEveryBodyAndSymmetric) {
     EXPECT_NEAR(f.positions[v].x(), -f.positions[static_cast<std::size_t>(w)].x(), 1e-12);
     EXPECT_NEAR(f.positions[v].y(), f.positions[static_cast<std::size_t>(w)].y(), 1e-12);
     double sum = 0;
-    for (const auto& s : f.skin[v]) sum += s.second;
+    for (const auto& s : f.skin[v]) {
+      sum += s.second;
+    }
     EXPECT_NEAR(sum, 1.0, 1e-12);
   }
   ASSERT_EQ(f.joints.size(), 24u);
   for (const auto& j : f.joints) {
     double sum = 0;
-    for (const auto& s : j) sum += s.second;
+    for (const auto& s : j) {
+      sum += s.second;
+    }
     EXPECT_NEAR(sum, 1.0, 1e-12);
   }
   // the refined cage is a closed oriented sphere

@@ -47,7 +47,9 @@ TEST_P(OpenModel, HasTheSmplStructure) {
     int nnz = 0;
     double sum = 0;
     for (smpl::SparseMatrix::InnerIterator it(model_.weights, v); it; ++it) {
-      if (it.value() != 0.0) ++nnz;
+      if (it.value() != 0.0) {
+        ++nnz;
+      }
       EXPECT_GE(it.value(), 0.0);
       sum += it.value();
     }

@@ -79,7 +79,9 @@ std::vector<std::string> split_csv_line(const std::string& line) {
 
 std::string lower(std::string s) {
   for (char& c : s) {
-    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+    if (c >= 'A' && c <= 'Z') {
+      c = static_cast<char>(c - 'A' + 'a');
+    }
   }
   return s;
 }
@@ -88,15 +90,21 @@ std::string lower(std::string s) {
 
 SexStats stats_from_survey_file(const std::string& csv_path, const std::string& sex) {
   std::ifstream in(csv_path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot open survey file '" + csv_path + "'");
+  if (!in) {
+    throw std::runtime_error("cannot open survey file '" + csv_path + "'");
+  }
   std::string line;
-  if (!std::getline(in, line)) throw std::runtime_error("empty survey file '" + csv_path + "'");
+  if (!std::getline(in, line)) {
+    throw std::runtime_error("empty survey file '" + csv_path + "'");
+  }
   const std::vector<std::string> header = split_csv_line(line);
   std::array<int, kNumDims> col{};
   for (int d = 0; d < kNumDims; ++d) {
     col[d] = -1;
     for (int h = 0; h < static_cast<int>(header.size()); ++h) {
-      if (lower(header[h]) == dim_columns()[d]) col[d] = h;
+      if (lower(header[h]) == dim_columns()[d]) {
+        col[d] = h;
+      }
     }
     if (col[d] < 0) {
       throw std::runtime_error("survey file '" + csv_path + "' has no column '" + dim_columns()[d] +
@@ -107,7 +115,9 @@ SexStats stats_from_survey_file(const std::string& csv_path, const std::string& 
   int line_no = 1;
   while (std::getline(in, line)) {
     ++line_no;
-    if (line.empty() || line == "\r") continue;
+    if (line.empty() || line == "\r") {
+      continue;
+    }
     const std::vector<std::string> f = split_csv_line(line);
     Eigen::VectorXd r(kNumDims);
     for (int d = 0; d < kNumDims; ++d) {
@@ -126,12 +136,16 @@ SexStats stats_from_survey_file(const std::string& csv_path, const std::string& 
     }
     rows.push_back(r);
   }
-  if (rows.size() < 10) throw std::runtime_error("survey file '" + csv_path + "': too few rows");
+  if (rows.size() < 10) {
+    throw std::runtime_error("survey file '" + csv_path + "': too few rows");
+  }
   SexStats s;
   s.sex = sex;
   s.count = static_cast<int>(rows.size());
   s.mean = Eigen::VectorXd::Zero(kNumDims);
-  for (const auto& r : rows) s.mean += r;
+  for (const auto& r : rows) {
+    s.mean += r;
+  }
   s.mean /= static_cast<double>(rows.size());
   Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(kNumDims, kNumDims);
   for (const auto& r : rows) {
@@ -153,11 +167,15 @@ SurveyStats stats_from_survey(const std::string& dir) {
 
 void write_stats_table(const SurveyStats& stats, const std::string& path) {
   std::ofstream out(path, std::ios::binary);
-  if (!out) throw std::runtime_error("cannot write '" + path + "'");
+  if (!out) {
+    throw std::runtime_error("cannot write '" + path + "'");
+  }
   out << "# ANSUR II (2012) statistics used by caliper-modelgen; metres, weight in kg.\n"
          "# Recompute: caliper-modelgen --stats-from <ansur2 dir> --stats-out <this file>\n";
   out << "sex,dim,count,mean,sd";
-  for (int d = 0; d < kNumDims; ++d) out << ",r_" << dim_columns()[d];
+  for (int d = 0; d < kNumDims; ++d) {
+    out << ",r_" << dim_columns()[d];
+  }
   out << "\n";
   char buf[64];
   for (const SexStats* s : {&stats.female, &stats.male}) {
@@ -172,7 +190,9 @@ void write_stats_table(const SurveyStats& stats, const std::string& path) {
       out << "\n";
     }
   }
-  if (!out) throw std::runtime_error("error writing '" + path + "'");
+  if (!out) {
+    throw std::runtime_error("error writing '" + path + "'");
+  }
 }
 
 SurveyStats read_stats_table(const std::string& path) {
@@ -194,7 +214,9 @@ SurveyStats read_stats_table(const std::string& path) {
   bool header_seen = false;
   while (std::getline(in, line)) {
     ++line_no;
-    if (line.empty() || line[0] == '#') continue;
+    if (line.empty() || line[0] == '#') {
+      continue;
+    }
     if (!header_seen) {
       header_seen = true;
       continue;
@@ -206,17 +228,24 @@ SurveyStats read_stats_table(const std::string& path) {
                                " fields, found " + std::to_string(f.size()));
     }
     SexStats* x = f[0] == "female" ? &s.female : f[0] == "male" ? &s.male : nullptr;
-    if (x == nullptr) throw std::runtime_error(where + ": unknown sex '" + f[0] + "'");
+    if (x == nullptr) {
+      throw std::runtime_error(where + ": unknown sex '" + f[0] + "'");
+    }
     int d = -1;
     for (int k = 0; k < kNumDims; ++k) {
-      if (f[1] == dim_columns()[k]) d = k;
+      if (f[1] == dim_columns()[k]) {
+        d = k;
+      }
     }
-    if (d < 0) throw std::runtime_error(where + ": unknown dimension '" + f[1] + "'");
+    if (d < 0) {
+      throw std::runtime_error(where + ": unknown dimension '" + f[1] + "'");
+    }
     x->count = std::atoi(f[2].c_str());
     x->mean[d] = std::strtod(f[3].c_str(), nullptr);
     x->sd[d] = std::strtod(f[4].c_str(), nullptr);
-    for (int e = 0; e < kNumDims; ++e)
+    for (int e = 0; e < kNumDims; ++e) {
       x->correlation(d, e) = std::strtod(f[5 + e].c_str(), nullptr);
+    }
   }
   for (const SexStats* x : {&s.female, &s.male}) {
     if (!x->mean.allFinite() || !x->sd.allFinite() || !x->correlation.allFinite()) {

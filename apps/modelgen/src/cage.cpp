@@ -60,8 +60,12 @@ VertexBlend skin1(int j) {
   return {{j, 1.0}};
 }
 VertexBlend skin2(int a, int b, double wb) {
-  if (wb <= 0) return skin1(a);
-  if (wb >= 1) return skin1(b);
+  if (wb <= 0) {
+    return skin1(a);
+  }
+  if (wb >= 1) {
+    return skin1(b);
+  }
   return {{a, 1 - wb}, {b, wb}};
 }
 
@@ -88,12 +92,16 @@ Eigen::Vector3d torso_point(const TorsoSection& s, int i) {
   const double sn = std::sin(th), cs = std::cos(th);
   const double e = 2.0 / s.p;
   Eigen::Vector3d q(s.a * sgnpow(sn, e), s.y, s.cz + (cs >= 0 ? s.df : s.db) * sgnpow(cs, e));
-  if (i == 0 || i == 8) q.x() = 0.0;  // on the midline exactly
+  if (i == 0 || i == 8) {
+    q.x() = 0.0;  // on the midline exactly
+  }
   const int k = i <= 8 ? i : 16 - i;  // mirror index on the left half
   if (s.bust > 0) {
     const double w = k == 2 ? 1.0 : (k == 1 || k == 3) ? 0.65 : 0.0;
     q.z() += w * s.bust;
-    if (k == 0) q.z() -= s.front_dip;
+    if (k == 0) {
+      q.z() -= s.front_dip;
+    }
   }
   if (s.glute > 0) {
     const double w = (k == 6 || k == 7) ? 1.0 : k == 5 || k == 8 ? 0.45 : 0.0;
@@ -152,7 +160,9 @@ class Builder {
   int vert(Eigen::Vector3d p, VertexBlend skin) {
     if (mirrored) {
       p.x() = -p.x();
-      for (auto& s : skin) s.first = mirror_joint(s.first);
+      for (auto& s : skin) {
+        s.first = mirror_joint(s.first);
+      }
     }
     c_.positions.push_back(p);
     c_.skin.push_back(std::move(skin));
@@ -171,7 +181,9 @@ class Builder {
   // direction, on the left side; mirrored sides reverse the winding automatically).
   void connect(const std::vector<int>& a, const std::vector<int>& b) {
     const int n = static_cast<int>(a.size());
-    for (int j = 0; j < n; ++j) quad(a[j], a[(j + 1) % n], b[(j + 1) % n], b[j]);
+    for (int j = 0; j < n; ++j) {
+      quad(a[j], a[(j + 1) % n], b[(j + 1) % n], b[j]);
+    }
   }
   static int mirror_joint(int j) {
     // Left joints have odd ids 1, 4, 7, 10, 13, 16, 18, 20, 22 -> right = left + 1.
@@ -315,16 +327,36 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
   };
   // torso (ring, index) -> arm root j, for the left side
   auto arm_root_index = [](int r, int i) -> int {
-    if (r == 9 && i == 4) return 0;
-    if (r == 9 && i == 3) return 1;
-    if (r == 8 && i == 3) return 2;
-    if (r == 7 && i == 3) return 3;
-    if (r == 6 && i == 3) return 4;
-    if (r == 6 && i == 4) return 5;
-    if (r == 6 && i == 5) return 6;
-    if (r == 7 && i == 5) return 7;
-    if (r == 8 && i == 5) return 8;
-    if (r == 9 && i == 5) return 9;
+    if (r == 9 && i == 4) {
+      return 0;
+    }
+    if (r == 9 && i == 3) {
+      return 1;
+    }
+    if (r == 8 && i == 3) {
+      return 2;
+    }
+    if (r == 7 && i == 3) {
+      return 3;
+    }
+    if (r == 6 && i == 3) {
+      return 4;
+    }
+    if (r == 6 && i == 4) {
+      return 5;
+    }
+    if (r == 6 && i == 5) {
+      return 6;
+    }
+    if (r == 7 && i == 5) {
+      return 7;
+    }
+    if (r == 8 && i == 5) {
+      return 8;
+    }
+    if (r == 9 && i == 5) {
+      return 9;
+    }
     return -1;
   };
 
@@ -337,10 +369,14 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
     const int shoulder = left ? kLShoulder : kLShoulder + 1;
     switch (r) {
       case 0:  // the hip blend spans r1 .. G1 so that 90-degree flexion does not fold the groin
-        if (k == 0 || k == 8) return {{kPelvis, 0.6}, {kLHip, 0.2}, {kLHip + 1, 0.2}};
+        if (k == 0 || k == 8) {
+          return {{kPelvis, 0.6}, {kLHip, 0.2}, {kLHip + 1, 0.2}};
+        }
         return skin2(kPelvis, hip, 0.42);
       case 1:
-        if (k == 0 || k == 8) return {{kPelvis, 0.8}, {kLHip, 0.1}, {kLHip + 1, 0.1}};
+        if (k == 0 || k == 8) {
+          return {{kPelvis, 0.8}, {kLHip, 0.1}, {kLHip + 1, 0.1}};
+        }
         return skin2(kPelvis, hip, 0.2);
       case 2:
         return skin2(kPelvis, kSpine1, 0.5);
@@ -351,17 +387,29 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
       case 5:
         return skin2(kSpine2, kSpine3, 0.5);
       case 6:
-        if (k >= 3 && k <= 5) return skin2(kSpine3, shoulder, 0.35);
+        if (k >= 3 && k <= 5) {
+          return skin2(kSpine3, shoulder, 0.35);
+        }
         return skin1(kSpine3);
       case 7:
       case 8:
-        if (k >= 3 && k <= 5) return {{kSpine3, 0.35}, {collar, 0.3}, {shoulder, 0.35}};
-        if (k == 2 || k == 6) return skin2(kSpine3, collar, 0.3);
+        if (k >= 3 && k <= 5) {
+          return {{kSpine3, 0.35}, {collar, 0.3}, {shoulder, 0.35}};
+        }
+        if (k == 2 || k == 6) {
+          return skin2(kSpine3, collar, 0.3);
+        }
         return skin1(kSpine3);
       default:  // 9
-        if (k == 4) return skin2(collar, shoulder, 0.5);
-        if (k == 3 || k == 5) return {{collar, 0.5}, {shoulder, 0.3}, {kSpine3, 0.2}};
-        if (k == 2 || k == 6) return skin2(kSpine3, collar, 0.55);
+        if (k == 4) {
+          return skin2(collar, shoulder, 0.5);
+        }
+        if (k == 3 || k == 5) {
+          return {{collar, 0.5}, {shoulder, 0.3}, {kSpine3, 0.2}};
+        }
+        if (k == 2 || k == 6) {
+          return skin2(kSpine3, collar, 0.55);
+        }
         return skin2(kSpine3, collar, 0.2);
     }
   };
@@ -371,13 +419,17 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
     for (int i = 0; i < 16; ++i) {
       T[r][i] = -1;
       const bool hole_interior = (r == 7 || r == 8) && (i == 4 || i == 12);
-      if (hole_interior) continue;
+      if (hole_interior) {
+        continue;
+      }
       Eigen::Vector3d p;
       const int li = i <= 8 ? i : 16 - i;
       const int j = arm_root_index(r, li);
       if (j >= 0) {
         p = arm_root_point(j);
-        if (i > 8) p.x() = -p.x();
+        if (i > 8) {
+          p.x() = -p.x();
+        }
       } else {
         p = torso_point(sec[r], i);
         if (r == 9) {  // front of the shoulder line lower, back higher
@@ -390,17 +442,23 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
   }
   for (int r = 0; r < 10; ++r) {
     for (int i = 0; i < 16; ++i) {
-      if (r == 9) continue;  // above the top ring: the cap
+      if (r == 9) {
+        continue;  // above the top ring: the cap
+      }
       const int i1 = (i + 1) % 16;
       const bool hole = (r >= 6 && r <= 8) && (i == 3 || i == 4 || i == 11 || i == 12);
-      if (hole) continue;
+      if (hole) {
+        continue;
+      }
       b.quad(T[r][i], T[r][i1], T[r + 1][i1], T[r + 1][i]);
     }
   }
   for (int i = 0; i < 16; ++i) {
     const int m = (16 - i) % 16;
     for (int r = 0; r < 10; ++r) {
-      if (T[r][i] >= 0) cage.mirror[T[r][i]] = T[r][m];
+      if (T[r][i] >= 0) {
+        cage.mirror[T[r][i]] = T[r][m];
+      }
     }
   }
 
@@ -410,8 +468,12 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
   {
     const int bu[16] = {2, 3, 4, 4, 4, 4, 4, 3, 2, 1, 0, 0, 0, 0, 0, 1};
     const int bv[16] = {4, 4, 4, 3, 2, 1, 0, 0, 0, 0, 0, 1, 2, 3, 4, 4};
-    for (auto& row : G) row.fill(-1);
-    for (int i = 0; i < 16; ++i) G[bu[i]][bv[i]] = T[9][i];
+    for (auto& row : G) {
+      row.fill(-1);
+    }
+    for (int i = 0; i < 16; ++i) {
+      G[bu[i]][bv[i]] = T[9][i];
+    }
   }
   // Neck hole ring (8, counter-clockwise around +y from the front).
   const int nu[8] = {2, 3, 3, 3, 2, 1, 1, 1};
@@ -424,8 +486,12 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
     const double cs = std::cos(th);
     Eigen::Vector3d p(r_neck * 1.12 * std::sin(th), HC7 - 0.03 - 0.028 * cs,
                       -0.025 + r_neck * 1.1 * cs);
-    if (k > 4) p.x() = -p.x();
-    if (kl == 0 || kl == 4) p.x() = 0.0;
+    if (k > 4) {
+      p.x() = -p.x();
+    }
+    if (kl == 0 || kl == 4) {
+      p.x() = 0.0;
+    }
     const int kk = k <= 4 ? k : 8 - k;
     VertexBlend sk =
         kk == 2 ? VertexBlend{{kSpine3, 0.4}, {kNeck, 0.4}, {k < 4 ? kLCollar : kLCollar + 1, 0.2}}
@@ -433,10 +499,14 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
     N0[k] = b.vert(p, sk);
     G[nu[k]][nv[k]] = N0[k];
   }
-  for (int k = 0; k < 8; ++k) cage.mirror[N0[k]] = N0[(8 - k) % 8];
+  for (int k = 0; k < 8; ++k) {
+    cage.mirror[N0[k]] = N0[(8 - k) % 8];
+  }
   for (int u = 0; u < 4; ++u) {
     for (int v = 0; v < 4; ++v) {
-      if (u >= 1 && u <= 2 && v >= 1 && v <= 2) continue;  // neck hole
+      if (u >= 1 && u <= 2 && v >= 1 && v <= 2) {
+        continue;  // neck hole
+      }
       b.quad(G[u][v], G[u][v + 1], G[u + 1][v + 1], G[u + 1][v]);
     }
   }
@@ -453,12 +523,20 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
       const double th = 2 * kPi * kl / 8.0;
       const double sn = std::sin(th), cs = std::cos(th);
       Eigen::Vector3d p(a * sgnpow(sn, 0.85), y, cz + (cs >= 0 ? df : dbk) * sgnpow(cs, 0.85));
-      if (k > 4) p.x() = -p.x();
-      if (kl == 0 || kl == 4) p.x() = 0.0;
-      if (k == 0) p.z() += nose;
+      if (k > 4) {
+        p.x() = -p.x();
+      }
+      if (kl == 0 || kl == 4) {
+        p.x() = 0.0;
+      }
+      if (k == 0) {
+        p.z() += nose;
+      }
       ring[k] = b.vert(p, sk);
     }
-    for (int k = 0; k < 8; ++k) cage.mirror[ring[k]] = ring[(8 - k) % 8];
+    for (int k = 0; k < 8; ++k) {
+      cage.mirror[ring[k]] = ring[(8 - k) % 8];
+    }
     return ring;
   };
   const std::vector<int> N1 =
@@ -485,10 +563,14 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
     std::array<std::array<int, 3>, 3> g{};
     const int cu[8] = {1, 2, 2, 2, 1, 0, 0, 0};
     const int cv[8] = {2, 2, 1, 0, 0, 0, 1, 2};
-    for (int k = 0; k < 8; ++k) g[cu[k]][cv[k]] = H3[k];
+    for (int k = 0; k < 8; ++k) {
+      g[cu[k]][cv[k]] = H3[k];
+    }
     g[1][1] = head_top;
     for (int u = 0; u < 2; ++u) {
-      for (int v = 0; v < 2; ++v) b.quad(g[u][v], g[u][v + 1], g[u + 1][v + 1], g[u + 1][v]);
+      for (int v = 0; v < 2; ++v) {
+        b.quad(g[u][v], g[u][v + 1], g[u + 1][v + 1], g[u + 1][v]);
+      }
     }
   }
 
@@ -556,7 +638,9 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
             c = k;
             is_top = true;
           }
-          if (bot[k] == j) c = k;
+          if (bot[k] == j) {
+            c = k;
+          }
         }
         const double edge = (c == 0 || c == 4) ? 0.75 : 1.0;
         const double xx = x - ((c == 4) ? 0.06 * palm : 0.0);
@@ -597,7 +681,9 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
     b.connect(A6, A7);
     // A7 -> P1 with the thumb quad (j = 2) left open
     for (int j = 0; j < 10; ++j) {
-      if (j == 2) continue;
+      if (j == 2) {
+        continue;
+      }
       b.quad(A7[j], A7[(j + 1) % 10], P1[(j + 1) % 10], P1[j]);
     }
     b.connect(P1, P2);
@@ -605,9 +691,13 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
     {
       const std::vector<int> R = {A7[2], A7[3], P1[3], P1[2]};
       Eigen::Vector3d base = Eigen::Vector3d::Zero();
-      for (int v : R) base += cage.positions[v];
+      for (int v : R) {
+        base += cage.positions[v];
+      }
       base /= 4;
-      if (mirrored) base.x() = -base.x();  // work in left coordinates
+      if (mirrored) {
+        base.x() = -base.x();  // work in left coordinates
+      }
       const Eigen::Vector3d dir = Eigen::Vector3d(0.55, -0.3, 0.78).normalized();
       const Eigen::Vector3d ex = Eigen::Vector3d::UnitY().cross(dir).normalized();
       const Eigen::Vector3d ey = dir.cross(ex).normalized();
@@ -705,8 +795,12 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
         const double ph = (225.0 + 36.0 * j) * kPi / 180.0;
         const double cs = std::cos(ph), sn = std::sin(ph);
         double bv = bb * sn;
-        if (sn < 0) bv -= back_bulge * sn * sn;
-        if (sn > 0) bv += front_bulge * sn * sn * sn;
+        if (sn < 0) {
+          bv -= back_bulge * sn * sn;
+        }
+        if (sn > 0) {
+          bv += front_bulge * sn * sn * sn;
+        }
         r[j] = b.vert(c + a * cs * u + bv * v, sk);
         ids.all.push_back(r[j]);
       }
@@ -778,7 +872,9 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
     b.connect(F2, F3);
     b.connect(F3, F4);
     b.connect(F4, F5);
-    for (int c = 0; c < 4; ++c) b.quad(F5[c], F5[c + 1], F5[8 - c], F5[9 - c]);
+    for (int c = 0; c < 4; ++c) {
+      b.quad(F5[c], F5[c + 1], F5[8 - c], F5[9 - c]);
+    }
     b.mirrored = false;
     return ids;
   };
@@ -793,7 +889,9 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
   cage.joints.assign(24, {});
   auto mean_of = [](const std::vector<int>& ids, double w) {
     VertexBlend bl;
-    for (int v : ids) bl.emplace_back(v, w / static_cast<double>(ids.size()));
+    for (int v : ids) {
+      bl.emplace_back(v, w / static_cast<double>(ids.size()));
+    }
     return bl;
   };
   auto add = [](VertexBlend a, const VertexBlend& bb) {
@@ -803,13 +901,17 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
   auto torso_ring = [&](int r) {
     std::vector<int> ids;
     for (int i = 0; i < 16; ++i) {
-      if (T[r][i] >= 0) ids.push_back(T[r][i]);
+      if (T[r][i] >= 0) {
+        ids.push_back(T[r][i]);
+      }
     }
     return ids;
   };
   auto half_ring = [&](int r, bool left) {
     std::vector<int> ids;
-    for (int i = 1; i < 8; ++i) ids.push_back(T[r][left ? i : 16 - i]);
+    for (int i = 1; i < 8; ++i) {
+      ids.push_back(T[r][left ? i : 16 - i]);
+    }
     return ids;
   };
   cage.joints[kPelvis] = add(mean_of(torso_ring(0), 0.5), mean_of(torso_ring(1), 0.5));

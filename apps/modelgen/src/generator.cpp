@@ -89,7 +89,9 @@ class Sampler {
   }
   Eigen::VectorXd sample(Rng& rng, const DimMapping& map) const {
     Eigen::VectorXd z(kNumDims);
-    for (int i = 0; i < kNumDims; ++i) z[i] = std::clamp(rng.normal(), -3.0, 3.0);
+    for (int i = 0; i < kNumDims; ++i) {
+      z[i] = std::clamp(rng.normal(), -3.0, 3.0);
+    }
     const Eigen::VectorXd dev = l_ * z;
     Eigen::VectorXd x = stats_.mean + map.offset + map.scale.cwiseProduct(dev);
     for (int i = 0; i < kNumDims; ++i) {
@@ -107,8 +109,9 @@ class Sampler {
 
 Eigen::MatrixXd cage_matrix(const Cage& c) {
   Eigen::MatrixXd p(static_cast<Eigen::Index>(c.positions.size()), 3);
-  for (std::size_t i = 0; i < c.positions.size(); ++i)
+  for (std::size_t i = 0; i < c.positions.size(); ++i) {
     p.row(static_cast<Eigen::Index>(i)) = c.positions[i];
+  }
   return p;
 }
 
@@ -129,14 +132,20 @@ ModelTopology build_topology(const Cage& cage, std::vector<int>* fine_face_point
   t.landmarks = cage.landmarks;
   for (const auto& [name, faces] : cage.face_landmarks) {
     std::vector<int> ids;
-    for (int f : faces) ids.push_back(sub.face_point[static_cast<std::size_t>(f)]);
+    for (int f : faces) {
+      ids.push_back(sub.face_point[static_cast<std::size_t>(f)]);
+    }
     t.landmarks[name] = ids;
   }
-  if (fine_face_points) *fine_face_points = sub.face_point;
+  if (fine_face_points) {
+    *fine_face_points = sub.face_point;
+  }
   // Joint regressor: cage vertex k keeps index k in the refined mesh.
   std::vector<Eigen::Triplet<double>> jt;
   for (int j = 0; j < 24; ++j) {
-    for (const auto& [v, w] : cage.joints[static_cast<std::size_t>(j)]) jt.emplace_back(j, v, w);
+    for (const auto& [v, w] : cage.joints[static_cast<std::size_t>(j)]) {
+      jt.emplace_back(j, v, w);
+    }
   }
   t.j_regressor.resize(24, nv);
   t.j_regressor.setFromTriplets(jt.begin(), jt.end());
@@ -144,7 +153,9 @@ ModelTopology build_topology(const Cage& cage, std::vector<int>* fine_face_point
   const int nc = t.num_cage_vertices;
   Eigen::MatrixXd wc = Eigen::MatrixXd::Zero(nc, 24);
   for (int v = 0; v < nc; ++v) {
-    for (const auto& [j, w] : cage.skin[static_cast<std::size_t>(v)]) wc(v, j) += w;
+    for (const auto& [j, w] : cage.skin[static_cast<std::size_t>(v)]) {
+      wc(v, j) += w;
+    }
   }
   std::vector<std::vector<int>> nbr(static_cast<std::size_t>(nc));
   for (const auto& q : cage.quads) {
@@ -157,7 +168,9 @@ ModelTopology build_topology(const Cage& cage, std::vector<int>* fine_face_point
     Eigen::MatrixXd next = wc;
     for (int v = 0; v < nc; ++v) {
       Eigen::RowVectorXd avg = Eigen::RowVectorXd::Zero(24);
-      for (int n : nbr[static_cast<std::size_t>(v)]) avg += wc.row(n);
+      for (int n : nbr[static_cast<std::size_t>(v)]) {
+        avg += wc.row(n);
+      }
       avg /= static_cast<double>(nbr[static_cast<std::size_t>(v)].size());
       next.row(v) = 0.6 * wc.row(v) + 0.4 * avg;
     }
@@ -168,15 +181,23 @@ ModelTopology build_topology(const Cage& cage, std::vector<int>* fine_face_point
   for (int v = 0; v < nv; ++v) {
     std::vector<std::pair<double, int>> row;
     for (int j = 0; j < 24; ++j) {
-      if (wf(v, j) > 1e-9) row.emplace_back(wf(v, j), j);
+      if (wf(v, j) > 1e-9) {
+        row.emplace_back(wf(v, j), j);
+      }
     }
     std::sort(row.begin(), row.end(), [](const auto& a, const auto& b) {
       return a.first != b.first ? a.first > b.first : a.second < b.second;
     });
-    if (row.size() > 4) row.resize(4);
+    if (row.size() > 4) {
+      row.resize(4);
+    }
     double sum = 0;
-    for (const auto& r : row) sum += r.first;
-    for (const auto& r : row) wt.emplace_back(v, r.second, r.first / sum);
+    for (const auto& r : row) {
+      sum += r.first;
+    }
+    for (const auto& r : row) {
+      wt.emplace_back(v, r.second, r.first / sum);
+    }
   }
   t.weights.resize(nv, 24);
   t.weights.setFromTriplets(wt.begin(), wt.end());
@@ -191,14 +212,18 @@ std::vector<int> mirror_map(const smpl::Vertices& v) {
     return std::array<long long, 3>{std::llround(x * 1e5), std::llround(y * 1e5),
                                     std::llround(z * 1e5)};
   };
-  for (int i = 0; i < n; ++i) keys.emplace_back(key(v(i, 0), v(i, 1), v(i, 2)), i);
+  for (int i = 0; i < n; ++i) {
+    keys.emplace_back(key(v(i, 0), v(i, 1), v(i, 2)), i);
+  }
   std::sort(keys.begin(), keys.end());
   std::vector<int> m(static_cast<std::size_t>(n), -1);
   for (int i = 0; i < n; ++i) {
     const auto k = key(-v(i, 0), v(i, 1), v(i, 2));
     auto it = std::lower_bound(keys.begin(), keys.end(), std::make_pair(k, -1));
     int best = -1;
-    if (it != keys.end() && it->first == k) best = it->second;
+    if (it != keys.end() && it->first == k) {
+      best = it->second;
+    }
     if (best < 0 || (v.row(best) - Eigen::RowVector3d(-v(i, 0), v(i, 1), v(i, 2))).norm() > 1e-6) {
       double bd = 1e300;
       for (int j = 0; j < n; ++j) {
@@ -242,7 +267,9 @@ Cage body_cage(const Eigen::VectorXd& dims, bool female, double weight_factor,
   Cage c1 = build_cage(dims, female, b1);
   const double w1 = weight_of(c1);
   const double slope = std::log(w1 / w0) / std::log(b1 / b0);
-  if (!(std::abs(b1 - b0) > 1e-9) || !(slope > 0.2)) return c1;
+  if (!(std::abs(b1 - b0) > 1e-9) || !(slope > 0.2)) {
+    return c1;
+  }
   const double b2 = std::clamp(b1 * std::pow(target / w1, 1.0 / slope), 0.6, 1.8);
   return build_cage(dims, female, b2);
 }
@@ -259,15 +286,33 @@ const std::vector<std::string>& validation_ids() {
 }
 
 int validation_dim(const std::string& id) {
-  if (id == "stature") return kStature;
-  if (id == "weight") return kWeight;
-  if (id == "span") return kSpan;
-  if (id == "crotch_height") return kCrotchHeight;
-  if (id == "hip_breadth") return kHipBreadth;
-  if (id == "biacromial") return kBiacromial;
-  if (id == "chest_circ") return kChestCirc;
-  if (id == "waist_circ") return kWaistCirc;
-  if (id == "buttock_circ") return kButtockCirc;
+  if (id == "stature") {
+    return kStature;
+  }
+  if (id == "weight") {
+    return kWeight;
+  }
+  if (id == "span") {
+    return kSpan;
+  }
+  if (id == "crotch_height") {
+    return kCrotchHeight;
+  }
+  if (id == "hip_breadth") {
+    return kHipBreadth;
+  }
+  if (id == "biacromial") {
+    return kBiacromial;
+  }
+  if (id == "chest_circ") {
+    return kChestCirc;
+  }
+  if (id == "waist_circ") {
+    return kWaistCirc;
+  }
+  if (id == "buttock_circ") {
+    return kButtockCirc;
+  }
   return -1;  // arm_length
 }
 
@@ -305,7 +350,9 @@ struct Population {
 };
 
 void log_line(GenerationReport* r, const std::string& s) {
-  if (r) r->lines.push_back(s);
+  if (r) {
+    r->lines.push_back(s);
+  }
 }
 
 std::string num(double v, int precision) {
@@ -331,18 +378,26 @@ DimMapping calibrate(const Sampler& sampler, bool female, const ModelTopology& t
       const Cage cage = body_cage(x, female, map.bulk, topo, proto.faces, pelvis_row, formula);
       const smpl::Vertices v = refine(topo, cage_matrix(cage), pelvis_row);
       const auto m = validation_measurements(proto, v);
-      for (const auto& [k, val] : m) vals[k].push_back(val);
+      for (const auto& [k, val] : m) {
+        vals[k].push_back(val);
+      }
     }
     std::string line = std::string(female ? "female" : "male") + " calibration round " +
                        std::to_string(round) + ":";
     for (const std::string& id : ids) {
       const int d = validation_dim(id);
-      if (d < 0) continue;
+      if (d < 0) {
+        continue;
+      }
       const auto& v = vals[id];
       double mean = 0, var = 0;
-      for (double x : v) mean += x;
+      for (double x : v) {
+        mean += x;
+      }
       mean /= static_cast<double>(v.size());
-      for (double x : v) var += (x - mean) * (x - mean);
+      for (double x : v) {
+        var += (x - mean) * (x - mean);
+      }
       const double sd = std::sqrt(var / static_cast<double>(v.size() - 1));
       const double tm = sampler.stats().mean[d], ts = sampler.stats().sd[d];
       if (d == kWeight) {
@@ -418,7 +473,9 @@ smpl::BodyModel generate_model(const SurveyStats& stats, const std::string& gend
       Eigen::MatrixXd p = cage_matrix(cage);
       const Eigen::RowVector3d pelvis = pelvis_row * p;
       p.rowwise() -= pelvis;
-      for (int v = 0; v < nc; ++v) x.block(b, 3 * v, 1, 3) = p.row(v);
+      for (int v = 0; v < nc; ++v) {
+        x.block(b, 3 * v, 1, 3) = p.row(v);
+      }
     }
   }
   const Eigen::RowVectorXd mean = x.colwise().mean();
@@ -453,7 +510,9 @@ smpl::BodyModel generate_model(const SurveyStats& stats, const std::string& gend
   {
     Rng rng(opt.seed + 17);
     for (int c = 0; c < l; ++c) {
-      for (int r = 0; r < 3 * nv; ++r) omega(r, c) = rng.normal();
+      for (int r = 0; r < 3 * nv; ++r) {
+        omega(r, c) = rng.normal();
+      }
     }
   }
   Eigen::MatrixXd q = orth(apply_a(omega));
@@ -466,7 +525,9 @@ smpl::BodyModel generate_model(const SurveyStats& stats, const std::string& gend
   double total = 0;
   for (int b = 0; b < n; ++b) {
     Eigen::MatrixXd p(nc, 3);
-    for (int v = 0; v < nc; ++v) p.row(v) = x.block(b, 3 * v, 1, 3);
+    for (int v = 0; v < nc; ++v) {
+      p.row(v) = x.block(b, 3 * v, 1, 3);
+    }
     total += (topo.subdivision * p).squaredNorm();
   }
   Eigen::MatrixXd shapedirs(3 * nv, k);
@@ -478,11 +539,15 @@ smpl::BodyModel generate_model(const SurveyStats& stats, const std::string& gend
     Eigen::VectorXd dir = bt * es.eigenvectors().col(e) / sigma;
     Eigen::Index imax = 0;
     dir.cwiseAbs().maxCoeff(&imax);
-    if (dir[imax] < 0) dir = -dir;
+    if (dir[imax] < 0) {
+      dir = -dir;
+    }
     shapedirs.col(c) = dir * sigma / std::sqrt(static_cast<double>(n - 1));
     explained[c] = sigma2 / total;
   }
-  if (report) report->explained_variance = explained;
+  if (report) {
+    report->explained_variance = explained;
+  }
   log_line(report, "PCA: population " + std::to_string(n) + ", " + std::to_string(k) +
                        " components explain " + num(100.0 * explained.sum(), 2) +
                        " % of the variance");
@@ -490,7 +555,9 @@ smpl::BodyModel generate_model(const SurveyStats& stats, const std::string& gend
   // Assembly.
   smpl::BodyModel model;
   Eigen::MatrixXd mean_cage_pos(nc, 3);
-  for (int v = 0; v < nc; ++v) mean_cage_pos.row(v) = mean.segment(3 * v, 3);
+  for (int v = 0; v < nc; ++v) {
+    mean_cage_pos.row(v) = mean.segment(3 * v, 3);
+  }
   model.v_template = topo.subdivision * mean_cage_pos;
   model.faces = topo.faces;
   model.shapedirs = shapedirs;
@@ -555,30 +622,44 @@ ValidationFigures model_figures(const smpl::BodyModel& model, int samples, std::
   std::map<std::string, std::vector<double>> vals;
   Eigen::VectorXd betas(model.num_betas());
   for (int b = 0; b < samples; ++b) {
-    for (int k = 0; k < betas.size(); ++k) betas[k] = rng.normal();
+    for (int k = 0; k < betas.size(); ++k) {
+      betas[k] = rng.normal();
+    }
     const Eigen::VectorXd flat = model.shapedirs * betas;
     smpl::Vertices v = model.v_template;
     for (int i = 0; i < v.rows(); ++i) {
-      for (int c = 0; c < 3; ++c) v(i, c) += flat[3 * i + c];
+      for (int c = 0; c < 3; ++c) {
+        v(i, c) += flat[3 * i + c];
+      }
     }
-    for (const auto& [k, x] : validation_measurements(model, v)) vals[k].push_back(x);
+    for (const auto& [k, x] : validation_measurements(model, v)) {
+      vals[k].push_back(x);
+    }
   }
   ValidationFigures f;
   f.count = samples;
   auto moments = [](const std::vector<double>& x, double& mean, double& sd) {
     mean = 0;
-    for (double v : x) mean += v;
+    for (double v : x) {
+      mean += v;
+    }
     mean /= static_cast<double>(x.size());
     double var = 0;
-    for (double v : x) var += (v - mean) * (v - mean);
+    for (double v : x) {
+      var += (v - mean) * (v - mean);
+    }
     sd = std::sqrt(var / static_cast<double>(x.size() - 1));
   };
-  for (const auto& [k, x] : vals) moments(x, f.mean[k], f.sd[k]);
+  for (const auto& [k, x] : vals) {
+    moments(x, f.mean[k], f.sd[k]);
+  }
   auto corr = [&](const std::string& a, const std::string& b) {
     const auto& xa = vals[a];
     const auto& xb = vals[b];
     double c = 0;
-    for (std::size_t i = 0; i < xa.size(); ++i) c += (xa[i] - f.mean[a]) * (xb[i] - f.mean[b]);
+    for (std::size_t i = 0; i < xa.size(); ++i) {
+      c += (xa[i] - f.mean[a]) * (xb[i] - f.mean[b]);
+    }
     c /= static_cast<double>(xa.size() - 1);
     return c / (f.sd[a] * f.sd[b]);
   };

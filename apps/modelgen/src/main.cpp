@@ -41,7 +41,9 @@ int main(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
       auto next = [&]() -> std::string {
-        if (i + 1 >= argc) throw std::runtime_error("option " + a + " needs a value");
+        if (i + 1 >= argc) {
+          throw std::runtime_error("option " + a + " needs a value");
+        }
         return argv[++i];
       };
       if (a == "--out") {
@@ -72,13 +74,21 @@ int main(int argc, char** argv) {
       }
     }
     if (!stats_from.empty()) {
-      if (stats_out.empty()) throw std::runtime_error("--stats-from needs --stats-out FILE");
+      if (stats_out.empty()) {
+        throw std::runtime_error("--stats-from needs --stats-out FILE");
+      }
       modelgen::write_stats_table(modelgen::stats_from_survey(stats_from), stats_out);
-      if (!quiet) std::cout << "wrote " << stats_out << "\n";
-      if (out.empty()) return 0;
+      if (!quiet) {
+        std::cout << "wrote " << stats_out << "\n";
+      }
+      if (out.empty()) {
+        return 0;
+      }
     }
     if (!validate.empty()) {
-      if (stats_path.empty()) throw std::runtime_error("--validate needs --stats FILE");
+      if (stats_path.empty()) {
+        throw std::runtime_error("--validate needs --stats FILE");
+      }
       const modelgen::SurveyStats st = modelgen::read_stats_table(stats_path);
       const smpl::BodyModel model = smpl::load_model(validate);
       const auto t0 = std::chrono::steady_clock::now();
@@ -104,7 +114,9 @@ int main(int argc, char** argv) {
                   s.corr_stature_span, m.corr_stature_span - s.corr_stature_span);
       std::printf("| corr(stature, weight) | %.3f | %.3f | %+.3f | | | |\n", m.corr_stature_weight,
                   s.corr_stature_weight, m.corr_stature_weight - s.corr_stature_weight);
-      if (out.empty()) return 0;
+      if (out.empty()) {
+        return 0;
+      }
     }
     if (out.empty()) {
       usage();
@@ -114,7 +126,9 @@ int main(int argc, char** argv) {
       // The committed table: beside the output, else assets/models/ under the working directory
       // (the repository root in CI).
       stats_path = out + "/ansur_stats.csv";
-      if (!std::ifstream(stats_path)) stats_path = "assets/models/ansur_stats.csv";
+      if (!std::ifstream(stats_path)) {
+        stats_path = "assets/models/ansur_stats.csv";
+      }
     }
     const modelgen::SurveyStats stats = modelgen::read_stats_table(stats_path);
     std::vector<std::string> genders;
@@ -134,7 +148,9 @@ int main(int argc, char** argv) {
       const double secs =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       if (!quiet) {
-        for (const auto& l : report.lines) std::cout << "  " << l << "\n";
+        for (const auto& l : report.lines) {
+          std::cout << "  " << l << "\n";
+        }
         std::printf("wrote %s (%d vertices, %d faces, %d betas) in %.1f s\n", path.c_str(),
                     model.num_vertices(), model.num_faces(), model.num_betas(), secs);
       }

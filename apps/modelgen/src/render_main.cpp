@@ -26,8 +26,12 @@ int main(int argc, char** argv) {
     bool pose = false;
     for (int i = 3; i < argc; ++i) {
       const std::string a = argv[i];
-      if (a == "--components" && i + 1 < argc) components = std::stoi(argv[++i]);
-      if (a == "--pose") pose = true;
+      if (a == "--components" && i + 1 < argc) {
+        components = std::stoi(argv[++i]);
+      }
+      if (a == "--pose") {
+        pose = true;
+      }
     }
     const smpl::BodyModel model = smpl::load_model(model_path);
     caliper::render::RenderOptions o;

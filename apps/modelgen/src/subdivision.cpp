@@ -52,7 +52,9 @@ Level one_level(int nv, const std::vector<std::array<int, 4>>& quads) {
   // vertex points: (F + 2R + (n - 3) P) / n
   std::vector<std::vector<int>> vfaces(nv), vedges(nv);
   for (int f = 0; f < nf; ++f) {
-    for (int k = 0; k < 4; ++k) vfaces[quads[f][k]].push_back(f);
+    for (int k = 0; k < 4; ++k) {
+      vfaces[quads[f][k]].push_back(f);
+    }
   }
   for (int e = 0; e < ne; ++e) {
     vedges[edges[e][0]].push_back(e);
@@ -60,10 +62,14 @@ Level one_level(int nv, const std::vector<std::array<int, 4>>& quads) {
   }
   for (int v = 0; v < nv; ++v) {
     const double n = static_cast<double>(vedges[v].size());
-    if (vedges[v].empty()) throw std::logic_error("catmull_clark: unused vertex");
+    if (vedges[v].empty()) {
+      throw std::logic_error("catmull_clark: unused vertex");
+    }
     t.emplace_back(v, v, (n - 3) / n);
     for (int f : vfaces[v]) {
-      for (int k = 0; k < 4; ++k) t.emplace_back(v, quads[f][k], 1.0 / (4 * n * n));
+      for (int k = 0; k < 4; ++k) {
+        t.emplace_back(v, quads[f][k], 1.0 / (4 * n * n));
+      }
     }
     for (int e : vedges[v]) {
       t.emplace_back(v, edges[e][0], 2.0 / (2 * n * n));
@@ -76,12 +82,16 @@ Level one_level(int nv, const std::vector<std::array<int, 4>>& quads) {
     t.emplace_back(row, edges[e][0], 0.25);
     t.emplace_back(row, edges[e][1], 0.25);
     for (int f : {edges[e][2], edges[e][3]}) {
-      for (int k = 0; k < 4; ++k) t.emplace_back(row, quads[f][k], 1.0 / 16);
+      for (int k = 0; k < 4; ++k) {
+        t.emplace_back(row, quads[f][k], 1.0 / 16);
+      }
     }
   }
   // face points
   for (int f = 0; f < nf; ++f) {
-    for (int k = 0; k < 4; ++k) t.emplace_back(nv + ne + f, quads[f][k], 0.25);
+    for (int k = 0; k < 4; ++k) {
+      t.emplace_back(nv + ne + f, quads[f][k], 0.25);
+    }
   }
   Level out;
   out.num_in = nv;
