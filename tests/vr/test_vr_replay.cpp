@@ -396,7 +396,12 @@ TEST(VrApp, OperatorWindowUnderXvfb) {
              "--replay '" + log +
                  "' --operator-window --no-audio --draw-every 0 --eye-size 240x270 --frames-dir "
                  "frames --out out",
-             "tones.wav", "'" CALIPER_XVFB_RUN "' -a -s '-screen 0 800x600x24'");
+             // Leak checking off for the window run only (as for the editor's Xvfb test): the
+             // GLX driver is unloaded at exit, so its process-lifetime allocations are reported
+             // from an unnamed module that no suppression can match. Headless runs keep it on.
+             "tones.wav",
+             "ASAN_OPTIONS=detect_leaks=0:abort_on_error=1 '" CALIPER_XVFB_RUN
+             "' -a -s '-screen 0 800x600x24'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const caliper::render::Image img =
       caliper::render::read_png(dir + "/frames/vr-operator-instruction-panel.png");
