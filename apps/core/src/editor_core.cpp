@@ -486,34 +486,28 @@ void EditorCore::push_undo() {
   redo_.clear();
 }
 
-bool EditorCore::undo() {
-  if (undo_.empty()) return false;
-  const Document target = undo_.back();
+bool EditorCore::step_history(std::vector<Document>& from, std::vector<Document>& to,
+                              const char* what) {
+  if (from.empty()) return false;
+  const Document target = from.back();
   try {
     const Document now = doc_;
     apply(target, true);
-    undo_.pop_back();
-    redo_.push_back(now);
+    from.pop_back();
+    to.push_back(now);
   } catch (const std::exception& e) {
-    post(Message::Level::Error, std::string("undo: ") + e.what());
+    post(Message::Level::Error, std::string(what) + ": " + e.what());
     return false;
   }
   return true;
 }
 
+bool EditorCore::undo() {
+  return step_history(undo_, redo_, "undo");
+}
+
 bool EditorCore::redo() {
-  if (redo_.empty()) return false;
-  const Document target = redo_.back();
-  try {
-    const Document now = doc_;
-    apply(target, true);
-    redo_.pop_back();
-    undo_.push_back(now);
-  } catch (const std::exception& e) {
-    post(Message::Level::Error, std::string("redo: ") + e.what());
-    return false;
-  }
-  return true;
+  return step_history(redo_, undo_, "redo");
 }
 
 // ---------------------------------------------------------------------------------------------

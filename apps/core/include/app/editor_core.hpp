@@ -186,6 +186,10 @@ class EditorCore {
  private:
   void push_undo();
   void apply(const Document& doc, bool complete);
+  /// Moves one document from the back of `from` to the current state, pushing the current one
+  /// onto `to` (undo: from = undo_, to = redo_; redo: the reverse). False when `from` is empty
+  /// or the document cannot be applied (a message is posted naming `what`).
+  bool step_history(std::vector<Document>& from, std::vector<Document>& to, const char* what);
   void recompute(bool complete);
   void fill_missing_inputs();
   bool check_value(const std::string& id, double value_si);
