@@ -191,6 +191,20 @@ class Unpickler {
     return id;
   }
   void push(std::size_t id) { stack_.push_back(id); }
+  /// Pushes a whitelisted class or function (GLOBAL, STACK_GLOBAL); anything else is refused
+  /// by name.
+  void push_global(const std::string& module, const std::string& name) {
+    Global g;
+    if (!lookup_global(module, name, g)) {
+      fail("refused to load the Python class or function '" + module + "." + name +
+           "': model pickles may only contain numpy arrays, scipy csc/csr matrices, chumpy "
+           "Ch objects and plain containers");
+    }
+    const std::size_t id = make(Type::kGlobal);
+    objs_[id].global = g;
+    objs_[id].text = module + "." + name;
+    push(id);
+  }
   std::size_t pop() {
     if (stack_.size() <= mark_floor()) fail("stack underflow (malformed pickle)");
     const std::size_t id = stack_.back();
@@ -480,16 +494,7 @@ PickleDict Unpickler::run() {
       case 'c': {  // GLOBAL
         const std::string module = line();
         const std::string name = line();
-        Global g;
-        if (!lookup_global(module, name, g)) {
-          fail("refused to load the Python class or function '" + module + "." + name +
-               "': model pickles may only contain numpy arrays, scipy csc/csr matrices, chumpy "
-               "Ch objects and plain containers");
-        }
-        const std::size_t id = make(Type::kGlobal);
-        objs_[id].global = g;
-        objs_[id].text = module + "." + name;
-        push(id);
+        push_global(module, name);
         break;
       }
       case 0x93: {  // STACK_GLOBAL
@@ -497,16 +502,7 @@ PickleDict Unpickler::run() {
         const std::size_t module_id = pop();
         const std::string name = text_of(name_id, "STACK_GLOBAL name");
         const std::string module = text_of(module_id, "STACK_GLOBAL module");
-        Global g;
-        if (!lookup_global(module, name, g)) {
-          fail("refused to load the Python class or function '" + module + "." + name +
-               "': model pickles may only contain numpy arrays, scipy csc/csr matrices, chumpy "
-               "Ch objects and plain containers");
-        }
-        const std::size_t id = make(Type::kGlobal);
-        objs_[id].global = g;
-        objs_[id].text = module + "." + name;
-        push(id);
+        push_global(module, name);
         break;
       }
       case 'R': {  // REDUCE
