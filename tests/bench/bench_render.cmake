@@ -8,5 +8,6 @@ if(TARGET caliper_render AND TARGET caliper_app_core AND TARGET caliper-editor)
   target_include_directories(bench_render PRIVATE ${PROJECT_SOURCE_DIR}/apps/editor/src)
   target_link_libraries(bench_render PRIVATE caliper_render caliper_app_core caliper_test_support
     PkgConfig::IMGUI benchmark::benchmark)
+  target_compile_definitions(bench_render PRIVATE CALIPER_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
   caliper_project_target(bench_render)
 endif()

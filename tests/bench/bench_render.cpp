@@ -14,6 +14,7 @@
 #include "editor_app.hpp"
 #include "render/camera.hpp"
 #include "render/render_mesh.hpp"
+#include "smpl/io.hpp"
 
 namespace {
 
@@ -27,6 +28,22 @@ const ca::ModelEntry& full_size_entry() {
     return ca::make_model_entry(m, "random-full-size");
   }();
   return e;
+}
+
+/// The editor's default model: the open female model from assets/models (12,354 vertices,
+/// 24,704 triangles, 1.8 x SMPL's), to show what a user of the shipped models gets.
+const ca::ModelEntry& open_female_entry() {
+  static const ca::ModelEntry e = [] {
+    auto m = std::make_shared<smpl::BodyModel>(
+        smpl::load_model(CALIPER_SOURCE_DIR "/assets/models/caliper-female.npz"));
+    return ca::make_model_entry(m, "caliper-female");
+  }();
+  return e;
+}
+
+/// state.range(2): 0 = the full-size SMPL-shaped test model, 1 = the open female model.
+const ca::ModelEntry& bench_entry(int64_t which) {
+  return which == 1 ? open_female_entry() : full_size_entry();
 }
 
 std::vector<float> floats(const smpl::Vertices& v) {
@@ -48,10 +65,10 @@ struct DragFixture {
   cr::Scene scene;
   cr::View view;
 
-  DragFixture(int w, int h, int samples = 4) {
-    core.add_model(full_size_entry());
+  DragFixture(int w, int h, int samples = 4, int64_t model = 0) {
+    core.add_model(bench_entry(model));
     off = std::make_unique<cr::OffscreenRenderer>(w, h, samples);
-    cr::MeshData m = cr::mesh_data(core.avatar().vertices, full_size_entry().model->faces);
+    cr::MeshData m = cr::mesh_data(core.avatar().vertices, bench_entry(model).model->faces);
     mesh = off->renderer().upload_mesh(m);
     cr::MeshInstance inst;
     inst.mesh = mesh;
@@ -68,7 +85,7 @@ struct DragFixture {
 /// Regress + evaluate only (what the app core does per slider event).
 void BM_DragRegressEvaluate(benchmark::State& state) {
   ca::EditorCore core;
-  core.add_model(full_size_entry());
+  core.add_model(bench_entry(state.range(0)));
   core.begin_drag();
   int64_t i = 0;
   for (auto _ : state) {
@@ -76,12 +93,14 @@ void BM_DragRegressEvaluate(benchmark::State& state) {
     benchmark::DoNotOptimize(core.avatar().vertices.data());
   }
 }
-BENCHMARK(BM_DragRegressEvaluate)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DragRegressEvaluate)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 /// One drag frame as the editor's CPU issues it: regress + evaluate + upload + draw calls
 /// (no wait for llvmpipe's rasterizer threads; glFinish runs outside the timed region).
 void BM_DragFrameCpu(benchmark::State& state) {
-  DragFixture f(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  DragFixture f(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)), 4,
+                state.range(2));
+  f.off->renderer().set_cull_closed_meshes(state.range(3) != 0);
   const cr::GlFunctions& gl = f.off->context().gl();
   int64_t i = 0;
   for (auto _ : state) {
@@ -95,7 +114,14 @@ void BM_DragFrameCpu(benchmark::State& state) {
     state.ResumeTiming();
   }
 }
-BENCHMARK(BM_DragFrameCpu)->Args({1200, 1000})->Unit(benchmark::kMillisecond);
+// Arguments: width, height, model (0 SMPL-shaped, 1 open female), back-face culling of closed
+// meshes (1, the renderer's default; 0 = everything two-sided, the baseline).
+BENCHMARK(BM_DragFrameCpu)
+    ->Args({1200, 1000, 0, 0})
+    ->Args({1200, 1000, 0, 1})
+    ->Args({1200, 1000, 1, 0})
+    ->Args({1200, 1000, 1, 1})
+    ->Unit(benchmark::kMillisecond);
 
 /// Upload only: float conversion, normals (13776 faces) and glBufferSubData of positions and
 /// normals.
@@ -111,7 +137,8 @@ BENCHMARK(BM_UploadPositions)->Unit(benchmark::kMillisecond);
 
 /// Draw calls only (mesh, no upload), CPU side of llvmpipe's vertex processing and binning.
 void BM_DrawCallsOnly(benchmark::State& state) {
-  DragFixture f(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  DragFixture f(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)), 4,
+                state.range(2));
   const cr::GlFunctions& gl = f.off->context().gl();
   for (auto _ : state) {
     f.off->bind();
@@ -122,7 +149,10 @@ void BM_DrawCallsOnly(benchmark::State& state) {
     state.ResumeTiming();
   }
 }
-BENCHMARK(BM_DrawCallsOnly)->Args({1200, 1000})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DrawCallsOnly)
+    ->Args({1200, 1000, 0})
+    ->Args({1200, 1000, 1})
+    ->Unit(benchmark::kMillisecond);
 
 /// The same frame including llvmpipe's rasterization and the multisample resolve (glFinish):
 /// the wall time of a whole software-rendered frame.

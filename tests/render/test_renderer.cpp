@@ -212,3 +212,68 @@ TEST(Renderer, StereoViewsDrawIntoTheirOwnHalves) {
   EXPECT_EQ(img.pixel(1, 1)[0], 0);     // background in the corners
   EXPECT_EQ(img.pixel(78, 38)[0], 0);
 }
+
+namespace {
+
+/// Fraction of pixels that differ from the background when the camera looks at a box mesh of
+/// half size 1 around the origin from `eye`, with `model` as its transform.
+double covered_fraction(const smpl::Faces& faces, const cr::Vec3& eye,
+                        const cr::Mat4& model = cr::Mat4::Identity(), bool cull = true) {
+  smpl::Vertices v = box_vertices(1.0, 2.0, 1.0);
+  v.col(1).array() -= 1.0;
+  cr::OffscreenRenderer off(48, 48, 1);
+  off.renderer().set_cull_closed_meshes(cull);
+  const cr::MeshHandle h = off.renderer().upload_mesh(cr::mesh_data(v, faces));
+  cr::Scene scene;
+  scene.grid.visible = false;
+  scene.background = {0, 0, 0, 1};
+  cr::MeshInstance inst;
+  inst.mesh = h;
+  inst.model = model;
+  inst.colour = {1, 1, 1, 1};
+  scene.meshes.push_back(inst);
+  cr::View view;
+  view.viewport = {0, 0, 48, 48};
+  view.camera.eye = eye;
+  view.camera.target = {0, 0, 0};
+  view.camera.near_plane = 0.05f;
+  const cr::Image img = off.render(scene, {view});
+  int covered = 0;
+  for (int y = 0; y < img.height; ++y) {
+    for (int x = 0; x < img.width; ++x)
+      covered += channel_distance(img.pixel(x, y), {0, 0, 0, 1}) > 0;
+  }
+  return static_cast<double>(covered) / (img.width * img.height);
+}
+
+smpl::Faces reversed(const smpl::Faces& f) {
+  smpl::Faces r = f;
+  r.col(1).swap(r.col(2));
+  return r;
+}
+
+}  // namespace
+
+// Closed, consistently wound meshes (every avatar) are drawn with back faces culled: from
+// inside an outward-wound box nothing is visible. Everything else stays two-sided, so the
+// culling never removes a surface the viewer should see.
+TEST(Renderer, CullsBackFacesOnlyOfClosedConsistentlyWoundMeshes) {
+  const cr::Vec3 inside(0.2f, 0.1f, 0.3f), outside(0.5f, 0.8f, 4.0f);
+  EXPECT_GT(covered_fraction(box_faces(), outside), 0.05);
+  EXPECT_EQ(covered_fraction(box_faces(), inside), 0.0);
+  EXPECT_EQ(covered_fraction(box_faces(), inside, cr::Mat4::Identity(), false), 1.0);  // off
+  // Wound the other way round (negative signed volume, e.g. a file with flipped faces): the
+  // renderer detects it, so the outside still shows, with the same coverage.
+  EXPECT_NEAR(covered_fraction(reversed(box_faces()), outside),
+              covered_fraction(box_faces(), outside), 0.02);
+  EXPECT_EQ(covered_fraction(reversed(box_faces()), inside), 0.0);
+  // Open (one face missing): two-sided, so the inside shows.
+  const smpl::Faces open = box_faces().topRows(10);
+  EXPECT_EQ(covered_fraction(open, inside), 1.0);
+  // A mirroring transform reverses the winding on screen; the box must still show.
+  cr::Mat4 mirror = cr::Mat4::Identity();
+  mirror(0, 0) = -1;
+  EXPECT_NEAR(covered_fraction(box_faces(), outside, mirror),
+              covered_fraction(box_faces(), outside), 0.02);
+  EXPECT_EQ(covered_fraction(box_faces(), inside, mirror), 0.0);
+}

@@ -98,6 +98,10 @@ struct GpuMesh {
   GLsizei index_count = 0;
   size_t vertex_count = 0;
   bool has_colours = false;
+  /// Closed and consistently wound (see winding_for_culling): drawn with back faces culled,
+  /// which halves the triangles Mesa's software rasterizer sets up per frame.
+  bool cull_back_faces = false;
+  bool inward = false;  ///< wound clockwise seen from outside (negative signed volume)
   std::vector<std::uint32_t> cpu_indices;  // kept to recompute normals on update_positions
 };
 
@@ -108,6 +112,7 @@ struct Renderer::Impl {
   MeshHandle next_mesh = 1;
   TextureHandle next_texture = 1;
   MeshHandle cube = 0;
+  bool cull_closed_meshes = true;
   GLuint flat_vao = 0, flat_vbo = 0;        // pos3 colour4 uv2
   GLuint overlay_vao = 0, overlay_vbo = 0;  // pos2 uv2 colour4
   std::vector<float> flat_vertices, overlay_vertices;
@@ -146,7 +151,44 @@ void fill_buffer(const GlFunctions& gl, GLuint buffer, GLenum target, const void
   gl.BufferData(target, static_cast<GLsizeiptr>(bytes), data, GL_DYNAMIC_DRAW);
 }
 
+/// Back faces of a mesh can be culled without changing the picture only when the surface is
+/// closed and consistently oriented: every directed edge (a, b) occurs exactly once and so does
+/// its reverse (b, a). Meshes with holes, duplicated seams (the flat-shaded cube) or mixed
+/// winding are drawn two-sided. The winding direction comes from the signed volume.
+void winding_for_culling(GpuMesh& g, const std::vector<float>& positions,
+                         const std::vector<std::uint32_t>& indices) {
+  g.cull_back_faces = false;
+  g.inward = false;
+  if (indices.empty()) return;
+  std::vector<std::uint64_t> edges;
+  edges.reserve(indices.size());
+  for (size_t f = 0; f + 2 < indices.size(); f += 3) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint64_t a = indices[f + static_cast<size_t>(k)];
+      const std::uint64_t b = indices[f + static_cast<size_t>((k + 1) % 3)];
+      if (a == b) return;  // degenerate triangle: no well-defined winding
+      edges.push_back(a << 32 | b);
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  if (std::adjacent_find(edges.begin(), edges.end()) != edges.end()) return;
+  for (std::uint64_t e : edges) {
+    const std::uint64_t reverse = (e & 0xffffffffu) << 32 | e >> 32;
+    if (!std::binary_search(edges.begin(), edges.end(), reverse)) return;
+  }
+  double volume6 = 0;
+  for (size_t f = 0; f + 2 < indices.size(); f += 3) {
+    const Vec3 a(&positions[3 * indices[f]]), b(&positions[3 * indices[f + 1]]),
+        c(&positions[3 * indices[f + 2]]);
+    volume6 += static_cast<double>(a.dot(b.cross(c)));
+  }
+  if (volume6 == 0.0 || !std::isfinite(volume6)) return;
+  g.cull_back_faces = true;
+  g.inward = volume6 < 0;
+}
+
 void set_mesh_data(const GlFunctions& gl, GpuMesh& g, const MeshData& m) {
+  winding_for_culling(g, m.positions, m.indices);
   g.vertex_count = m.positions.size() / 3;
   g.index_count = static_cast<GLsizei>(m.indices.size());
   g.cpu_indices = m.indices;
@@ -271,6 +313,13 @@ GpuMesh& find_mesh(std::map<MeshHandle, GpuMesh>& meshes, MeshHandle h) {
 void Renderer::update_mesh(MeshHandle handle, const MeshData& mesh) {
   check_mesh(mesh);
   set_mesh_data(gl_, find_mesh(impl_->meshes, handle), mesh);
+}
+
+void Renderer::set_cull_closed_meshes(bool on) {
+  impl_->cull_closed_meshes = on;
+}
+bool Renderer::cull_closed_meshes() const {
+  return impl_->cull_closed_meshes;
 }
 
 void Renderer::update_positions(MeshHandle handle, const std::vector<float>& positions) {
@@ -437,6 +486,15 @@ void Renderer::draw(const Scene& scene, const View& view) {
     gl.Uniform4fv(u_colour, 1, c);
     gl.Uniform1i(u_vc, vc && g.has_colours ? 1 : 0);
     gl.Uniform1i(u_flat, 0);
+    if (g.cull_back_faces && im.cull_closed_meshes) {
+      // A mirroring model matrix (negative determinant) reverses the winding on screen.
+      const bool mirrored = model.block<3, 3>(0, 0).determinant() < 0;
+      gl.Enable(GL_CULL_FACE);
+      gl.CullFace(GL_BACK);
+      gl.FrontFace(mirrored != g.inward ? GL_CW : GL_CCW);
+    } else {
+      gl.Disable(GL_CULL_FACE);
+    }
     gl.BindVertexArray(g.vao);
     if (wire) {
       gl.Enable(GL_POLYGON_OFFSET_FILL);
@@ -464,6 +522,8 @@ void Renderer::draw(const Scene& scene, const View& view) {
     s.diagonal().head<3>() = b.half_extents;
     draw_mesh(cube, b.transform * s, b.colour, false, false, b.colour);
   }
+  gl.Disable(GL_CULL_FACE);
+  gl.FrontFace(GL_CCW);
 
   // Flat geometry: floor grid and depth-tested lines, then textured quads.
   im.flat_vertices.clear();

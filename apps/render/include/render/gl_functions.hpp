@@ -57,6 +57,7 @@ using GlProcLoader = GlProc (*)(const char* name, void* user);
   X(gl11::PolygonOffset, PolygonOffset)                                      \
   X(PFNGLLINEWIDTHPROC, LineWidth)                                           \
   X(PFNGLCULLFACEPROC, CullFace)                                             \
+  X(PFNGLFRONTFACEPROC, FrontFace)                                           \
   X(PFNGLGETERRORPROC, GetError)                                             \
   X(PFNGLGETSTRINGPROC, GetString)                                           \
   X(PFNGLGETINTEGERVPROC, GetIntegerv)                                       \

@@ -45,6 +45,13 @@ class Renderer {
   void draw(const Scene& scene, const View& view);
   void draw(const Scene& scene, const std::vector<View>& views);
 
+  /// Closed, consistently wound meshes (every body model) are drawn with back faces culled,
+  /// which leaves the picture unchanged and halves the triangles set up per frame; all other
+  /// meshes are drawn two-sided. Off: everything two-sided (a baseline for benchmarks, or to
+  /// inspect a mesh from inside).
+  void set_cull_closed_meshes(bool on);
+  bool cull_closed_meshes() const;
+
   const GlFunctions& gl() const { return gl_; }
 
  private:
