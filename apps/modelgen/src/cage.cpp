@@ -931,7 +931,19 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
     const std::vector<int> collar_ids = {G[s == 0 ? 3 : 1][1], G[s == 0 ? 3 : 1][3],
                                          G[s == 0 ? 3 : 1][2], N0[s == 0 ? 2 : 6]};
     cage.joints[kLCollar + s] = add(mean_of(collar_ids, 0.7), mean_of(arm.root, 0.3));
-    cage.joints[kLShoulder + s] = add(mean_of(arm.root, 0.55), mean_of(arm.a1, 0.45));
+    // Shoulder (glenohumeral) joint: inside the shoulder, medial of and below the acromion
+    // (the humeral head's centre lies under the acromion, about 2.5 cm medial of its lateral
+    // edge and 5 cm under the skin point). The arm root ring alone puts it 7 mm medial; the
+    // torso points in front of and behind the armpit pull it the rest of the way. With the
+    // acromion fixed, the hanging arm is then longer than the T-posed arm by the joint's
+    // depth, which is how ANSUR's span, biacromial breadth and hanging-arm lengths agree
+    // (docs/models.md).
+    std::vector<int> armpit;
+    for (int r = 6; r <= 9; ++r) {
+      armpit.push_back(T[r][s == 0 ? 2 : 14]);
+      armpit.push_back(T[r][s == 0 ? 6 : 10]);
+    }
+    cage.joints[kLShoulder + s] = add(mean_of(arm.root, 0.65), mean_of(armpit, 0.35));
     cage.joints[kLElbow + s] = mean_of(arm.a4, 1.0);
     cage.joints[kLWrist + s] = mean_of(arm.a7, 1.0);
     cage.joints[kLHand + s] = mean_of(arm.p2, 1.0);

@@ -316,6 +316,72 @@ int validation_dim(const std::string& id) {
   return -1;  // arm_length
 }
 
+HangingArms hanging_arms(const smpl::BodyModel& model, const smpl::Vertices& vertices) {
+  const caliper::LandmarkTable& lm = model.landmarks;
+  const int kShoulder[2] = {16, 17};  // SMPL left_shoulder, right_shoulder
+  const char* kAcromion[2] = {"left_shoulder", "right_shoulder"};
+  const char* kWrist[2] = {"left_wrist", "right_wrist"};
+  // Joints whose motion follows a shoulder rotation: the shoulder and its descendants.
+  std::vector<char> follows[2];
+  for (int s = 0; s < 2; ++s) {
+    follows[s].assign(model.parents.size(), 0);
+    follows[s][static_cast<std::size_t>(kShoulder[s])] = 1;
+    for (std::size_t j = 0; j < model.parents.size(); ++j) {
+      const int p = model.parents[j];
+      if (p >= 0 && follows[s][static_cast<std::size_t>(p)]) {
+        follows[s][j] = 1;
+      }
+    }
+  }
+  auto landmark = [&](const char* name) -> std::vector<int> {
+    const auto it = lm.find(name);
+    if (it == lm.end() || it->second.empty()) {
+      throw std::invalid_argument(std::string("hanging arms: the model has no landmark '") + name +
+                                  "'");
+    }
+    return it->second;
+  };
+  HangingArms out;
+  for (int s = 0; s < 2; ++s) {
+    Eigen::Vector3d joint = Eigen::Vector3d::Zero();
+    for (smpl::SparseMatrix::InnerIterator it(model.j_regressor, kShoulder[s]); it; ++it) {
+      joint += it.value() * vertices.row(it.col()).transpose();
+    }
+    // T-pose arm along +x (left) or -x (right); hanging: rotated 90 degrees down about z.
+    const double sign = s == 0 ? -1.0 : 1.0;
+    const Eigen::Matrix3d r =
+        Eigen::AngleAxisd(sign * 0.5 * 3.14159265358979323846, Eigen::Vector3d::UnitZ())
+            .toRotationMatrix();
+    Eigen::Vector3d acromion = Eigen::Vector3d::Zero();
+    const std::vector<int> a = landmark(kAcromion[s]);
+    for (int v : a) {
+      acromion += vertices.row(v).transpose() / static_cast<double>(a.size());
+    }
+    Eigen::Vector3d wrist = Eigen::Vector3d::Zero();
+    const std::vector<int> w = landmark(kWrist[s]);
+    for (int v : w) {
+      // Linear blend skinning restricted to the shoulder rotation: the share of the vertex's
+      // weight on joints that follow the shoulder moves with it.
+      double moving = 0;
+      for (smpl::SparseMatrix::InnerIterator it(model.weights, v); it; ++it) {
+        if (follows[s][static_cast<std::size_t>(it.col())]) {
+          moving += it.value();
+        }
+      }
+      const Eigen::Vector3d p = vertices.row(v).transpose();
+      wrist += (p + moving * (r * (p - joint) + joint - p)) / static_cast<double>(w.size());
+    }
+    out.acromion[s] = acromion;
+    out.wrist[s] = wrist;
+  }
+  return out;
+}
+
+double hanging_arm_length(const smpl::BodyModel& model, const smpl::Vertices& vertices) {
+  const HangingArms h = hanging_arms(model, vertices);
+  return 0.5 * ((h.wrist[0] - h.acromion[0]).norm() + (h.wrist[1] - h.acromion[1]).norm());
+}
+
 std::map<std::string, double> validation_measurements(const smpl::BodyModel& model,
                                                       const smpl::Vertices& vertices) {
   const caliper::LandmarkTable& lm = model.landmarks;
@@ -333,7 +399,8 @@ std::map<std::string, double> validation_measurements(const smpl::BodyModel& mod
   out["span"] = get(m, "arm_span_fingertips");
   out["crotch_height"] = get(m, "inseam_height");
   out["hip_breadth"] = get(m, "hip_width");
-  out["arm_length"] = get(m, "arm_length");
+  out["arm_length"] = hanging_arm_length(model, vertices);
+  out["arm_length_tpose"] = get(m, "arm_length");
   out["biacromial"] = get(m, "shoulder_width");
   out["chest_circ"] = get(c, "chest_circumference");
   out["waist_circ"] = get(c, "waist_circumference");
@@ -439,6 +506,9 @@ smpl::BodyModel generate_model(const SurveyStats& stats, const std::string& gend
   smpl::BodyModel proto;
   proto.faces = topo.faces;
   proto.landmarks = topo.landmarks;
+  proto.j_regressor = topo.j_regressor;  // the hanging-arm measurement poses the shoulders
+  proto.weights = topo.weights;
+  proto.parents = smpl::smpl_parents();
   log_line(report, "cage: " + std::to_string(nc) + " vertices, " +
                        std::to_string(mean_cage.quads.size()) +
                        " quads; mesh: " + std::to_string(nv) + " vertices, " +

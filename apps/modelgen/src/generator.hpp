@@ -52,9 +52,27 @@ struct ModelTopology {
   smpl::SparseMatrix weights;                                ///< V x 24
 };
 
+/// Shoulder-to-wrist length measured as ANSUR II measures acromion-radiale plus
+/// radiale-stylion length: with the arm hanging straight at the side. Each shoulder joint is
+/// rotated 90 degrees down and the wrist landmark follows by the model's own skinning weights;
+/// the acromion (shoulder landmark) is a bony point of the scapula, which a rotation of the
+/// shoulder joint leaves in place, so it stays where it is. Mean of left and right, metres.
+/// Needs the model's j_regressor, weights, parents and the shoulder and wrist landmarks.
+double hanging_arm_length(const smpl::BodyModel& model, const smpl::Vertices& vertices);
+
+/// The landmarks behind hanging_arm_length(): per side (0 left, 1 right) the acromion at rest
+/// and the wrist with the arm hanging. Throws std::invalid_argument naming a missing landmark.
+struct HangingArms {
+  Eigen::Vector3d acromion[2];
+  Eigen::Vector3d wrist[2];
+};
+HangingArms hanging_arms(const smpl::BodyModel& model, const smpl::Vertices& vertices);
+
 /// The measurements the model is validated on (ids below), for one body.
-/// Ids: stature, weight, span, crotch_height, hip_breadth, arm_length, biacromial,
-/// chest_circ, waist_circ, buttock_circ.
+/// Ids: stature, weight, span, crotch_height, hip_breadth, arm_length (hanging_arm_length),
+/// biacromial, chest_circ, waist_circ, buttock_circ; plus arm_length_tpose, the caliper's
+/// virtual arm length (shoulder to wrist landmark in the T-pose), which has no survey
+/// counterpart and is reported for information.
 std::map<std::string, double> validation_measurements(const smpl::BodyModel& model,
                                                       const smpl::Vertices& vertices);
 
