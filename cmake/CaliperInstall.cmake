@@ -7,6 +7,9 @@ install(TARGETS smpl caliper caliper_warnings caliper_sanitizers EXPORT VirtualC
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+# The programs' data: open default models, protocols, media. caliper::find_assets_dir() looks
+# for it at <prefix>/bin/../share/virtual-caliper/assets.
+install(DIRECTORY assets/ DESTINATION ${CMAKE_INSTALL_DATADIR}/virtual-caliper/assets)
 install(EXPORT VirtualCaliperTargets NAMESPACE vc:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/VirtualCaliper)
 file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/VirtualCaliperConfig.cmake
   "include(CMakeFindDependencyMacro)\nfind_dependency(Eigen3)\n"

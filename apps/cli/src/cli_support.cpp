@@ -1,5 +1,7 @@
 #include "cli_support.hpp"
 
+#include "caliper/assets.hpp"
+
 #include <unistd.h>
 
 #include <algorithm>
@@ -397,27 +399,16 @@ std::string csv_escape(const std::string& cell) {
 // Assets, terminal, progress
 // ---------------------------------------------------------------------------------------------
 
-std::string executable_dir() {
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (ec) return "";
-  return exe.parent_path().string();
+std::optional<std::string> find_assets_dir() {
+  return caliper::find_assets_dir();
 }
 
-std::optional<std::string> find_assets_dir() {
-  if (const char* env = std::getenv("CALIPER_ASSETS"); env && *env) {
-    std::error_code ec;
-    if (fs::is_directory(env, ec)) return std::string(env);
-    return std::nullopt;
+std::string tried_assets_dirs() {
+  std::string out;
+  for (const std::string& d : caliper::assets_dir_candidates()) {
+    out += (out.empty() ? "" : ", ") + d;
   }
-  const std::string dir = executable_dir();
-  if (dir.empty()) return std::nullopt;
-  for (const char* rel : {"../../assets", "../share/virtual-caliper/assets", "../assets"}) {
-    std::error_code ec;
-    const fs::path p = fs::path(dir) / rel;
-    if (fs::is_directory(p, ec)) return fs::weakly_canonical(p, ec).string();
-  }
-  return std::nullopt;
+  return out.empty() ? "none (the executable's folder is unknown)" : out;
 }
 
 bool file_exists(const std::string& path) {

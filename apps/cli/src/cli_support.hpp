@@ -125,12 +125,12 @@ std::string csv_escape(const std::string& cell);
 // Assets, terminal, progress
 // ---------------------------------------------------------------------------------------------
 
-/// The assets folder: $CALIPER_ASSETS when set, else <exe dir>/../../assets (build tree) or
-/// <exe dir>/../share/virtual-caliper/assets (install tree), whichever exists first. Returns
-/// nullopt when none exists.
+/// The assets folder (caliper::find_assets_dir(): $CALIPER_ASSETS when set, else
+/// <exe dir>/../../assets (build tree) or <exe dir>/../share/virtual-caliper/assets (install
+/// tree), whichever exists first). Returns nullopt when none exists.
 std::optional<std::string> find_assets_dir();
-/// The folder that holds the running executable ("" when unknown).
-std::string executable_dir();
+/// The folders find_assets_dir() tried, comma-separated, for error messages.
+std::string tried_assets_dirs();
 /// True when the file exists and is a regular file.
 bool file_exists(const std::string& path);
 /// Lower-case extension including the dot (".glb"), or "".

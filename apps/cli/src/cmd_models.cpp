@@ -69,7 +69,8 @@ int cmd_models(const std::vector<std::string>& args, Io& io) {
       }
     }
   } else {
-    note = "no assets folder found (set CALIPER_ASSETS or pass model files)\n";
+    note = "no assets folder found (tried " + tried_assets_dirs() +
+           "; set CALIPER_ASSETS or pass model files)\n";
   }
   for (const auto& p : a.positional) {
     if (!file_exists(p)) throw RuntimeError(p + ": model file not found");

@@ -21,11 +21,9 @@ std::string resolve_model_path(const std::optional<std::string>& model_file,
   const std::string name = "caliper-" + (sex.empty() ? std::string("neutral") : sex) + ".npz";
   const auto assets = find_assets_dir();
   if (!assets) {
-    throw RuntimeError(
-        "the open default model " + name +
-        " was not found: no assets folder (looked for $CALIPER_ASSETS, then <executable "
-        "dir>/../../assets and <executable dir>/../share/virtual-caliper/assets). Set "
-        "CALIPER_ASSETS=/path/to/assets or pass --model FILE");
+    throw RuntimeError("the open default model " + name +
+                       " was not found: no assets folder (tried " + tried_assets_dirs() +
+                       "). Set CALIPER_ASSETS=/path/to/assets or pass --model FILE");
   }
   const std::string path = (std::filesystem::path(*assets) / "models" / name).string();
   if (!file_exists(path)) {

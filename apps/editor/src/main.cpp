@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "app/editor_core.hpp"
+#include "caliper/assets.hpp"
 #include "config.hpp"
 #include "editor_app.hpp"
 #include "render/glfw_context.hpp"
@@ -42,6 +43,8 @@ void usage() {
       "usage: caliper-editor [options]\n"
       "  --model FILE          open an SMPL-family or project .npz/.pkl model (repeatable)\n"
       "  --models-dir DIR      folder with the open models caliper-{female,male,neutral}.npz\n"
+      "                        (default: models/ in $CALIPER_ASSETS, the build tree or the\n"
+      "                        install prefix's share/virtual-caliper/assets)\n"
       "  --no-open-models      do not look for the open models\n"
       "  --headless            no window: render off-screen with OSMesa\n"
       "  --script FILE         run editor commands from FILE, one per frame (docs/editor.md)\n"
@@ -93,24 +96,20 @@ bool parse(int argc, char** argv, Options& o) {
   return true;
 }
 
-/// Folders searched for the open models, in order.
-std::vector<fs::path> model_dirs(const Options& o, const char* argv0) {
+/// Folders searched for the open models, in order: --models-dir, then the models/ folder of the
+/// project's assets (caliper::find_assets_dir(): $CALIPER_ASSETS, the build tree, the install
+/// prefix), as for the caliper command.
+std::vector<fs::path> model_dirs(const Options& o) {
   std::vector<fs::path> dirs;
   if (!o.models_dir.empty()) dirs.emplace_back(o.models_dir);
-  if (const char* env = std::getenv("CALIPER_MODELS_DIR")) dirs.emplace_back(env);
-  std::error_code ec;
-  const fs::path exe = fs::canonical("/proc/self/exe", ec);
-  const fs::path base = ec ? fs::path(argv0).parent_path() : exe.parent_path();
-  dirs.push_back(base / "../share/caliper/models");
-  dirs.push_back(base / "../../assets/models");  // build/bin -> source tree
-  dirs.emplace_back("assets/models");
+  if (const auto assets = caliper::find_assets_dir()) dirs.push_back(fs::path(*assets) / "models");
   return dirs;
 }
 
-void load_models(EditorCore& core, const Options& o, const char* argv0) {
+void load_models(EditorCore& core, const Options& o) {
   for (const std::string& m : o.models) core.load_model_file(m);
   if (o.no_open_models || !o.models.empty()) return;
-  for (const fs::path& dir : model_dirs(o, argv0)) {
+  for (const fs::path& dir : model_dirs(o)) {
     bool any = false;
     for (const char* sex : {"female", "male", "neutral"}) {
       const fs::path p = dir / (std::string("caliper-") + sex + ".npz");
@@ -123,7 +122,8 @@ void load_models(EditorCore& core, const Options& o, const char* argv0) {
     if (any) return;
   }
   core.post(caliper::app::Message::Level::Warning,
-            "no open model found (assets/models/caliper-*.npz): open a model file");
+            "no open model found (models/caliper-*.npz in --models-dir or the assets folder; "
+            "set CALIPER_ASSETS): open a model file");
 }
 
 std::vector<std::string> read_script(const std::string& path) {
@@ -232,7 +232,7 @@ int main(int argc, char** argv) {
     if (!parse(argc, argv, o)) return 0;
     const std::vector<std::string> script = read_script(o.script);
     EditorCore core;
-    load_models(core, o, argv[0]);
+    load_models(core, o);
     return o.headless ? run_headless(core, o, script) : run_window(core, o, script);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "caliper-editor: %s\n", e.what());

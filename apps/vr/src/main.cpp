@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "caliper/assets.hpp"
 #include "caliper/errors.hpp"
 #include "caliper/measurements.hpp"
 #include "caliper/protocol.hpp"
@@ -50,6 +51,8 @@ const char* kUsage =
     "  --calibrate-tip HAND measure the tip offset of the left/right controller (pivot "
     "calibration)\n"
     "Options:\n"
+    "  --assets DIR         the project's assets (default: $CALIPER_ASSETS, else the build\n"
+    "                       tree's or the install prefix's share/virtual-caliper/assets)\n"
     "  --protocol FILE      measuring protocol (default: assets/protocol/virtual-caliper.json)\n"
     "  --controllers FILE   tip offsets per interaction profile (default: "
     "assets/protocol/controllers.json)\n"
@@ -125,7 +128,7 @@ double number(const Args& a, const std::string& k, double fallback) {
 
 std::string assets_dir(const Args& a) {
   if (a.has("--assets")) return a.get("--assets");
-  if (const char* env = std::getenv("CALIPER_ASSETS")) return env;
+  if (const auto found = caliper::find_assets_dir()) return *found;  // $CALIPER_ASSETS, ...
   return CALIPER_VR_SOURCE_ASSETS;
 }
 

@@ -1,0 +1,31 @@
+#include "caliper/assets.hpp"
+
+#include <cstdlib>
+#include <filesystem>
+#include <system_error>
+
+namespace caliper {
+
+namespace fs = std::filesystem;
+
+std::vector<std::string> assets_dir_candidates() {
+  if (const char* env = std::getenv("CALIPER_ASSETS"); env && *env) return {env};
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) return {};
+  std::vector<std::string> out;
+  for (const char* rel : {"../../assets", "../share/virtual-caliper/assets", "../assets"}) {
+    out.push_back((exe.parent_path() / rel).lexically_normal().string());
+  }
+  return out;
+}
+
+std::optional<std::string> find_assets_dir() {
+  for (const std::string& dir : assets_dir_candidates()) {
+    std::error_code ec;
+    if (fs::is_directory(dir, ec)) return dir;
+  }
+  return std::nullopt;
+}
+
+}  // namespace caliper
