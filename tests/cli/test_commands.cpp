@@ -101,6 +101,22 @@ TEST_F(Commands, CreateWritesObjAndPlyThatMeasureBack) {
   }
 }
 
+TEST_F(Commands, CreateRecordsItsModelAndMeasureRefusesAnUnknownOpenModel) {
+  const CliRun c = run({"create", "--model", model_, "--height", "170cm", "--weight", "66kg",
+                        "--force", "--out", path("a.glb"), "-q"});
+  ASSERT_EQ(c.code, kExitOk) << c.err;
+  const MeshFile made = read_mesh(path("a.glb"));
+  EXPECT_EQ(made.extras.at("model"), "caliper-test-female");
+  EXPECT_EQ(made.extras.count("open_model_sex"), 0u) << "made with --model, not an open model";
+  const smpl::BodyModel m = smpl::load_model(model_);
+  write_avatar(path("x.glb"), m, Eigen::VectorXd::Zero(10), m.v_template,
+               {{"open_model_sex", "robot"}});
+  const CliRun r = run({"measure", path("x.glb")});
+  EXPECT_EQ(r.code, kExitRuntime);
+  EXPECT_TRUE(contains(r.err, "unknown open model sex 'robot'")) << r.err;
+  EXPECT_EQ(run({"measure", path("x.glb"), "--model", model_}).code, kExitOk);
+}
+
 TEST_F(Commands, CreateRefusesImplausibleInputWithExitCode3) {
   CliRun r = run({"create", "--model", model_, "--height", "4m", "--weight", "80kg"});
   EXPECT_EQ(r.code, kExitImplausible);

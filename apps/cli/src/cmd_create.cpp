@@ -212,6 +212,10 @@ int cmd_create(const std::vector<std::string>& args, Io& io) {
     extras["regressor"] = regressor;
     extras["betas"] = betas_json(avatar.betas).dump();
     extras["measurements"] = measurements_json(avatar.achieved).dump();
+    // Which model made the avatar, so that `caliper measure` picks it (and its weight formula)
+    // without being told: the model's name, and for an open default model its sex.
+    extras["model"] = bundle->model.meta.name;
+    if (!a.get("model")) extras["open_model_sex"] = sex;
     write_avatar(*out, bundle->model, avatar.betas, avatar.vertices, extras);
     written.push_back(*out);
   }

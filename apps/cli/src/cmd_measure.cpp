@@ -1,5 +1,6 @@
 // `caliper measure`: all measurements, volume and weight of an avatar file, or of a model with
 // betas.
+#include <optional>
 #include <ostream>
 
 #include "caliper/measurements.hpp"
@@ -15,7 +16,10 @@ namespace caliper::cli {
 int cmd_measure(const std::vector<std::string>& args, Io& io) {
   const std::vector<OptionSpec> specs = {
       {"model", "m", "FILE", "the model (topology and landmarks); default: the open model", false},
-      {"sex", "s", "SEX", "female, male or neutral: which open model (default neutral)", false},
+      {"sex", "s", "SEX",
+       "female, male or neutral: which open model (default: the one a `caliper create` GLB "
+       "names, else neutral)",
+       false},
       {"betas", "b", "LIST", "comma-separated betas, e.g. 0.5,-1,0 (measures the model)", false},
       {"no-circumferences", "", "", "skip the circumferences (plane slicing)", false},
       {"json", "", "", "print JSON (SI units: m, kg, m3)", false},
@@ -26,7 +30,8 @@ int cmd_measure(const std::vector<std::string>& args, Io& io) {
               "       caliper measure [--model FILE | --sex SEX] --betas b1,b2,...\n\n"
               "Measures a rest-pose avatar (the 13 measurements of the paper, circumferences,\n"
               "volume and weight from volume). An avatar file needs a model of the same\n"
-              "topology for its landmarks.\n\n"
+              "topology for its landmarks; a .glb/.gltf written by `caliper create` names its\n"
+              "open model, which is used unless --model or --sex is given.\n\n"
            << format_options(specs)
            << "\nexample:\n  caliper measure avatar.glb --sex female --json\n";
     return kExitOk;
@@ -37,23 +42,41 @@ int cmd_measure(const std::vector<std::string>& args, Io& io) {
     throw UsageError("give an avatar file, or --betas (and optionally --model)");
   if (!a.positional.empty() && a.get("betas"))
     throw UsageError("give either an avatar file or --betas, not both");
-  const std::string sex = a.get("sex") ? normalise_sex(*a.get("sex")) : "neutral";
+  // An avatar written by `caliper create` names the open model it was made from
+  // (asset.extras open_model_sex); that choice applies unless --model or --sex says otherwise.
+  std::optional<MeshFile> mesh;
+  if (!a.positional.empty()) mesh = read_mesh(a.positional[0]);
+  std::string sex = "neutral", sex_from = "default";
+  if (a.get("sex")) {
+    sex = normalise_sex(*a.get("sex"));
+    sex_from = "--sex";
+  } else if (!a.get("model") && mesh) {
+    const auto it = mesh->extras.find("open_model_sex");
+    if (it != mesh->extras.end()) {
+      try {
+        sex = normalise_sex(it->second);
+        sex_from = "the avatar file";
+      } catch (const UsageError&) {
+        throw RuntimeError(a.positional[0] + ": its asset.extras name an unknown open model sex '" +
+                           it->second + "'; pass --sex or --model FILE");
+      }
+    }
+  }
   const std::string model_path = resolve_model_path(a.get("model"), sex);
   const smpl::BodyModel model = smpl::load_model(model_path);
 
   smpl::Vertices vertices;
   std::string source;
   Eigen::VectorXd betas;
-  if (!a.positional.empty()) {
+  if (mesh) {
     source = a.positional[0];
-    MeshFile mesh = read_mesh(source);
-    if (mesh.vertices.rows() != model.num_vertices()) {
-      throw RuntimeError(source + ": the avatar has " + std::to_string(mesh.vertices.rows()) +
+    if (mesh->vertices.rows() != model.num_vertices()) {
+      throw RuntimeError(source + ": the avatar has " + std::to_string(mesh->vertices.rows()) +
                          " vertices but the model " + model_path + " has " +
                          std::to_string(model.num_vertices()) +
                          "; measure with the model it was made from (--model FILE or --sex)");
     }
-    vertices = std::move(mesh.vertices);
+    vertices = std::move(mesh->vertices);
   } else {
     source = model_path;
     std::vector<double> b;
@@ -74,6 +97,7 @@ int cmd_measure(const std::vector<std::string>& args, Io& io) {
     j.set("command", "measure");
     j.set("source", source);
     j.set("model", model_path);
+    if (!a.get("model")) j.set("model_chosen_by", sex_from);
     if (betas.size() > 0) j.set("betas", betas_json(betas));
     j.set("units",
           json_object({{"length", Json("m")}, {"weight", Json("kg")}, {"volume", Json("m3")}}));
@@ -82,7 +106,8 @@ int cmd_measure(const std::vector<std::string>& args, Io& io) {
     return kExitOk;
   }
   io.out << "source: " << source << "\nmodel: " << model_path << " ("
-         << (model.meta.gender.empty() ? "?" : model.meta.gender) << ")\n";
+         << (model.meta.gender.empty() ? "?" : model.meta.gender) << ")"
+         << (a.get("model") ? "" : "; open model chosen by " + sex_from) << "\n";
   if (betas.size() > 0) io.out << "betas: " << format_betas(betas) << "\n";
   io.out << "\n" << measurement_table({}, m);
   return kExitOk;

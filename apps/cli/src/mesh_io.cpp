@@ -209,6 +209,7 @@ MeshFile read_mesh(const std::string& path) {
     smpl::GltfAvatar a = smpl::read_gltf(path);
     m.vertices = std::move(a.vertices);
     m.faces = std::move(a.faces);
+    m.extras = std::move(a.extras);
   } else if (ext == ".obj") {
     m = read_obj(path);
   } else if (ext == ".ply") {

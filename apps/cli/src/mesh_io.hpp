@@ -18,6 +18,7 @@ namespace caliper::cli {
 struct MeshFile {
   smpl::Vertices vertices;
   smpl::Faces faces;
+  std::map<std::string, std::string> extras;  ///< .glb/.gltf asset.extras strings (else empty)
 };
 
 /// Reads .glb, .gltf, .obj or .ply (by extension). Throws RuntimeError naming the file and the
