@@ -111,10 +111,10 @@ JournalContents read_journal(const std::string& path) {
 }
 
 JournalWriter JournalWriter::create(const std::string& path, Json header) {
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f)
+  LineFile f(path, "wb");
+  if (!f.is_open())
     throw JournalError(path + ": cannot create the session journal (is the folder writable?)");
-  JournalWriter w(path, f);
+  JournalWriter w(path, std::move(f));
   Json h = Json::object();
   h.set("format", kJournalFormat);
   h.set("version", 1);
@@ -129,35 +129,14 @@ JournalWriter JournalWriter::resume(const std::string& path, const JournalConten
   if (!contents.has_header) return create(path, std::move(header));
   if (truncate(path.c_str(), static_cast<off_t>(contents.valid_bytes)) != 0)
     throw JournalError(path + ": cannot cut the torn last line off the session journal");
-  std::FILE* f = std::fopen(path.c_str(), "ab");
-  if (!f) throw JournalError(path + ": cannot open the session journal for appending");
-  return JournalWriter(path, f);
-}
-
-JournalWriter::~JournalWriter() {
-  if (file_) std::fclose(file_);
-}
-
-JournalWriter::JournalWriter(JournalWriter&& o) noexcept
-    : path_(std::move(o.path_)), file_(o.file_) {
-  o.file_ = nullptr;
-}
-
-JournalWriter& JournalWriter::operator=(JournalWriter&& o) noexcept {
-  if (this != &o) {
-    if (file_) std::fclose(file_);
-    path_ = std::move(o.path_);
-    file_ = o.file_;
-    o.file_ = nullptr;
-  }
-  return *this;
+  LineFile f(path, "ab");
+  if (!f.is_open()) throw JournalError(path + ": cannot open the session journal for appending");
+  return JournalWriter(path, std::move(f));
 }
 
 void JournalWriter::write_line(const std::string& line) {
-  const std::string l = line + "\n";
-  if (!file_ || std::fwrite(l.data(), 1, l.size(), file_) != l.size() || std::fflush(file_) != 0)
+  if (!file_.append_line(line, /*sync=*/true))
     throw JournalError(path_ + ": cannot append to the session journal (disk full?)");
-  fsync(fileno(file_));
 }
 
 void JournalWriter::append(const JournalRecord& record) {

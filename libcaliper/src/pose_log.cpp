@@ -342,37 +342,16 @@ std::string pose_log_frame_line(const PoseFrame& frame) {
   return out;
 }
 
-PoseLogWriter::PoseLogWriter(const std::string& path, const PoseLogHeader& header) : path_(path) {
-  file_ = std::fopen(path.c_str(), "wb");
-  if (!file_)
+PoseLogWriter::PoseLogWriter(const std::string& path, const PoseLogHeader& header)
+    : path_(path), file_(path, "wb") {
+  if (!file_.is_open())
     throw PoseLogError(path + ": cannot create the pose log (is the folder writable?)", 0);
-  const std::string h = pose_log_header_line(header) + "\n";
-  if (std::fwrite(h.data(), 1, h.size(), file_) != h.size() || std::fflush(file_) != 0)
+  if (!file_.append_line(pose_log_header_line(header)))
     throw PoseLogError(path + ": cannot write the pose log header (disk full?)", 0);
 }
 
-PoseLogWriter::~PoseLogWriter() {
-  if (file_) std::fclose(file_);
-}
-
-PoseLogWriter::PoseLogWriter(PoseLogWriter&& o) noexcept
-    : path_(std::move(o.path_)), file_(o.file_) {
-  o.file_ = nullptr;
-}
-
-PoseLogWriter& PoseLogWriter::operator=(PoseLogWriter&& o) noexcept {
-  if (this != &o) {
-    if (file_) std::fclose(file_);
-    path_ = std::move(o.path_);
-    file_ = o.file_;
-    o.file_ = nullptr;
-  }
-  return *this;
-}
-
 void PoseLogWriter::write(const PoseFrame& frame) {
-  const std::string l = pose_log_frame_line(frame) + "\n";
-  if (!file_ || std::fwrite(l.data(), 1, l.size(), file_) != l.size() || std::fflush(file_) != 0)
+  if (!file_.append_line(pose_log_frame_line(frame)))
     throw PoseLogError(path_ + ": cannot append to the pose log (disk full?)", 0);
 }
 

@@ -1,10 +1,12 @@
 // Session journal: round trip, a cut at every byte, resume after a crash.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "caliper/journal.hpp"
+#include "caliper/line_file.hpp"
 #include "caliper/session.hpp"
 #include "caliper/simulator.hpp"
 #include "session_fixtures.hpp"
@@ -172,6 +174,26 @@ TEST(Journal, CrashAndResumeContinuesAtTheStep) {
   for (const auto& kv : sim.truth)
     EXPECT_NEAR(second.result().measurements.at(kv.first), kv.second, kNoiseFreeTolerance)
         << kv.first;
+}
+
+TEST(LineFile, AppendsFlushedLinesAndMovesOwnership) {
+  const std::string path = data_path("line-file.txt");
+  LineFile closed;
+  EXPECT_FALSE(closed.is_open());
+  EXPECT_FALSE(closed.append_line("lost"));
+  LineFile f(path, "wb");
+  ASSERT_TRUE(f.is_open());
+  EXPECT_TRUE(f.append_line("one"));
+  LineFile moved = std::move(f);
+  EXPECT_TRUE(moved.append_line("two", /*sync=*/true));
+  {
+    std::ifstream in(path);  // flushed: readable while the file is still open
+    std::stringstream ss;
+    ss << in.rdbuf();
+    EXPECT_EQ(ss.str(), "one\ntwo\n");
+  }
+  EXPECT_FALSE(LineFile("/nonexistent-dir/x.txt", "wb").is_open());
+  std::filesystem::remove(path);
 }
 
 }  // namespace

@@ -18,6 +18,7 @@
 #include <Eigen/Core>
 
 #include "caliper/json.hpp"
+#include "caliper/line_file.hpp"
 
 namespace caliper {
 
@@ -78,21 +79,18 @@ class JournalWriter {
   static JournalWriter resume(const std::string& path, const JournalContents& contents,
                               Json header);
 
-  ~JournalWriter();
-  JournalWriter(JournalWriter&&) noexcept;
-  JournalWriter& operator=(JournalWriter&&) noexcept;
-  JournalWriter(const JournalWriter&) = delete;
-  JournalWriter& operator=(const JournalWriter&) = delete;
+  JournalWriter(JournalWriter&&) noexcept = default;
+  JournalWriter& operator=(JournalWriter&&) noexcept = default;
 
   /// Appends one record and flushes it (fflush + fsync where available). Throws JournalError.
   void append(const JournalRecord& record);
   const std::string& path() const { return path_; }
 
  private:
-  JournalWriter(std::string path, std::FILE* file) : path_(std::move(path)), file_(file) {}
+  JournalWriter(std::string path, LineFile file) : path_(std::move(path)), file_(std::move(file)) {}
   void write_line(const std::string& line);
   std::string path_;
-  std::FILE* file_ = nullptr;
+  LineFile file_;
 };
 
 }  // namespace caliper

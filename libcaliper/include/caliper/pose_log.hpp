@@ -21,6 +21,7 @@
 #include <Eigen/Geometry>
 
 #include "caliper/json.hpp"
+#include "caliper/line_file.hpp"
 
 namespace caliper {
 
@@ -119,11 +120,8 @@ class PoseLogWriter {
  public:
   /// Creates (truncates) `path` and writes the header. Throws PoseLogError when it cannot.
   PoseLogWriter(const std::string& path, const PoseLogHeader& header);
-  ~PoseLogWriter();
-  PoseLogWriter(PoseLogWriter&&) noexcept;
-  PoseLogWriter& operator=(PoseLogWriter&&) noexcept;
-  PoseLogWriter(const PoseLogWriter&) = delete;
-  PoseLogWriter& operator=(const PoseLogWriter&) = delete;
+  PoseLogWriter(PoseLogWriter&&) noexcept = default;
+  PoseLogWriter& operator=(PoseLogWriter&&) noexcept = default;
 
   /// Appends one frame. Throws PoseLogError on I/O failure.
   void write(const PoseFrame& frame);
@@ -131,7 +129,7 @@ class PoseLogWriter {
 
  private:
   std::string path_;
-  std::FILE* file_ = nullptr;
+  LineFile file_;
 };
 
 /// Writes a whole log to `path` (header and frames).
