@@ -244,4 +244,8 @@ TEST(HangingArm, SwingsTheWristAboutTheShoulderJointAndKeepsTheAcromion) {
   smpl::BodyModel missing = m;
   missing.landmarks.erase("right_wrist");
   EXPECT_THROW(modelgen::hanging_arm_length(missing, missing.v_template), std::invalid_argument);
+  smpl::BodyModel few_joints = m;
+  few_joints.parents.resize(16);
+  EXPECT_THROW(modelgen::hanging_arm_length(few_joints, few_joints.v_template),
+               std::invalid_argument);
 }

@@ -321,6 +321,14 @@ HangingArms hanging_arms(const smpl::BodyModel& model, const smpl::Vertices& ver
   const int kShoulder[2] = {16, 17};  // SMPL left_shoulder, right_shoulder
   const char* kAcromion[2] = {"left_shoulder", "right_shoulder"};
   const char* kWrist[2] = {"left_wrist", "right_wrist"};
+  if (model.parents.size() <= 17 || model.j_regressor.rows() <= 17 ||
+      model.weights.cols() != static_cast<Eigen::Index>(model.parents.size()) ||
+      model.weights.rows() != vertices.rows() || model.j_regressor.cols() != vertices.rows()) {
+    throw std::invalid_argument(
+        "hanging arms: the model needs SMPL's joints (left and right shoulder are joints 16 and "
+        "17) with a joint regressor and skinning weights for its " +
+        std::to_string(vertices.rows()) + " vertices");
+  }
   // Joints whose motion follows a shoulder rotation: the shoulder and its descendants.
   std::vector<char> follows[2];
   for (int s = 0; s < 2; ++s) {
