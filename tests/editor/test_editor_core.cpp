@@ -165,6 +165,21 @@ TEST(EditorCore, ADragIsOneUndoStepAndCompletesMeasurementsAtTheEnd) {
   EXPECT_FALSE(c.can_undo());
 }
 
+// Every kind of edit is one step of the same bounded history (the last 200 steps), and a new
+// edit clears what could be redone.
+TEST(EditorCore, EveryEditIsOneStepOfOneBoundedHistory) {
+  ca::EditorCore c = make_core();
+  for (int i = 0; i < 250; ++i) c.set_hierarchical(i % 2 == 0 ? false : true);
+  int undone = 0;
+  while (c.undo()) ++undone;
+  EXPECT_EQ(undone, 200);
+  ASSERT_TRUE(c.redo());
+  ASSERT_TRUE(c.set_level(2));  // a regressor-side edit after an undo
+  EXPECT_FALSE(c.redo());
+  ASSERT_TRUE(c.undo());
+  EXPECT_TRUE(c.redo());
+}
+
 TEST(EditorCore, RevisionChangesWithTheVertices) {
   ca::EditorCore c = make_core();
   const auto r0 = c.revision();

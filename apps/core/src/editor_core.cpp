@@ -337,12 +337,10 @@ bool EditorCore::set_value(const std::string& id, double value_si) {
   Document d = doc_;
   d.values[id] = value_si;
   try {
-    const Document before = doc_;
-    apply(d, true);
-    if (!dragging_) {
-      undo_.push_back(before);
-      if (undo_.size() > kMaxUndo) undo_.erase(undo_.begin());
-      redo_.clear();
+    if (dragging_) {
+      apply(d, true);  // the drag's start is already one undo step (begin_drag)
+    } else {
+      commit(d);
     }
   } catch (const std::exception& e) {
     post(Message::Level::Error, id + ": " + e.what() + "; the avatar is unchanged");
@@ -414,11 +412,8 @@ void EditorCore::set_regressor(RegressorChoice choice) {
       if (it != avatar_.achieved.end()) d.values[id] = it->second;
     }
   }
-  const Document before = doc_;
   try {
-    apply(d, true);
-    undo_.push_back(before);
-    redo_.clear();
+    commit(d);
   } catch (const std::exception& e) {
     post(Message::Level::Error, std::string("regressor ") + to_string(choice) + ": " + e.what());
   }
@@ -427,11 +422,8 @@ void EditorCore::set_regressor(RegressorChoice choice) {
 void EditorCore::set_hierarchical(bool on) {
   Document d = doc_;
   d.hierarchical = on;
-  const Document before = doc_;
   try {
-    apply(d, true);
-    undo_.push_back(before);
-    redo_.clear();
+    commit(d);
   } catch (const std::exception& e) {
     post(Message::Level::Error, e.what());
   }
@@ -452,11 +444,8 @@ bool EditorCore::set_level(int level) {
       if (it != avatar_.achieved.end()) d.values[id] = it->second;
     }
   }
-  const Document before = doc_;
   try {
-    apply(d, true);
-    undo_.push_back(before);
-    redo_.clear();
+    commit(d);
   } catch (const std::exception& e) {
     post(Message::Level::Error, std::string("level ") + std::to_string(level) + ": " + e.what());
     return false;
@@ -481,9 +470,19 @@ void EditorCore::reset() {
 // ---------------------------------------------------------------------------------------------
 // Undo / redo
 void EditorCore::push_undo() {
-  undo_.push_back(doc_);
+  remember(doc_);
+}
+
+void EditorCore::remember(const Document& before) {
+  undo_.push_back(before);
   if (undo_.size() > kMaxUndo) undo_.erase(undo_.begin());
   redo_.clear();
+}
+
+void EditorCore::commit(const Document& d) {
+  const Document before = doc_;
+  apply(d, true);  // throws before anything changes when `d` cannot be applied
+  remember(before);
 }
 
 bool EditorCore::step_history(std::vector<Document>& from, std::vector<Document>& to,
@@ -587,10 +586,7 @@ bool EditorCore::open_profile(const std::string& path) {
         }
       }
     }
-    const Document before = doc_;
-    apply(d, true);
-    undo_.push_back(before);
-    redo_.clear();
+    commit(d);
     if (units) view_.units = *units;
     post(Message::Level::Info, "opened profile " + path);
     return true;
@@ -692,10 +688,7 @@ bool EditorCore::open_session(const std::string& path) {
         if (it != avatar_.achieved.end()) d.values[id] = it->second;
       }
     }
-    const Document before = doc_;
-    apply(d, true);
-    undo_.push_back(before);
-    redo_.clear();
+    commit(d);
     post(Message::Level::Info, "read " + std::to_string(used) + " measurements from " + path);
     return true;
   } catch (const std::exception& e) {

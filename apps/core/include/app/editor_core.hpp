@@ -184,14 +184,18 @@ class EditorCore {
   bool run_command(const std::string& line);
 
  private:
+  /// Pushes the current document onto the undo history (before an edit that changes it).
   void push_undo();
+  /// Pushes `before` onto the undo history (at most kMaxUndo steps) and clears the redo history.
+  void remember(const Document& before);
+  /// Applies `d` as one undoable step; when apply() throws, state and history are unchanged.
+  void commit(const Document& d);
   void apply(const Document& doc, bool complete);
   /// Moves one document from the back of `from` to the current state, pushing the current one
   /// onto `to` (undo: from = undo_, to = redo_; redo: the reverse). False when `from` is empty
   /// or the document cannot be applied (a message is posted naming `what`).
   bool step_history(std::vector<Document>& from, std::vector<Document>& to, const char* what);
   void recompute(bool complete);
-  void fill_missing_inputs();
   bool check_value(const std::string& id, double value_si);
 
   std::vector<ModelEntry> models_;
