@@ -277,3 +277,21 @@ TEST(Renderer, CullsBackFacesOnlyOfClosedConsistentlyWoundMeshes) {
               covered_fraction(box_faces(), outside), 0.02);
   EXPECT_EQ(covered_fraction(box_faces(), inside, mirror), 0.0);
 }
+
+// The shader helper shared by the renderer and the editor's ImGui backend reports the
+// compiler's complaint and the program's name.
+TEST(Renderer, LinkProgramNamesTheShaderThatFailsToCompile) {
+  auto ctx = cr::make_osmesa_context(8, 8);
+  const char* vs = "#version 330 core\nvoid main() { gl_Position = vec4(0.0); }\n";
+  const char* fs = "#version 330 core\nout vec4 c;\nvoid main() { c = vec4(1.0); }\n";
+  const GLuint p = cr::link_program(ctx->gl(), vs, fs, "tiny");
+  EXPECT_NE(p, 0u);
+  ctx->gl().DeleteProgram(p);
+  try {
+    cr::link_program(ctx->gl(), vs, "#version 330 core\nvoid main() { oops }\n", "broken");
+    FAIL() << "a shader with a syntax error linked";
+  } catch (const cr::RenderError& e) {
+    EXPECT_NE(std::string(e.what()).find("shader broken failed to compile"), std::string::npos)
+        << e.what();
+  }
+}

@@ -7,34 +7,9 @@
 
 namespace caliper::editor {
 
-namespace {
-GLuint compile(const render::GlFunctions& gl, GLenum type, const char* src) {
-  GLuint s = gl.CreateShader(type);
-  gl.ShaderSource(s, 1, &src, nullptr);
-  gl.CompileShader(s);
-  GLint ok = 0;
-  gl.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[1024] = {0};
-    gl.GetShaderInfoLog(s, sizeof log, nullptr, log);
-    throw render::RenderError(std::string("ImGui shader failed to compile: ") + log);
-  }
-  return s;
-}
-}  // namespace
-
 ImGuiGl::ImGuiGl(const render::GlFunctions& gl) : gl_(gl) {
-  const GLuint vs = compile(gl, GL_VERTEX_SHADER, render::shaders::kImguiVert);
-  const GLuint fs = compile(gl, GL_FRAGMENT_SHADER, render::shaders::kImguiFrag);
-  program_ = gl.CreateProgram();
-  gl.AttachShader(program_, vs);
-  gl.AttachShader(program_, fs);
-  gl.LinkProgram(program_);
-  gl.DeleteShader(vs);
-  gl.DeleteShader(fs);
-  GLint ok = 0;
-  gl.GetProgramiv(program_, GL_LINK_STATUS, &ok);
-  if (!ok) throw render::RenderError("ImGui shader program failed to link");
+  program_ =
+      render::link_program(gl, render::shaders::kImguiVert, render::shaders::kImguiFrag, "imgui");
   u_projection_ = gl.GetUniformLocation(program_, "u_projection");
   u_texture_ = gl.GetUniformLocation(program_, "u_texture");
   gl.GenVertexArrays(1, &vao_);

@@ -1,6 +1,7 @@
 #include "render/gl_functions.hpp"
 
 #include <cstdio>
+#include <string>
 
 namespace caliper::render {
 
@@ -22,6 +23,51 @@ void GlFunctions::check(const char* what) const {
     std::snprintf(code, sizeof code, "0x%04X", static_cast<unsigned>(err));
     throw RenderError(std::string(what) + ": OpenGL error " + code);
   }
+}
+
+namespace {
+
+GLuint compile_shader(const GlFunctions& gl, GLenum type, const char* source, const char* name) {
+  GLuint s = gl.CreateShader(type);
+  gl.ShaderSource(s, 1, &source, nullptr);
+  gl.CompileShader(s);
+  GLint ok = 0;
+  gl.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[2048] = {0};
+    gl.GetShaderInfoLog(s, sizeof log, nullptr, log);
+    gl.DeleteShader(s);
+    throw RenderError(std::string("shader ") + name + " failed to compile: " + log);
+  }
+  return s;
+}
+
+}  // namespace
+
+GLuint link_program(const GlFunctions& gl, const char* vs, const char* fs, const char* name) {
+  GLuint v = compile_shader(gl, GL_VERTEX_SHADER, vs, name);
+  GLuint f = 0;
+  try {
+    f = compile_shader(gl, GL_FRAGMENT_SHADER, fs, name);
+  } catch (...) {
+    gl.DeleteShader(v);
+    throw;
+  }
+  GLuint p = gl.CreateProgram();
+  gl.AttachShader(p, v);
+  gl.AttachShader(p, f);
+  gl.LinkProgram(p);
+  gl.DeleteShader(v);
+  gl.DeleteShader(f);
+  GLint ok = 0;
+  gl.GetProgramiv(p, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[2048] = {0};
+    gl.GetProgramInfoLog(p, sizeof log, nullptr, log);
+    gl.DeleteProgram(p);
+    throw RenderError(std::string("shader program ") + name + " failed to link: " + log);
+  }
+  return p;
 }
 
 }  // namespace caliper::render

@@ -17,43 +17,8 @@
 namespace caliper::render {
 
 // ---------------------------------------------------------------------------------------------
-// Shader helpers
+// Helpers
 namespace {
-
-GLuint compile_shader(const GlFunctions& gl, GLenum type, const char* source, const char* name) {
-  GLuint s = gl.CreateShader(type);
-  gl.ShaderSource(s, 1, &source, nullptr);
-  gl.CompileShader(s);
-  GLint ok = 0;
-  gl.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[2048] = {0};
-    gl.GetShaderInfoLog(s, sizeof log, nullptr, log);
-    gl.DeleteShader(s);
-    throw RenderError(std::string("shader ") + name + " failed to compile: " + log);
-  }
-  return s;
-}
-
-GLuint link_program(const GlFunctions& gl, const char* vs, const char* fs, const char* name) {
-  GLuint v = compile_shader(gl, GL_VERTEX_SHADER, vs, name);
-  GLuint f = compile_shader(gl, GL_FRAGMENT_SHADER, fs, name);
-  GLuint p = gl.CreateProgram();
-  gl.AttachShader(p, v);
-  gl.AttachShader(p, f);
-  gl.LinkProgram(p);
-  gl.DeleteShader(v);
-  gl.DeleteShader(f);
-  GLint ok = 0;
-  gl.GetProgramiv(p, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    char log[2048] = {0};
-    gl.GetProgramInfoLog(p, sizeof log, nullptr, log);
-    gl.DeleteProgram(p);
-    throw RenderError(std::string("shader program ") + name + " failed to link: " + log);
-  }
-  return p;
-}
 
 Mat4 normal_matrix(const Mat4& model) {
   Mat4 n = Mat4::Identity();

@@ -132,4 +132,9 @@ struct GlFunctions {
   void check(const char* what) const;
 };
 
+/// Compiles a vertex and a fragment shader and links them into a program. Throws RenderError
+/// with the compiler's or linker's log, naming `name`; nothing is left allocated on failure.
+GLuint link_program(const GlFunctions& gl, const char* vertex_source, const char* fragment_source,
+                    const char* name);
+
 }  // namespace caliper::render
