@@ -21,6 +21,7 @@
 #include <Eigen/Geometry>
 
 #include "caliper/errors.hpp"
+#include "caliper/random.hpp"
 
 namespace caliper {
 
@@ -43,36 +44,10 @@ Eigen::MatrixXd corner_betas(int num_betas, double sd) {
 
 namespace {
 
-// xoshiro256** (Blackman and Vigna), seeded through splitmix64.
-class Xoshiro256 {
- public:
-  explicit Xoshiro256(std::uint64_t seed) {
-    for (auto& s : s_) {
-      seed += 0x9e3779b97f4a7c15ULL;
-      std::uint64_t z = seed;
-      z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-      z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-      s = z ^ (z >> 31);
-    }
-  }
-  std::uint64_t next() {
-    const std::uint64_t result = rotl(s_[1] * 5, 7) * 9;
-    const std::uint64_t t = s_[1] << 17;
-    s_[2] ^= s_[0];
-    s_[3] ^= s_[1];
-    s_[1] ^= s_[2];
-    s_[0] ^= s_[3];
-    s_[2] ^= t;
-    s_[3] = rotl(s_[3], 45);
-    return result;
-  }
-  /// Uniform in (0, 1].
-  double uniform() { return (static_cast<double>(next() >> 11) + 1.0) * 0x1.0p-53; }
-
- private:
-  static std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
-  std::uint64_t s_[4];
-};
+/// Uniform in (0, 1] from 53 random bits.
+double uniform_open_closed(Xoshiro256& rng) {
+  return (static_cast<double>(rng.next() >> 11) + 1.0) * 0x1.0p-53;
+}
 
 constexpr double kTwoPi = 6.283185307179586476925;
 
@@ -87,8 +62,8 @@ Eigen::MatrixXd gaussian_betas(int count, int num_betas, std::uint64_t seed) {
   Eigen::MatrixXd b(count, num_betas);
   const Eigen::Index total = b.size();
   for (Eigen::Index i = 0; i < total; i += 2) {
-    const double r = std::sqrt(-2.0 * std::log(rng.uniform()));
-    const double t = kTwoPi * rng.uniform();
+    const double r = std::sqrt(-2.0 * std::log(uniform_open_closed(rng)));
+    const double t = kTwoPi * uniform_open_closed(rng);
     b(i / num_betas, i % num_betas) = r * std::cos(t);
     if (i + 1 < total) b((i + 1) / num_betas, (i + 1) % num_betas) = r * std::sin(t);
   }

@@ -24,30 +24,6 @@ namespace modelgen {
 
 // ------------------------------------------------------------------------------------ RNG
 
-Rng::Rng(std::uint64_t seed) {
-  std::uint64_t z = seed;
-  for (auto& s : s_) {
-    z += 0x9e3779b97f4a7c15ull;
-    std::uint64_t x = z;
-    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-    s = x ^ (x >> 31);
-  }
-}
-
-std::uint64_t Rng::next() {
-  auto rotl = [](std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); };
-  const std::uint64_t result = rotl(s_[1] * 5, 7) * 9;
-  const std::uint64_t t = s_[1] << 17;
-  s_[2] ^= s_[0];
-  s_[3] ^= s_[1];
-  s_[1] ^= s_[2];
-  s_[0] ^= s_[3];
-  s_[2] ^= t;
-  s_[3] = rotl(s_[3], 45);
-  return result;
-}
-
 double Rng::uniform() {
   return (static_cast<double>(next() >> 11) + 0.5) * (1.0 / 9007199254740992.0);
 }

@@ -16,6 +16,7 @@
 
 #include "ansur_stats.hpp"
 #include "caliper/measurements.hpp"
+#include "caliper/random.hpp"
 #include "smpl/body_model.hpp"
 
 namespace modelgen {
@@ -29,15 +30,15 @@ struct GeneratorOptions {
   std::uint64_t seed = 0x5eed0fca11be7ull;  ///< RNG seed (splitmix64 / xoshiro256**)
 };
 
-/// Small deterministic RNG: xoshiro256** seeded by splitmix64, normals by Box-Muller.
+/// Small deterministic RNG: caliper::Xoshiro256 bits, uniforms in (0, 1), normals by Box-Muller.
 class Rng {
  public:
-  explicit Rng(std::uint64_t seed);
-  std::uint64_t next();
+  explicit Rng(std::uint64_t seed) : bits_(seed) {}
+  std::uint64_t next() { return bits_.next(); }
   double uniform();  ///< in (0, 1)
   double normal();   ///< standard normal
  private:
-  std::uint64_t s_[4];
+  caliper::Xoshiro256 bits_;
   bool has_spare_ = false;
   double spare_ = 0.0;
 };
