@@ -80,6 +80,14 @@ struct DragFixture {
                       25, static_cast<float>(w) / static_cast<float>(h));
     core.begin_drag();
   }
+
+  /// One slider event as the editor handles it: regress + evaluate, upload, draw calls.
+  void drag_frame(int64_t i) {
+    core.drag_value("height", drag_height(i));
+    off->bind();
+    off->renderer().update_positions(mesh, floats(core.avatar().vertices));
+    off->renderer().draw(scene, view);
+  }
 };
 
 /// Regress + evaluate only (what the app core does per slider event).
@@ -101,16 +109,11 @@ void BM_DragFrameCpu(benchmark::State& state) {
   DragFixture f(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)), 4,
                 state.range(2));
   f.off->renderer().set_cull_closed_meshes(state.range(3) != 0);
-  const cr::GlFunctions& gl = f.off->context().gl();
   int64_t i = 0;
   for (auto _ : state) {
-    f.core.drag_value("height", drag_height(i++));
-    f.off->bind();
-    f.off->renderer().update_positions(f.mesh, floats(f.core.avatar().vertices));
-    f.off->renderer().draw(f.scene, f.view);
+    f.drag_frame(i++);
     state.PauseTiming();
-    f.off->resolve();
-    gl.Finish();
+    f.off->resolve();  // ends with glFinish
     state.ResumeTiming();
   }
 }
@@ -139,13 +142,11 @@ BENCHMARK(BM_UploadPositions)->Unit(benchmark::kMillisecond);
 void BM_DrawCallsOnly(benchmark::State& state) {
   DragFixture f(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)), 4,
                 state.range(2));
-  const cr::GlFunctions& gl = f.off->context().gl();
   for (auto _ : state) {
     f.off->bind();
     f.off->renderer().draw(f.scene, f.view);
     state.PauseTiming();
-    f.off->resolve();
-    gl.Finish();
+    f.off->resolve();  // ends with glFinish
     state.ResumeTiming();
   }
 }
@@ -160,10 +161,7 @@ void BM_DragFrameFinished(benchmark::State& state) {
   DragFixture f(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
   int64_t i = 0;
   for (auto _ : state) {
-    f.core.drag_value("height", drag_height(i++));
-    f.off->bind();
-    f.off->renderer().update_positions(f.mesh, floats(f.core.avatar().vertices));
-    f.off->renderer().draw(f.scene, f.view);
+    f.drag_frame(i++);
     f.off->resolve();  // ends with glFinish
   }
 }
