@@ -12,6 +12,12 @@ add_library(caliper::warnings ALIAS caliper_warnings)
 target_compile_options(caliper_warnings INTERFACE
   $<$<COMPILE_LANG_AND_ID:CXX,GNU,Clang>:-Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor
     -Wcast-align -Woverloaded-virtual -Wnull-dereference -Wformat=2 -Wimplicit-fallthrough>)
+# Floating point: no contraction of a*b+c into fused multiply-adds, so a result does not depend
+# on whether the compiler or a runtime-selected kernel variant had FMA (the open models must be
+# byte-identical on every CPU; docs/models.md). Never -ffast-math (design.md).
+target_compile_options(caliper_warnings INTERFACE
+  $<$<COMPILE_LANG_AND_ID:CXX,GNU,Clang>:-ffp-contract=off>
+  $<$<COMPILE_LANG_AND_ID:C,GNU,Clang>:-ffp-contract=off>)
 if(CALIPER_WERROR)
   target_compile_options(caliper_warnings INTERFACE $<$<COMPILE_LANG_AND_ID:CXX,GNU,Clang>:-Werror>)
 endif()

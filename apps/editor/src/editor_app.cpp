@@ -14,6 +14,23 @@
 namespace caliper::editor {
 
 namespace {
+
+/// ImGui's Begin/EndDisabled must pair even when the widget inside changes the condition (an
+/// Undo click that empties the history): the condition is read once, when the scope opens.
+class DisabledScope {
+ public:
+  explicit DisabledScope(bool disabled) : disabled_(disabled) {
+    if (disabled_) ImGui::BeginDisabled();
+  }
+  ~DisabledScope() {
+    if (disabled_) ImGui::EndDisabled();
+  }
+  DisabledScope(const DisabledScope&) = delete;
+  DisabledScope& operator=(const DisabledScope&) = delete;
+
+ private:
+  bool disabled_;
+};
 std::vector<float> to_floats(const smpl::Vertices& v) {
   std::vector<float> out(static_cast<size_t>(v.size()));
   for (Eigen::Index i = 0; i < v.size(); ++i)
@@ -404,14 +421,12 @@ void EditorApp::draw_panel() {
     if (ImGui::Button("Pin for comparison")) core_.pin_comparison("pinned");
     ImGui::SameLine();
     int compare = static_cast<int>(vs.compare);
-    const bool has = core_.comparison().has_value();
-    if (!has) ImGui::BeginDisabled();
+    const DisabledScope no_comparison(!core_.comparison().has_value());
     if (ImGui::RadioButton("off", compare == 0)) vs.compare = app::CompareMode::Off;
     ImGui::SameLine();
     if (ImGui::RadioButton("side", compare == 1)) vs.compare = app::CompareMode::SideBySide;
     ImGui::SameLine();
     if (ImGui::RadioButton("difference", compare == 2)) vs.compare = app::CompareMode::Difference;
-    if (!has) ImGui::EndDisabled();
   }
   if (ImGui::CollapsingHeader("Files", ImGuiTreeNodeFlags_DefaultOpen)) draw_files();
   ImGui::End();
@@ -506,13 +521,15 @@ void EditorApp::draw_files() {
   ImGui::SameLine();
   if (ImGui::Button("Screenshot")) screenshot_request_ = path_buffer_;
   ImGui::SameLine();
-  if (!core_.can_undo()) ImGui::BeginDisabled();
-  if (ImGui::Button("Undo")) core_.undo();
-  if (!core_.can_undo()) ImGui::EndDisabled();
+  {
+    const DisabledScope no_undo(!core_.can_undo());
+    if (ImGui::Button("Undo")) core_.undo();
+  }
   ImGui::SameLine();
-  if (!core_.can_redo()) ImGui::BeginDisabled();
-  if (ImGui::Button("Redo")) core_.redo();
-  if (!core_.can_redo()) ImGui::EndDisabled();
+  {
+    const DisabledScope no_redo(!core_.can_redo());
+    if (ImGui::Button("Redo")) core_.redo();
+  }
 }
 
 void EditorApp::draw_messages() {
