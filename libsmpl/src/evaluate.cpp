@@ -9,6 +9,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "smpl/simd.hpp"
+
 namespace smpl {
 namespace {
 
@@ -16,21 +18,51 @@ namespace {
 // first omitted terms (t^6/5040, t^6/40320) are below 1e-21, far under double rounding.
 constexpr double kSmallAngle = 1e-3;
 
-// Function multi-versioning: the hot loops below are compiled for AVX-512, AVX2 and baseline
-// x86-64, and the loader picks the best the CPU has (GCC's target_clones; plain code elsewhere).
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && \
-    !defined(__SANITIZE_ADDRESS__)
-#define SMPL_MULTIVERSION __attribute__((target_clones("avx512f", "avx2", "default")))
+// Kernel variants (simd.hpp): each hot loop below is written once as an always-inline body and
+// compiled into one function per x86-64 level (baseline SSE2, AVX2, AVX-512F); a dispatcher picks
+// the variant of smpl::simd_level() at each call. Explicit variants instead of GCC's target_clones
+// so that tests and benchmarks can run each one and CALIPER_SIMD can pin one. The bodies vectorise
+// across independent outputs only and the project builds with -ffp-contract=off, so every variant
+// computes bit-identical results (tests/smpl/test_simd.cpp).
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define SMPL_KERNEL_BODY inline __attribute__((always_inline))
+#define SMPL_KERNEL_VARIANTS(name, params, args)                 \
+  void name##_baseline params {                                  \
+    name##_body args;                                            \
+  }                                                              \
+  __attribute__((target("avx2"))) void name##_avx2 params {      \
+    name##_body args;                                            \
+  }                                                              \
+  __attribute__((target("avx512f"))) void name##_avx512 params { \
+    name##_body args;                                            \
+  }                                                              \
+  void name params {                                             \
+    switch (simd_level()) {                                      \
+      case SimdLevel::kAvx512:                                   \
+        name##_avx512 args;                                      \
+        return;                                                  \
+      case SimdLevel::kAvx2:                                     \
+        name##_avx2 args;                                        \
+        return;                                                  \
+      case SimdLevel::kBaseline:                                 \
+        break;                                                   \
+    }                                                            \
+    name##_baseline args;                                        \
+  }
 #else
-#define SMPL_MULTIVERSION
+#define SMPL_KERNEL_BODY inline
+#define SMPL_KERNEL_VARIANTS(name, params, args) \
+  void name params {                             \
+    name##_body args;                            \
+  }
 #endif
 
 // out = t + S[:, :nb] * beta with S column-major (leading dimension ld): the shape blend shapes.
 // 32 rows at a time are accumulated in 4 vectors of 8 doubles that stay in registers while every
 // column's 32-row segment streams past: shapedirs is read exactly once, at the cache bandwidth.
-SMPL_MULTIVERSION
-void blend(const double* t, const double* S, Eigen::Index ld, Eigen::Index rows, const double* beta,
-           Eigen::Index nb, double* out) {
+SMPL_KERNEL_BODY
+void blend_body(const double* t, const double* S, Eigen::Index ld, Eigen::Index rows,
+                const double* beta, Eigen::Index nb, double* out) {
   typedef double V8 __attribute__((vector_size(64)));  // GCC/Clang vector extension
   constexpr Eigen::Index kRows = 32;
   Eigen::Index r0 = 0;
@@ -64,13 +96,17 @@ void blend(const double* t, const double* S, Eigen::Index ld, Eigen::Index rows,
     out[r0] = a;
   }
 }
+SMPL_KERNEL_VARIANTS(blend,
+                     (const double* t, const double* S, Eigen::Index ld, Eigen::Index rows,
+                      const double* beta, Eigen::Index nb, double* out),
+                     (t, S, ld, rows, beta, nb, out))
 
 // v += P[:, c0:c0+nc] * f[c0:c0+nc] for the double pose blend shapes (P column-major, leading
 // dimension ld). Blocks of 512 rows (4 KB per column segment: long sequential runs that the
 // hardware prefetchers follow), 4 columns per pass over the L1-resident block of v.
-SMPL_MULTIVERSION
-void pose_blend_f64(const double* P, Eigen::Index ld, Eigen::Index rows, const double* f,
-                    Eigen::Index c0, Eigen::Index nc, double* v) {
+SMPL_KERNEL_BODY
+void pose_blend_f64_body(const double* P, Eigen::Index ld, Eigen::Index rows, const double* f,
+                         Eigen::Index c0, Eigen::Index nc, double* v) {
   constexpr Eigen::Index kBlock = 512;
   for (Eigen::Index r0 = 0; r0 < rows; r0 += kBlock) {
     const Eigen::Index n = std::min(kBlock, rows - r0);
@@ -93,13 +129,18 @@ void pose_blend_f64(const double* P, Eigen::Index ld, Eigen::Index rows, const d
     }
   }
 }
+SMPL_KERNEL_VARIANTS(pose_blend_f64,
+                     (const double* P, Eigen::Index ld, Eigen::Index rows, const double* f,
+                      Eigen::Index c0, Eigen::Index nc, double* v),
+                     (P, ld, rows, f, c0, nc, v))
 
 // Linear blend skinning of every vertex: out_v = sum_e w_e A_{j_e} [x_v; 1] + translation, with
 // the weights as compressed sparse rows (outer, inner, values; nnz per row may be given for
 // uncompressed matrices) and A as K row-major 3 x 4 blocks of 12 contiguous doubles.
-SMPL_MULTIVERSION
-void skin(const double* A, const int* outer, const int* nnz, const int* inner, const double* values,
-          Eigen::Index V, const double* x, const double* translation, double* out) {
+SMPL_KERNEL_BODY
+void skin_body(const double* A, const int* outer, const int* nnz, const int* inner,
+               const double* values, Eigen::Index V, const double* x, const double* translation,
+               double* out) {
   // Each 3 x 4 row is one vector of 4 doubles (GCC/Clang vector extension: one AVX2 register,
   // two SSE2 registers in the baseline build), so an influence costs 3 vector multiply-adds.
   typedef double Row4 __attribute__((vector_size(32)));
@@ -125,12 +166,17 @@ void skin(const double* A, const int* outer, const int* nnz, const int* inner, c
     o[2] = t2[0] * p[0] + t2[1] * p[1] + t2[2] * p[2] + t2[3] + translation[2];
   }
 }
+SMPL_KERNEL_VARIANTS(skin,
+                     (const double* A, const int* outer, const int* nnz, const int* inner,
+                      const double* values, Eigen::Index V, const double* x,
+                      const double* translation, double* out),
+                     (A, outer, nnz, inner, values, V, x, translation, out))
 
 // Single-precision pose blend shapes over one run of columns [c0, c0 + nc): float columns are
 // summed per block of rows in float, then added to the double vertices.
-SMPL_MULTIVERSION
-void pose_blend_f32(const float* P, Eigen::Index ld, Eigen::Index rows, const float* feature,
-                    Eigen::Index c0, Eigen::Index nc, double* v) {
+SMPL_KERNEL_BODY
+void pose_blend_f32_body(const float* P, Eigen::Index ld, Eigen::Index rows, const float* feature,
+                         Eigen::Index c0, Eigen::Index nc, double* v) {
   constexpr Eigen::Index kBlock = 512;
   float acc[kBlock];
   for (Eigen::Index r0 = 0; r0 < rows; r0 += kBlock) {
@@ -144,6 +190,10 @@ void pose_blend_f32(const float* P, Eigen::Index ld, Eigen::Index rows, const fl
     for (Eigen::Index i = 0; i < n; ++i) v[r0 + i] += static_cast<double>(acc[i]);
   }
 }
+SMPL_KERNEL_VARIANTS(pose_blend_f32,
+                     (const float* P, Eigen::Index ld, Eigen::Index rows, const float* feature,
+                      Eigen::Index c0, Eigen::Index nc, double* v),
+                     (P, ld, rows, feature, c0, nc, v))
 
 void check_betas(const BodyModel& model, Eigen::Index n) {
   if (n > model.num_betas()) {
