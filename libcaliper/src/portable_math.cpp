@@ -57,10 +57,36 @@ double cos_kernel(double r) {
   return 1.0 + r2 * s;
 }
 
+// 1/n! for n = 0..17, exact quotients of exactly representable numbers rounded once, at compile
+// time (IEEE division, so the same on every machine).
+struct InverseFactorials {
+  double c[18];
+  constexpr InverseFactorials() : c() {
+    double f = 1.0;
+    for (int n = 0; n < 18; ++n) {
+      if (n > 0) f *= n;  // n! is exact in double up to 18!
+      c[n] = 1.0 / f;
+    }
+  }
+};
+constexpr InverseFactorials kInvFact;
+
+// 1/(2k + 3) for k = 0..10 (log's atanh series, f^3/3 ... f^23/23).
+struct InverseOdds {
+  double c[11];
+  constexpr InverseOdds() : c() {
+    for (int k = 0; k < 11; ++k) c[k] = 1.0 / (2 * k + 3);
+  }
+};
+constexpr InverseOdds kInvOdd;
+
 // x = k * pi/2 + r with |r| <= pi/4 (a little more for huge x); returns k mod 4.
 int reduce(double x, double& r) {
   const double k = std::rint(x * kTwoOverPi);
   r = ((x - k * kPio2a) - k * kPio2b) - k * kPio2c;
+  if (std::fabs(k) < 4503599627370496.0) {  // 2^52: k is an exact integer in long long range
+    return static_cast<int>(static_cast<long long>(k) & 3);
+  }
   const long long q = static_cast<long long>(std::fmod(k, 4.0));
   return static_cast<int>((q + 4) % 4);
 }
@@ -112,7 +138,7 @@ double log(double x) {
   const double f = (m - 1.0) / (m + 1.0);
   const double f2 = f * f;
   double s = 0.0;
-  for (int n = 23; n >= 3; n -= 2) s = (s + 1.0 / n) * f2;
+  for (int k = 10; k >= 0; --k) s = (s + kInvOdd.c[k]) * f2;
   const double log_m = 2.0 * f + 2.0 * f * s;
   const double de = static_cast<double>(e);
   return (de * kLn2a + (de * kLn2b + log_m));
@@ -122,11 +148,12 @@ double exp(double x) {
   if (std::isnan(x)) return x;
   if (x > 709.78) return std::numeric_limits<double>::infinity();
   if (x < -745.2) return 0.0;
-  const double k = std::rint(x / (kLn2a + kLn2b));
+  constexpr double kInvLn2 = 1.4426950408889634;  // rounded 1/ln 2; any k near x/ln 2 works
+  const double k = std::rint(x * kInvLn2);
   const double r = (x - k * kLn2a) - k * kLn2b;  // |r| <= 0.35
   // Taylor series to r^17 (the next term is below 1e-22).
-  double s = 1.0;
-  for (int n = 17; n >= 1; --n) s = 1.0 + s * r / n;
+  double s = kInvFact.c[17];
+  for (int n = 16; n >= 0; --n) s = s * r + kInvFact.c[n];
   return std::ldexp(s, static_cast<int>(k));
 }
 

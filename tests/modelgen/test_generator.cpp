@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <string>
 
@@ -13,6 +14,7 @@
 #include "generator.hpp"
 #include "mesh_checks.hpp"
 #include "smpl/io.hpp"
+#include "smpl/simd.hpp"
 #include "subdivision.hpp"
 
 namespace {
@@ -248,4 +250,61 @@ TEST(HangingArm, SwingsTheWristAboutTheShoulderJointAndKeepsTheAcromion) {
   few_joints.parents.resize(16);
   EXPECT_THROW(modelgen::hanging_arm_length(few_joints, few_joints.v_template),
                std::invalid_argument);
+}
+
+namespace {
+
+// Small settings for the determinism tests (a few seconds per model).
+modelgen::GeneratorOptions small_options() {
+  modelgen::GeneratorOptions o;
+  o.population = 120;
+  o.components = 4;
+  o.calibration_rounds = 1;
+  o.calibration_bodies = 60;
+  return o;
+}
+
+std::string generated_bytes(const std::string& name) {
+  const std::string path = std::string(CALIPER_TEST_DATA_DIR) + "/" + name;
+  smpl::SaveOptions so;
+  so.compress = true;
+  smpl::save_model(modelgen::generate_model(committed_stats(), "female", small_options(), nullptr),
+                   path, so);
+  return read_bytes(path);
+}
+
+}  // namespace
+
+// Issue 18: the generator's kernels run once forced to the baseline (SSE2) variant and once
+// with the best variant this CPU has; the model files must be equal byte for byte.
+TEST(GeneratorDeterminism, BaselineAndBestKernelVariantsGiveTheSameBytes) {
+  std::string baseline;
+  {
+    const smpl::ScopedSimdLevel pin(smpl::SimdLevel::kBaseline);
+    baseline = generated_bytes("modelgen_simd_baseline.npz");
+  }
+  const smpl::SimdLevel best = smpl::supported_simd_levels().back();
+  const smpl::ScopedSimdLevel pin(best);
+  const std::string fast = generated_bytes("modelgen_simd_best.npz");
+  ASSERT_FALSE(baseline.empty());
+  EXPECT_TRUE(baseline == fast) << "baseline and " << smpl::simd_level_name(best)
+                                << " kernels give different model bytes";
+  std::printf("[ determinism ] baseline vs %s: %zu bytes, identical: %s\n",
+              smpl::simd_level_name(best), fast.size(), baseline == fast ? "yes" : "no");
+}
+
+// Eigen sizes the blocks of its matrix products from the cache sizes it detects on the CPU; two
+// CPUs with different caches must still give the same model. Emulated here by setting Eigen's
+// cache sizes to those of two different machines before each run.
+TEST(GeneratorDeterminism, TheCpuCacheSizesDoNotChangeTheBytes) {
+  const std::ptrdiff_t l1 = Eigen::l1CacheSize(), l2 = Eigen::l2CacheSize(),
+                       l3 = Eigen::l3CacheSize();
+  Eigen::setCpuCacheSizes(16 * 1024, 256 * 1024, 1024 * 1024);  // a small laptop core
+  const std::string small = generated_bytes("modelgen_cache_small.npz");
+  EXPECT_EQ(Eigen::l1CacheSize(), 16 * 1024) << "the generator's guard did not restore them";
+  Eigen::setCpuCacheSizes(48 * 1024, 2048 * 1024, 32 * 1024 * 1024);  // a server core
+  const std::string large = generated_bytes("modelgen_cache_large.npz");
+  Eigen::setCpuCacheSizes(l1, l2, l3);
+  ASSERT_FALSE(small.empty());
+  EXPECT_TRUE(small == large) << "the model depends on the cache sizes Eigen detects";
 }

@@ -11,8 +11,12 @@
 #include <Eigen/Geometry>
 
 #include "ansur_stats.hpp"
+#include "caliper/portable_math.hpp"
 
 namespace modelgen {
+
+// libm's transcendental functions differ in the last bit between CPUs (portable_math.hpp).
+namespace pm = caliper::portable;
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -37,7 +41,7 @@ enum Joint : int {
 };
 
 double sgnpow(double v, double e) {
-  return v < 0 ? -std::pow(-v, e) : std::pow(v, e);
+  return v < 0 ? -pm::pow(-v, e) : pm::pow(v, e);
 }
 
 // Perimeter of an ellipse (Ramanujan's second approximation).
@@ -89,7 +93,7 @@ Eigen::Vector3d torso_point(const TorsoSection& s, int i) {
     return q;
   }
   const double th = 2 * kPi * i / 16.0;
-  const double sn = std::sin(th), cs = std::cos(th);
+  const double sn = pm::sin(th), cs = pm::cos(th);
   const double e = 2.0 / s.p;
   Eigen::Vector3d q(s.a * sgnpow(sn, e), s.y, s.cz + (cs >= 0 ? s.df : s.db) * sgnpow(cs, e));
   if (i == 0 || i == 8) {
@@ -114,7 +118,7 @@ double torso_perimeter(const TorsoSection& s) {
   double per = 0;
   for (int i = 0; i < 16; ++i) {
     const Eigen::Vector3d a = torso_point(s, i), b = torso_point(s, (i + 1) % 16);
-    per += std::hypot(a.x() - b.x(), a.z() - b.z());
+    per += pm::hypot(a.x() - b.x(), a.z() - b.z());
   }
   return per;
 }
@@ -322,8 +326,8 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
   const double arm_xc = xa - arm_tilt;
   auto arm_root_point = [&](int j) {
     const double ph = 2 * kPi * j / 10.0;
-    return Eigen::Vector3d(arm_xc + arm_tilt * std::cos(ph), arm_y + arm_ry * std::cos(ph),
-                           -0.012 + arm_rz * std::sin(ph));
+    return Eigen::Vector3d(arm_xc + arm_tilt * pm::cos(ph), arm_y + arm_ry * pm::cos(ph),
+                           -0.012 + arm_rz * pm::sin(ph));
   };
   // torso (ring, index) -> arm root j, for the left side
   auto arm_root_index = [](int r, int i) -> int {
@@ -433,7 +437,7 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
       } else {
         p = torso_point(sec[r], i);
         if (r == 9) {  // front of the shoulder line lower, back higher
-          const double cs = std::cos(2 * kPi * i / 16.0);
+          const double cs = pm::cos(2 * kPi * i / 16.0);
           p.y() += cs > 0 ? -0.02 * cs : 0.0;
         }
       }
@@ -483,8 +487,8 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
   for (int k = 0; k < 8; ++k) {
     const int kl = k <= 4 ? k : 8 - k;  // compute the left half, mirror exactly
     const double th = 2 * kPi * kl / 8.0;
-    const double cs = std::cos(th);
-    Eigen::Vector3d p(r_neck * 1.12 * std::sin(th), HC7 - 0.03 - 0.028 * cs,
+    const double cs = pm::cos(th);
+    Eigen::Vector3d p(r_neck * 1.12 * pm::sin(th), HC7 - 0.03 - 0.028 * cs,
                       -0.025 + r_neck * 1.1 * cs);
     if (k > 4) {
       p.x() = -p.x();
@@ -521,7 +525,7 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
     for (int k = 0; k < 8; ++k) {
       const int kl = k <= 4 ? k : 8 - k;  // compute the left half, mirror exactly
       const double th = 2 * kPi * kl / 8.0;
-      const double sn = std::sin(th), cs = std::cos(th);
+      const double sn = pm::sin(th), cs = pm::cos(th);
       Eigen::Vector3d p(a * sgnpow(sn, 0.85), y, cz + (cs >= 0 ? df : dbk) * sgnpow(cs, 0.85));
       if (k > 4) {
         p.x() = -p.x();
@@ -613,7 +617,7 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
       std::vector<int> r(10);
       for (int j = 0; j < 10; ++j) {
         const double ph = 2 * kPi * j / 10.0;
-        r[j] = b.vert(Eigen::Vector3d(x, yc + ry * std::cos(ph), zc + rz * std::sin(ph)), sk);
+        r[j] = b.vert(Eigen::Vector3d(x, yc + ry * pm::cos(ph), zc + rz * pm::sin(ph)), sk);
         ids.all.push_back(r[j]);
       }
       return r;
@@ -793,7 +797,7 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
       std::vector<int> r(10);
       for (int j = 0; j < 10; ++j) {
         const double ph = (225.0 + 36.0 * j) * kPi / 180.0;
-        const double cs = std::cos(ph), sn = std::sin(ph);
+        const double cs = pm::cos(ph), sn = pm::sin(ph);
         double bv = bb * sn;
         if (sn < 0) {
           bv -= back_bulge * sn * sn;

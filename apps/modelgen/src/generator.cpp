@@ -16,11 +16,15 @@
 
 #include "cage.hpp"
 #include "caliper/circumference.hpp"
+#include "caliper/portable_math.hpp"
 #include "caliper/volume.hpp"
 #include "caliper/weight.hpp"
 #include "subdivision.hpp"
 
 namespace modelgen {
+
+// libm's transcendental functions differ in the last bit between CPUs (portable_math.hpp).
+namespace pm = caliper::portable;
 
 // ------------------------------------------------------------------------------------ RNG
 
@@ -34,11 +38,11 @@ double Rng::normal() {
     return spare_;
   }
   const double u1 = uniform(), u2 = uniform();
-  const double r = std::sqrt(-2.0 * std::log(u1));
+  const double r = std::sqrt(-2.0 * pm::log(u1));
   const double t = 2.0 * 3.14159265358979323846 * u2;
-  spare_ = r * std::sin(t);
+  spare_ = r * pm::sin(t);
   has_spare_ = true;
-  return r * std::cos(t);
+  return r * pm::cos(t);
 }
 
 namespace {
@@ -242,11 +246,11 @@ Cage body_cage(const Eigen::VectorXd& dims, bool female, double weight_factor,
   double b1 = std::clamp(b0 * target / w0, 0.6, 1.8);
   Cage c1 = build_cage(dims, female, b1);
   const double w1 = weight_of(c1);
-  const double slope = std::log(w1 / w0) / std::log(b1 / b0);
+  const double slope = pm::log(w1 / w0) / pm::log(b1 / b0);
   if (!(std::abs(b1 - b0) > 1e-9) || !(slope > 0.2)) {
     return c1;
   }
-  const double b2 = std::clamp(b1 * std::pow(target / w1, 1.0 / slope), 0.6, 1.8);
+  const double b2 = std::clamp(b1 * pm::pow(target / w1, 1.0 / slope), 0.6, 1.8);
   return build_cage(dims, female, b2);
 }
 
@@ -472,8 +476,18 @@ Eigen::MatrixXd orth(const Eigen::MatrixXd& m) {
 
 }  // namespace
 
+DeterministicNumerics::DeterministicNumerics()
+    : l1_(Eigen::l1CacheSize()), l2_(Eigen::l2CacheSize()), l3_(Eigen::l3CacheSize()) {
+  Eigen::setCpuCacheSizes(32 * 1024, 512 * 1024, 4 * 1024 * 1024);
+}
+
+DeterministicNumerics::~DeterministicNumerics() {
+  Eigen::setCpuCacheSizes(l1_, l2_, l3_);
+}
+
 smpl::BodyModel generate_model(const SurveyStats& stats, const std::string& gender,
                                const GeneratorOptions& opt, GenerationReport* report) {
+  const DeterministicNumerics pinned;
   if (gender != "female" && gender != "male" && gender != "neutral") {
     throw std::invalid_argument("generate_model: gender must be female, male or neutral, not '" +
                                 gender + "'");
@@ -672,6 +686,7 @@ ValidationFigures survey_figures(const SurveyStats& stats, const std::string& ge
 }
 
 ValidationFigures model_figures(const smpl::BodyModel& model, int samples, std::uint64_t seed) {
+  const DeterministicNumerics pinned;
   Rng rng(seed);
   std::map<std::string, std::vector<double>> vals;
   Eigen::VectorXd betas(model.num_betas());

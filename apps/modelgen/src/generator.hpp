@@ -7,6 +7,7 @@
 /// options give the same bytes on every run.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -106,6 +107,25 @@ ValidationFigures model_figures(const smpl::BodyModel& model, int samples, std::
 struct GenerationReport {
   std::vector<std::string> lines;      ///< human-readable log lines
   Eigen::VectorXd explained_variance;  ///< fraction of total variance per kept component
+};
+
+/// Makes the generator's arithmetic independent of the CPU it runs on, for its lifetime, so the
+/// models come out byte-identical on every x86-64 machine (issue 18; docs/models.md):
+/// - Eigen's matrix products split their inner dimension into blocks sized from the cache sizes
+///   it detects at run time, and a different split sums in a different order; the guard sets
+///   fixed sizes (32 KiB, 512 KiB, 4 MiB) and restores the previous ones when it ends.
+/// - libsmpl's kernels give the same bits on every instruction-set variant by contract
+///   (smpl/simd.hpp), so the variant the CPU picks does not matter.
+/// generate_model() holds one; model_figures() too.
+class DeterministicNumerics {
+ public:
+  DeterministicNumerics();
+  ~DeterministicNumerics();
+  DeterministicNumerics(const DeterministicNumerics&) = delete;
+  DeterministicNumerics& operator=(const DeterministicNumerics&) = delete;
+
+ private:
+  std::ptrdiff_t l1_, l2_, l3_;
 };
 
 /// Builds the model for `gender` ("female", "male" or "neutral" = both sexes, half each).
