@@ -98,3 +98,26 @@ def test_same_arrays_same_vertices(work):
                         model.shapedirs, posedirs_smplx, j_regressor, parents, lbs_weights)
     np.testing.assert_allclose(rest, avatar.vertices, rtol=0, atol=TOL_M)
     assert abs(caliper.measure(model, rest)["height"] - avatar.achieved["height"]) < TOL_M
+
+
+def test_pkl_and_npz_give_the_same_model(work):
+    """SMPL ships .pkl files (smplx reads them with pickle); caliper's restricted unpickler reads
+    a pickle of the same dict of numpy arrays to the same model as the .npz."""
+    import pickle
+    rng = np.random.default_rng(5)
+    npz = os.path.join(work, "m.npz")
+    write_smpl_npz(npz, caliper.open_model("male"), rng)
+    with np.load(npz) as f:
+        # SMPL's own keys (text arrays such as landmark_names are not in SMPL pickles).
+        data = {k: f[k] for k in ("v_template", "f", "shapedirs", "posedirs", "J_regressor",
+                                  "weights", "kintree_table")}
+    pkl = os.path.join(work, "m.pkl")
+    with open(pkl, "wb") as f:
+        pickle.dump(data, f, protocol=4)  # protocol 2 from Python 3 needs _codecs (refused)
+    a, b = caliper.load_model(npz), caliper.load_model(pkl)
+    for name in ("v_template", "faces", "shapedirs", "posedirs", "j_regressor", "weights"):
+        np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
+    assert a.parents == b.parents
+    betas = rng.normal(size=(2, 10))
+    poses = rng.normal(scale=0.3, size=(2, 3 * a.num_joints))
+    np.testing.assert_array_equal(caliper.evaluate(a, betas, poses), caliper.evaluate(b, betas, poses))
