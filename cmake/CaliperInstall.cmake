@@ -1,23 +1,51 @@
-# Install and export smpl::smpl and caliper::caliper so that other projects can find_package them.
+# Install and export the libraries so that other projects can use them:
+#   find_package(VirtualCaliper) + target_link_libraries(app PRIVATE vc::caliper)   (CMake)
+#   pkg-config --cflags --libs virtual-caliper                                     (anything else)
+# Exported targets: vc::smpl (alias smpl::smpl), vc::smpl_gltf (alias smpl::gltf), vc::caliper
+# (alias caliper::caliper). They are static libraries, so their private link dependencies (zlib,
+# tinygltf, nlohmann_json) travel in the exported interface as $<LINK_ONLY:...> and the package
+# config finds every one of them (find_dependency); tests/consumer/run.sh checks it from outside.
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
+set(CALIPER_CMAKE_INSTALL_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/VirtualCaliper)
+
 install(DIRECTORY libsmpl/include/smpl DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(DIRECTORY libcaliper/include/caliper DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-install(TARGETS smpl caliper caliper_warnings caliper_sanitizers EXPORT VirtualCaliperTargets
+set(CALIPER_EXPORTED_TARGETS smpl caliper caliper_warnings caliper_sanitizers)
+set(CALIPER_HAVE_GLTF OFF)
+if(TARGET smpl_gltf)
+  list(APPEND CALIPER_EXPORTED_TARGETS smpl_gltf)
+  set(CALIPER_HAVE_GLTF ON)
+endif()
+install(TARGETS ${CALIPER_EXPORTED_TARGETS} EXPORT VirtualCaliperTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 # The programs' data: open default models, protocols, media. caliper::find_assets_dir() looks
 # for it at <prefix>/bin/../share/virtual-caliper/assets.
 install(DIRECTORY assets/ DESTINATION ${CMAKE_INSTALL_DATADIR}/virtual-caliper/assets)
-install(EXPORT VirtualCaliperTargets NAMESPACE vc:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/VirtualCaliper)
-file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/VirtualCaliperConfig.cmake
-  "include(CMakeFindDependencyMacro)\nfind_dependency(Eigen3)\n"
-  "include(\${CMAKE_CURRENT_LIST_DIR}/VirtualCaliperTargets.cmake)\n"
-  "if(NOT TARGET smpl::smpl)\n  add_library(smpl::smpl ALIAS vc::smpl)\nendif()\n"
-  "if(NOT TARGET caliper::caliper)\n  add_library(caliper::caliper ALIAS vc::caliper)\nendif()\n")
+install(EXPORT VirtualCaliperTargets NAMESPACE vc:: DESTINATION ${CALIPER_CMAKE_INSTALL_DIR})
+configure_package_config_file(${CMAKE_CURRENT_LIST_DIR}/VirtualCaliperConfig.cmake.in
+  ${CMAKE_CURRENT_BINARY_DIR}/VirtualCaliperConfig.cmake
+  INSTALL_DESTINATION ${CALIPER_CMAKE_INSTALL_DIR})
 write_basic_package_version_file(${CMAKE_CURRENT_BINARY_DIR}/VirtualCaliperConfigVersion.cmake
   COMPATIBILITY SameMajorVersion)
 install(FILES ${CMAKE_CURRENT_BINARY_DIR}/VirtualCaliperConfig.cmake
   ${CMAKE_CURRENT_BINARY_DIR}/VirtualCaliperConfigVersion.cmake
-  DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/VirtualCaliper)
+  DESTINATION ${CALIPER_CMAKE_INSTALL_DIR})
+
+# pkg-config: one file for the three libraries, relocatable (prefix from the file's own folder,
+# so `cmake --install build --prefix P` works for any P). The libraries are static, so their link
+# dependencies are in Requires (not Requires.private): plain `pkg-config --libs` links.
+set(CALIPER_PC_REQUIRES "eigen3 zlib")
+set(CALIPER_PC_LIBS "-lcaliper -lsmpl")
+if(CALIPER_HAVE_GLTF)
+  set(CALIPER_PC_REQUIRES "${CALIPER_PC_REQUIRES} tinygltf nlohmann_json")
+  set(CALIPER_PC_LIBS "-lcaliper -lsmpl_gltf -lsmpl")
+endif()
+file(RELATIVE_PATH CALIPER_PC_TO_PREFIX /${CMAKE_INSTALL_LIBDIR}/pkgconfig /)
+string(REGEX REPLACE "/$" "" CALIPER_PC_TO_PREFIX "${CALIPER_PC_TO_PREFIX}")
+configure_file(${CMAKE_CURRENT_LIST_DIR}/virtual-caliper.pc.in
+  ${CMAKE_CURRENT_BINARY_DIR}/virtual-caliper.pc @ONLY)
+install(FILES ${CMAKE_CURRENT_BINARY_DIR}/virtual-caliper.pc
+  DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)

@@ -90,8 +90,8 @@ std::vector<double> parse_number_list(const std::string& text, const std::string
 // ---------------------------------------------------------------------------------------------
 
 /// A length with its unit stated: mm, cm, m, in, ft, and feet-inches ("5ft6in", "5'6\"").
-/// Returns metres. Throws UsageError naming `what` when the unit is missing or unknown, or the
-/// number is not a finite number.
+/// Returns metres (caliper::parse_length). Throws UsageError naming `what` when the unit is
+/// missing or unknown, or the number is not a finite number.
 double parse_length(const std::string& text, const std::string& what);
 /// A mass with its unit stated: kg, g, lb/lbs. Returns kilograms. Throws UsageError.
 double parse_mass(const std::string& text, const std::string& what);

@@ -3,6 +3,8 @@
 #include <chrono>
 #include <filesystem>
 
+#include "caliper/errors.hpp"
+#include "caliper/inputs.hpp"
 #include "cli_support.hpp"
 #include "smpl/io.hpp"
 
@@ -66,26 +68,15 @@ std::shared_ptr<const ModelBundle> BundleCache::get(const std::string& sex) {
 }
 
 std::string default_regressor(const std::map<std::string, double>& inputs) {
-  std::set<std::string> given;
-  for (const auto& [id, v] : inputs) {
-    (void)v;
-    for (const auto& r6 : regressor_inputs(RegressorKind::R6))
-      if (r6 == id) given.insert(id);
-  }
-  for (RegressorKind k : {RegressorKind::R2, RegressorKind::R4, RegressorKind::R5}) {
-    const auto& need = regressor_inputs(k);
-    if (given == std::set<std::string>(need.begin(), need.end())) return to_string(k);
-  }
-  return "noise-aware";
+  return caliper::default_regressor(inputs);
 }
 
 std::string normalise_regressor_name(const std::string& text) {
-  if (auto k = parse_regressor_kind(text)) return to_string(*k);
-  std::string t;
-  for (char c : text) t += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (t == "noise-aware" || t == "noise_aware" || t == "noiseaware" || t == "na" || t == "bayes")
-    return "noise-aware";
-  throw UsageError("--regressor " + text + ": expected R2, R4, R5, R6 or noise-aware");
+  try {
+    return caliper::normalise_regressor_name(text, "--regressor");
+  } catch (const InvalidInputError& e) {
+    throw UsageError(e.what());
+  }
 }
 
 }  // namespace caliper::cli

@@ -52,13 +52,15 @@ class BundleCache {
   std::map<std::string, std::shared_ptr<const ModelBundle>> bundles_;
 };
 
-/// Which regressor `create`/`batch` use by default for the given inputs (docs/cli.md):
+/// Which regressor `create`/`batch` use by default for the given inputs (docs/cli.md;
+/// caliper::default_regressor):
 /// exactly the inputs of R2, R4 or R5 -> that regressor; all six or any other subset ->
 /// "noise-aware" (R6 reproduces every input but amplifies measurement noise into implausible
 /// shapes, paper Fig. 9 and docs/evaluation.md).
 std::string default_regressor(const std::map<std::string, double>& inputs);
 
-/// Normalises a --regressor value to "R2", "R4", "R5", "R6" or "noise-aware"; throws UsageError.
+/// Normalises a --regressor value to "R2", "R4", "R5", "R6" or "noise-aware"
+/// (caliper::normalise_regressor_name); throws UsageError.
 std::string normalise_regressor_name(const std::string& text);
 
 }  // namespace caliper::cli

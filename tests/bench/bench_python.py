@@ -1,0 +1,88 @@
+"""Python overhead of the caliper module over the same C++ work (docs/performance.md).
+
+    PYTHONPATH=build/python /usr/bin/python3 tests/bench/bench_python.py [--bodies 4096]
+
+create: caliper.create() vs the C++ of create() (caliper::create_avatar on the same model,
+regressors and inputs) timed inside C++; batch: caliper.evaluate() of N bodies vs the same C++
+loop timed inside C++ (both allocate a fresh uninitialised output per call). Paired: each Python
+call is followed by one baseline call, and the overhead is the median of the per-pair
+differences, so drifts of a shared machine cancel. Two baselines: the C++ work timed inside C++,
+and the same baseline call timed from Python (docs/performance.md explains why both). Thread CPU time on both sides
+(CLOCK_THREAD_CPUTIME_ID; wall time would measure the neighbours on a shared machine).
+"""
+import argparse
+import functools
+import platform
+import statistics
+import time
+
+import numpy as np
+
+import caliper
+
+print = functools.partial(print, flush=True)  # noqa: A001 (progress when redirected)
+
+
+def paired(py_call, cpp_call, pairs):
+    """Medians over `pairs` rounds of: the Python call; the C++ baseline call as timed inside
+    C++; the same baseline call as timed from Python (its binding does no conversion work);
+    and the per-round differences of the Python call to each. Seconds."""
+    py, inner, outer, d_inner, d_outer = [], [], [], [], []
+    for _ in range(pairs):
+        t0 = time.thread_time()
+        py_call()
+        p = time.thread_time() - t0
+        t0 = time.thread_time()
+        c = cpp_call()
+        o = time.thread_time() - t0
+        py.append(p)
+        inner.append(c)
+        outer.append(o)
+        d_inner.append(p - c)
+        d_outer.append(p - o)
+    m = statistics.median
+    return m(py), m(inner), m(outer), m(d_inner), m(d_outer)
+
+
+def report(what, unit, scale, r):
+    py, inner, outer, d_inner, d_outer = r
+    print(f"{what}: Python {py * scale:.1f} {unit}; C++ timed inside C++ {inner * scale:.1f} "
+          f"{unit} (overhead {d_inner * scale:+.1f} {unit}, {100 * d_inner / inner:+.2f} %); "
+          f"C++ baseline call timed from Python {outer * scale:.1f} {unit} (overhead "
+          f"{d_outer * scale:+.1f} {unit}, {100 * d_outer / outer:+.2f} %)")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--bodies", type=int, default=4096)
+    ap.add_argument("--create-pairs", type=int, default=1000)
+    ap.add_argument("--batch-pairs", type=int, default=7)
+    a = ap.parse_args()
+    model = caliper.open_model("female")
+    regs = caliper.train_regressors(model)
+    tc = caliper._caliper._time_create_cpp
+    te = caliper._caliper._time_evaluate_cpp
+    print(f"python {platform.python_version()}, caliper {caliper.__version__}, model "
+          f"{model.name} ({model.num_vertices} vertices, {model.num_joints} joints, "
+          f"{model.num_pose_features} pose features)")
+    si = {"height": 1.68, "weight": 62.0}
+    for label, call in (
+            ("dict of SI numbers", lambda: caliper.create(model, regs, si)),
+            ("keywords with units", lambda: caliper.create(model, regs, height="168cm",
+                                                           weight="62kg"))):
+        report(f"create R2 ({label}), {a.create_pairs} pairs", "us", 1e6,
+               paired(call, lambda: tc(model, regs, si, repeats=1), a.create_pairs))
+
+    rng = np.random.default_rng(1)
+    betas = rng.normal(size=(a.bodies, 10))
+    poses = rng.normal(scale=0.3, size=(a.bodies, 3 * model.num_joints))
+    for label, pose_arg in (("rest pose", None), ("posed", poses)):
+        for dtype in (np.float64, np.float32):
+            report(f"evaluate {a.bodies} bodies, {label}, Python out {np.dtype(dtype).name} "
+                   f"(C++ float64), {a.batch_pairs} pairs", "ms", 1e3,
+                   paired(lambda: caliper.evaluate(model, betas, pose_arg, dtype=dtype),
+                          lambda: te(model, betas, pose_arg, repeats=1), a.batch_pairs))
+
+
+if __name__ == "__main__":
+    main()
