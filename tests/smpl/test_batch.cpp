@@ -127,6 +127,22 @@ TEST(Batch, EvaluateBatchEqualsSingleCallsFloat) {
   check_evaluate_batch(true, true);
 }
 
+TEST(Batch, SmallBatchesGiveTheBitsOfTheirBodiesInALargeBatch) {
+  // Fewer than 4 bodies take the streaming kernels, more the packed ones: same operations.
+  const smpl::BodyModel model = caliper::test::make_random_model(10, 24, true, 3);
+  const Inputs in = make_inputs(6, 10, 24, false, 20);
+  for (bool single_precision : {false, true}) {
+    smpl::Workspace ws;
+    ws.single_precision_pose_blend_shapes = single_precision;
+    smpl::BodyBatch large, small;
+    smpl::evaluate_batch(model, in.betas, in.poses, in.translations, ws, large);
+    smpl::evaluate_batch(model, in.betas.topRows(2), in.poses.topRows(2),
+                         in.translations.topRows(2), ws, small, 2);
+    EXPECT_TRUE(same_bits(large.vertices.data(), small.vertices.data(), small.vertices.size()))
+        << (single_precision ? "float" : "double");
+  }
+}
+
 TEST(Batch, RestPoseAndNoTranslationEqualShape) {
   const smpl::BodyModel model = caliper::test::make_random_model(10, 24, true, 5);
   const Inputs in = make_inputs(3, 10, 24, false, 90);
