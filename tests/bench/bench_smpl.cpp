@@ -227,6 +227,16 @@ BENCHMARK(BM_GlbWriteFile)->Unit(benchmark::kMillisecond);
 
 // Every kernel benchmark once per variant this CPU has, named .../<variant>.
 void register_per_variant() {
+  std::vector<int> custom_batches;
+  if (const char* sizes = std::getenv("CALIPER_BENCH_BATCH_SIZES")) {
+    std::string list = sizes;
+    for (size_t pos = 0; pos < list.size();) {
+      const size_t comma = std::min(list.find(',', pos), list.size());
+      const int n = std::atoi(list.substr(pos, comma - pos).c_str());
+      if (n > 0) custom_batches.push_back(n);
+      pos = comma + 1;
+    }
+  }
   std::string levels;
   for (smpl::SimdLevel level : smpl::supported_simd_levels()) {
     const std::string v = smpl::simd_level_name(level);
@@ -248,6 +258,19 @@ void register_per_variant() {
         ->Args({0, 5})
         ->Args({0, 0})
         ->Unit(benchmark::kMicrosecond);
+    if (!custom_batches.empty()) {
+      // CALIPER_BENCH_BATCH_SIZES (tools/bench_vs_smplx.py): these batch sizes, one thread.
+      for (int n : custom_batches) {
+        benchmark::RegisterBenchmark(("BM_ShapeBatch/" + v).c_str(), BM_ShapeBatch, level)
+            ->Args({n, 1})
+            ->Unit(benchmark::kMicrosecond);
+        benchmark::RegisterBenchmark(("BM_EvaluateBatch/" + v).c_str(), BM_EvaluateBatch, level)
+            ->Args({n, 0, 1})
+            ->Args({n, 1, 1})
+            ->Unit(benchmark::kMicrosecond);
+      }
+      continue;
+    }
     benchmark::RegisterBenchmark(("BM_ShapeBatch/" + v).c_str(), BM_ShapeBatch, level)
         ->Args({1, 1})
         ->Args({64, 1})
