@@ -191,6 +191,14 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
       if (b->regressors.noise_aware) check("noise-aware", b->regressors.noise_aware->signature());
     }
   }
+  // The GLB skin attributes depend on the model only: computed once per model.
+  std::map<const ModelBundle*, smpl::GltfSkinWeights> skins;
+  if (out_dir && (format == "glb" || format == "gltf")) {
+    for (const auto& [sex, b] : bundles) {
+      (void)sex;
+      if (!skins.count(b.get())) skins[b.get()] = smpl::gltf_skin_weights(b->model);
+    }
+  }
   const double load_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_load).count();
 
@@ -231,8 +239,10 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
         if (out_dir) {
           const std::string path =
               (std::filesystem::path(*out_dir) / (file_safe(p.id) + "." + format)).string();
+          const auto skin = skins.find(&b);
           write_avatar(path, b.model, av.betas, av.vertices,
-                       {{"generator", version_string()}, {"regressor", o.regressor}});
+                       {{"generator", version_string()}, {"regressor", o.regressor}},
+                       skin == skins.end() ? nullptr : &skin->second);
         }
         o.achieved = std::move(av.achieved);
         o.betas = std::move(av.betas);
