@@ -43,7 +43,7 @@ void finish(const smpl::BodyModel& model, const Eigen::VectorXd& betas,
 
 Avatar create_avatar(const smpl::BodyModel& model, const LinearRegressor& regressor,
                      const MeasurementMap& measurements, const AvatarOptions& options) {
-  regressor.signature().check(model);
+  if (options.check_model) regressor.signature().check(model);
   Avatar a;
   a.input = measurements;
   a.mapped = prepare(measurements, options, a.messages);
@@ -60,7 +60,7 @@ Avatar create_avatar(const smpl::BodyModel& model, const LinearRegressor& regres
 Avatar create_avatar(const smpl::BodyModel& model, const NoiseAwareRegressor& regressor,
                      const MeasurementMap& measurements, const AvatarOptions& options,
                      const NoiseLevels& noise) {
-  regressor.signature().check(model);
+  if (options.check_model) regressor.signature().check(model);
   Avatar a;
   a.input = measurements;
   a.mapped = prepare(measurements, options, a.messages);

@@ -28,7 +28,11 @@ double cross2(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::V
 std::vector<SliceLoop> slice_mesh(const smpl::Vertices& v, const smpl::Faces& faces,
                                   double height) {
   const auto nv = v.rows();
-  const auto above = [&](int i) { return v(i, 1) - height >= 0.0; };  // on-plane counts as above
+  // Which side of the plane each vertex is on (on-plane counts as above), computed once: the face
+  // loop below then reads one byte per corner instead of a vertex row.
+  std::vector<char> side(static_cast<std::size_t>(nv));
+  for (Eigen::Index i = 0; i < nv; ++i) side[static_cast<std::size_t>(i)] = v(i, 1) - height >= 0.0;
+  const auto above = [&](int i) { return side[static_cast<std::size_t>(i)]; };
   std::unordered_map<std::uint64_t, Eigen::Vector2d> points;
   std::unordered_map<std::uint64_t, std::vector<int>> incident;  // key -> segment ids
   std::vector<std::pair<std::uint64_t, std::uint64_t>> segments;
@@ -40,6 +44,7 @@ std::vector<SliceLoop> slice_mesh(const smpl::Vertices& v, const smpl::Faces& fa
                                 " has a vertex index out of range");
       }
     }
+    if (above(idx[0]) == above(idx[1]) && above(idx[1]) == above(idx[2])) continue;  // not cut
     std::uint64_t keys[2];
     int n = 0;
     for (int k = 0; k < 3; ++k) {

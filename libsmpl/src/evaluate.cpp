@@ -6,8 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <exception>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 #include "smpl/simd.hpp"
 
@@ -25,16 +27,21 @@ constexpr double kSmallAngle = 1e-3;
 // across independent outputs only and the project builds with -ffp-contract=off, so every variant
 // computes bit-identical results (tests/smpl/test_simd.cpp).
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#define SMPL_KERNEL_BODY inline __attribute__((always_inline))
+// Each body is a template on the vector width in bytes, so every variant uses vectors as wide as
+// its registers (16 bytes for SSE2, 32 for AVX2, 64 for AVX-512F): a 64-byte vector on an AVX2
+// target is split into register pairs and spills, a 32-byte one on SSE2 likewise.
+#define SMPL_KERNEL_BODY   \
+  template <int kVecBytes> \
+  inline __attribute__((always_inline))
 #define SMPL_KERNEL_VARIANTS(name, params, args)                 \
   void name##_baseline params {                                  \
-    name##_body args;                                            \
+    name##_body<16> args;                                        \
   }                                                              \
   __attribute__((target("avx2"))) void name##_avx2 params {      \
-    name##_body args;                                            \
+    name##_body<32> args;                                        \
   }                                                              \
   __attribute__((target("avx512f"))) void name##_avx512 params { \
-    name##_body args;                                            \
+    name##_body<64> args;                                        \
   }                                                              \
   void name params {                                             \
     switch (simd_level()) {                                      \
@@ -50,45 +57,50 @@ constexpr double kSmallAngle = 1e-3;
     name##_baseline args;                                        \
   }
 #else
-#define SMPL_KERNEL_BODY inline
+// Other architectures (AArch64 NEON, ...): one variant with 16-byte vectors.
+#define SMPL_KERNEL_BODY   \
+  template <int kVecBytes> \
+  inline
 #define SMPL_KERNEL_VARIANTS(name, params, args) \
   void name params {                             \
-    name##_body args;                            \
+    name##_body<16> args;                        \
   }
 #endif
 
+// A GCC/Clang vector of kBytes / sizeof(T) lanes of T.
+template <typename T, int kBytes>
+struct Vec {
+  typedef T type __attribute__((vector_size(kBytes)));
+};
+
 // out = t + S[:, :nb] * beta with S column-major (leading dimension ld): the shape blend shapes.
-// 32 rows at a time are accumulated in 4 vectors of 8 doubles that stay in registers while every
-// column's 32-row segment streams past: shapedirs is read exactly once, at the cache bandwidth.
+// 8 vectors of rows (16 rows with SSE2, 32 with AVX2, 64 with AVX-512) are accumulated in
+// registers while every column's segment streams past: shapedirs is read exactly once. Each
+// output is t + beta_0 S_0 + beta_1 S_1 + ... in this order in every variant and in the tail.
 SMPL_KERNEL_BODY
 void blend_body(const double* t, const double* S, Eigen::Index ld, Eigen::Index rows,
                 const double* beta, Eigen::Index nb, double* out) {
-  typedef double V8 __attribute__((vector_size(64)));  // GCC/Clang vector extension
-  constexpr Eigen::Index kRows = 32;
+  typedef typename Vec<double, kVecBytes>::type V;
+  constexpr int kLanes = kVecBytes / 8;
+  constexpr int kAcc = 8;
+  constexpr Eigen::Index kRows = kAcc * kLanes;
   Eigen::Index r0 = 0;
   for (; r0 + kRows <= rows; r0 += kRows) {
-    V8 a0, a1, a2, a3;
-    std::memcpy(&a0, t + r0, sizeof a0);
-    std::memcpy(&a1, t + r0 + 8, sizeof a1);
-    std::memcpy(&a2, t + r0 + 16, sizeof a2);
-    std::memcpy(&a3, t + r0 + 24, sizeof a3);
+    V a[kAcc];
+#pragma GCC unroll 8
+    for (int k = 0; k < kAcc; ++k) std::memcpy(&a[k], t + r0 + k * kLanes, sizeof(V));
     for (Eigen::Index b = 0; b < nb; ++b) {
       const double c = beta[b];
       const double* col = S + b * ld + r0;
-      V8 x0, x1, x2, x3;
-      std::memcpy(&x0, col, sizeof x0);
-      std::memcpy(&x1, col + 8, sizeof x1);
-      std::memcpy(&x2, col + 16, sizeof x2);
-      std::memcpy(&x3, col + 24, sizeof x3);
-      a0 += c * x0;
-      a1 += c * x1;
-      a2 += c * x2;
-      a3 += c * x3;
+#pragma GCC unroll 8
+      for (int k = 0; k < kAcc; ++k) {
+        V x;
+        std::memcpy(&x, col + k * kLanes, sizeof x);
+        a[k] += c * x;
+      }
     }
-    std::memcpy(out + r0, &a0, sizeof a0);
-    std::memcpy(out + r0 + 8, &a1, sizeof a1);
-    std::memcpy(out + r0 + 16, &a2, sizeof a2);
-    std::memcpy(out + r0 + 24, &a3, sizeof a3);
+#pragma GCC unroll 8
+    for (int k = 0; k < kAcc; ++k) std::memcpy(out + r0 + k * kLanes, &a[k], sizeof(V));
   }
   for (; r0 < rows; ++r0) {
     double a = t[r0];
@@ -143,6 +155,7 @@ void skin_body(const double* A, const int* outer, const int* nnz, const int* inn
                double* out) {
   // Each 3 x 4 row is one vector of 4 doubles (GCC/Clang vector extension: one AVX2 register,
   // two SSE2 registers in the baseline build), so an influence costs 3 vector multiply-adds.
+  static_assert(kVecBytes >= 16, "vector width");
   typedef double Row4 __attribute__((vector_size(32)));
   for (Eigen::Index v = 0; v < V; ++v) {
     Row4 t0 = {0, 0, 0, 0}, t1 = t0, t2 = t0;
@@ -159,11 +172,12 @@ void skin_body(const double* A, const int* outer, const int* nnz, const int* inn
       t1 += w * a1;
       t2 += w * a2;
     }
-    const double* p = x + 3 * v;
+    // x may be out (in-place skinning of a batch): read the vertex before writing it.
+    const double p0 = x[3 * v], p1 = x[3 * v + 1], p2 = x[3 * v + 2];
     double* o = out + 3 * v;
-    o[0] = t0[0] * p[0] + t0[1] * p[1] + t0[2] * p[2] + t0[3] + translation[0];
-    o[1] = t1[0] * p[0] + t1[1] * p[1] + t1[2] * p[2] + t1[3] + translation[1];
-    o[2] = t2[0] * p[0] + t2[1] * p[1] + t2[2] * p[2] + t2[3] + translation[2];
+    o[0] = t0[0] * p0 + t0[1] * p1 + t0[2] * p2 + t0[3] + translation[0];
+    o[1] = t1[0] * p0 + t1[1] * p1 + t1[2] * p2 + t1[3] + translation[1];
+    o[2] = t2[0] * p0 + t2[1] * p1 + t2[2] * p2 + t2[3] + translation[2];
   }
 }
 SMPL_KERNEL_VARIANTS(skin,
@@ -194,6 +208,199 @@ SMPL_KERNEL_VARIANTS(pose_blend_f32,
                      (const float* P, Eigen::Index ld, Eigen::Index rows, const float* feature,
                       Eigen::Index c0, Eigen::Index nc, double* v),
                      (P, ld, rows, feature, c0, nc, v))
+
+// ---- Batch kernels (evaluate_batch): a block of rows of posedirs is applied to every body of
+// the batch while it is in cache. For each output the operations and their order are exactly
+// those of pose_blend_f64 / pose_blend_f32 over the same runs of columns.
+
+// One step of kRows = lanes of T rows for G bodies: acc_g = v_g[r..]; per run, per group of 4
+// columns acc_g += (f0 p0 + f1 p1) + (f2 p2 + f3 p3), then single columns acc_g += f p.
+template <typename T, int G>
+inline __attribute__((always_inline)) void pose_step_f64(const double* P, Eigen::Index ld,
+                                                         Eigen::Index r, Eigen::Index pr,
+                                                         const double* F, Eigen::Index fstride,
+                                                         const Eigen::Index* runs, int nruns,
+                                                         double* v, Eigen::Index vstride) {
+  T acc[G];
+#pragma GCC unroll 8
+  for (int g = 0; g < G; ++g) std::memcpy(&acc[g], v + g * vstride + r, sizeof(T));
+  for (int run = 0; run < nruns; ++run) {
+    const Eigen::Index c0 = runs[2 * run], end = c0 + runs[2 * run + 1];
+    Eigen::Index c = c0;
+    for (; c + 4 <= end; c += 4) {
+      T p0, p1, p2, p3;
+      std::memcpy(&p0, P + c * ld + pr, sizeof(T));
+      std::memcpy(&p1, P + (c + 1) * ld + pr, sizeof(T));
+      std::memcpy(&p2, P + (c + 2) * ld + pr, sizeof(T));
+      std::memcpy(&p3, P + (c + 3) * ld + pr, sizeof(T));
+#pragma GCC unroll 8
+      for (int g = 0; g < G; ++g) {
+        const double* f = F + g * fstride + c;
+        acc[g] += (f[0] * p0 + f[1] * p1) + (f[2] * p2 + f[3] * p3);
+      }
+    }
+    for (; c < end; ++c) {
+      T p0;
+      std::memcpy(&p0, P + c * ld + pr, sizeof(T));
+#pragma GCC unroll 8
+      for (int g = 0; g < G; ++g) acc[g] += F[g * fstride + c] * p0;
+    }
+  }
+#pragma GCC unroll 8
+  for (int g = 0; g < G; ++g) std::memcpy(v + g * vstride + r, &acc[g], sizeof(T));
+}
+
+// Float pose blend shapes for M vectors of T rows and G bodies: per run the products are summed
+// in float from 0, then the float sum is added to the double vertex.
+template <typename T, int G, int M = 1>
+inline __attribute__((always_inline)) void pose_step_f32(const float* P, Eigen::Index ld,
+                                                         Eigen::Index r, Eigen::Index pr,
+                                                         const float* F, Eigen::Index fstride,
+                                                         const Eigen::Index* runs, int nruns,
+                                                         double* v, Eigen::Index vstride) {
+  constexpr int kLanes = static_cast<int>(sizeof(T) / sizeof(float));
+  for (int run = 0; run < nruns; ++run) {
+    const Eigen::Index c0 = runs[2 * run], end = c0 + runs[2 * run + 1];
+    T acc[G][M];
+#pragma GCC unroll 8
+    for (int g = 0; g < G; ++g) {
+#pragma GCC unroll 4
+      for (int m = 0; m < M; ++m) acc[g][m] = T{} - T{};  // zeros of T, scalar or vector
+    }
+    for (Eigen::Index c = c0; c < end; ++c) {
+      T p[M];
+#pragma GCC unroll 4
+      for (int m = 0; m < M; ++m) std::memcpy(&p[m], P + c * ld + pr + m * kLanes, sizeof(T));
+#pragma GCC unroll 8
+      for (int g = 0; g < G; ++g) {
+        const float f = F[g * fstride + c];
+#pragma GCC unroll 4
+        for (int m = 0; m < M; ++m) acc[g][m] += f * p[m];
+      }
+    }
+#pragma GCC unroll 8
+    for (int g = 0; g < G; ++g) {
+      float a[kLanes * M];
+      std::memcpy(a, acc[g], sizeof(T) * M);
+      double* o = v + g * vstride + r;
+      for (int i = 0; i < kLanes * M; ++i) o[i] += static_cast<double>(a[i]);
+    }
+  }
+}
+
+// Below this many bodies the batch streams posedirs once per body with the single-body kernels
+// (long sequential column runs, no packing), which compute each output with the same operations
+// in the same order as the packed kernels.
+constexpr Eigen::Index kMinPackedBatch = 4;
+
+// Rows per block of posedirs: the block (all columns) stays in a 256 KB share of the L2 cache
+// while every body passes over it.
+inline Eigen::Index pose_block_rows(Eigen::Index cols, size_t scalar_bytes) {
+  const Eigen::Index fit =
+      static_cast<Eigen::Index>((256 * 1024) / (std::max<Eigen::Index>(cols, 1) * scalar_bytes));
+  return std::max<Eigen::Index>(64, fit / 64 * 64);
+}
+
+// Rows [r0, r1) of every body: v_n += P[:, runs] * F_n[runs], blocked. Each block of rows is first
+// packed so that for every step of kLanes rows the run columns follow each other (step-major, then
+// column, then lane): a step then reads one contiguous stretch instead of touching one page per
+// column (207 pages at a 165 KB stride would miss the TLB on every load). The packed block stays
+// in the L2 cache while every body passes over it. Rows past the last whole step use P directly.
+template <int kVecBytes, typename S, int G, int kRowVecs>
+inline __attribute__((always_inline)) void pose_batch_rows(
+    const S* P, Eigen::Index ld, Eigen::Index r0, Eigen::Index r1, const S* F, Eigen::Index fstride,
+    const Eigen::Index* runs, int nruns, Eigen::Index nbodies, double* v, Eigen::Index vstride) {
+  static_assert(kRowVecs == 1 || !std::is_same_v<S, double>, "double steps take one vector");
+  typedef typename Vec<S, kVecBytes>::type V;
+  constexpr Eigen::Index kLanes = kVecBytes * kRowVecs / static_cast<Eigen::Index>(sizeof(S));
+  Eigen::Index cols = 0;
+  for (int run = 0; run < nruns; ++run) cols = std::max(cols, runs[2 * run] + runs[2 * run + 1]);
+  const Eigen::Index block = pose_block_rows(cols, sizeof(S));
+  std::vector<S> packed(static_cast<size_t>(block * cols));
+  for (Eigen::Index rb = r0; rb < r1; rb += block) {
+    const Eigen::Index re = std::min(r1, rb + block);
+    const Eigen::Index steps = (re - rb) / kLanes, rs = rb + steps * kLanes;
+    for (int run = 0; run < nruns; ++run) {
+      for (Eigen::Index c = runs[2 * run]; c < runs[2 * run] + runs[2 * run + 1]; ++c) {
+        const S* col = P + c * ld + rb;
+        for (Eigen::Index st = 0; st < steps; ++st) {
+          std::memcpy(packed.data() + (st * cols + c) * kLanes, col + st * kLanes,
+                      sizeof(S) * kLanes);
+        }
+      }
+    }
+    for (Eigen::Index n = 0; n < nbodies; n += G) {
+      const Eigen::Index g = std::min<Eigen::Index>(G, nbodies - n);
+      const S* f = F + n * fstride;
+      double* o = v + n * vstride;
+      if (g == G) {
+        for (Eigen::Index st = 0; st < steps; ++st) {
+          const S* base = packed.data() + st * cols * kLanes;
+          if constexpr (std::is_same_v<S, double>)
+            pose_step_f64<V, G>(base, kLanes, rb + st * kLanes, 0, f, fstride, runs, nruns, o,
+                                vstride);
+          else
+            pose_step_f32<V, G, kRowVecs>(base, kLanes, rb + st * kLanes, 0, f, fstride, runs,
+                                          nruns, o, vstride);
+        }
+        for (Eigen::Index r = rs; r < re; ++r) {
+          if constexpr (std::is_same_v<S, double>)
+            pose_step_f64<double, G>(P, ld, r, r, f, fstride, runs, nruns, o, vstride);
+          else
+            pose_step_f32<float, G>(P, ld, r, r, f, fstride, runs, nruns, o, vstride);
+        }
+      } else {
+        for (Eigen::Index k = 0; k < g; ++k) {
+          const S* fk = f + k * fstride;
+          double* ok = o + k * vstride;
+          for (Eigen::Index st = 0; st < steps; ++st) {
+            const S* base = packed.data() + st * cols * kLanes;
+            if constexpr (std::is_same_v<S, double>)
+              pose_step_f64<V, 1>(base, kLanes, rb + st * kLanes, 0, fk, fstride, runs, nruns, ok,
+                                  vstride);
+            else
+              pose_step_f32<V, 1, kRowVecs>(base, kLanes, rb + st * kLanes, 0, fk, fstride, runs,
+                                            nruns, ok, vstride);
+          }
+          for (Eigen::Index r = rs; r < re; ++r) {
+            if constexpr (std::is_same_v<S, double>)
+              pose_step_f64<double, 1>(P, ld, r, r, fk, fstride, runs, nruns, ok, vstride);
+            else
+              pose_step_f32<float, 1>(P, ld, r, r, fk, fstride, runs, nruns, ok, vstride);
+          }
+        }
+      }
+    }
+  }
+}
+
+// Double: 4 bodies x 1 vector of rows per step (4 accumulators, 4 column vectors, broadcasts).
+SMPL_KERNEL_BODY
+void pose_batch_f64_body(const double* P, Eigen::Index ld, Eigen::Index r0, Eigen::Index r1,
+                         const double* F, Eigen::Index fstride, const Eigen::Index* runs, int nruns,
+                         Eigen::Index nbodies, double* v, Eigen::Index vstride) {
+  pose_batch_rows<kVecBytes, double, 4, 1>(P, ld, r0, r1, F, fstride, runs, nruns, nbodies, v,
+                                           vstride);
+}
+SMPL_KERNEL_VARIANTS(pose_batch_f64,
+                     (const double* P, Eigen::Index ld, Eigen::Index r0, Eigen::Index r1,
+                      const double* F, Eigen::Index fstride, const Eigen::Index* runs, int nruns,
+                      Eigen::Index nbodies, double* v, Eigen::Index vstride),
+                     (P, ld, r0, r1, F, fstride, runs, nruns, nbodies, v, vstride))
+
+// Float: 4 bodies x 2 vectors of rows per step.
+SMPL_KERNEL_BODY
+void pose_batch_f32_body(const float* P, Eigen::Index ld, Eigen::Index r0, Eigen::Index r1,
+                         const float* F, Eigen::Index fstride, const Eigen::Index* runs, int nruns,
+                         Eigen::Index nbodies, double* v, Eigen::Index vstride) {
+  pose_batch_rows<kVecBytes, float, 4, 2>(P, ld, r0, r1, F, fstride, runs, nruns, nbodies, v,
+                                          vstride);
+}
+SMPL_KERNEL_VARIANTS(pose_batch_f32,
+                     (const float* P, Eigen::Index ld, Eigen::Index r0, Eigen::Index r1,
+                      const float* F, Eigen::Index fstride, const Eigen::Index* runs, int nruns,
+                      Eigen::Index nbodies, double* v, Eigen::Index vstride),
+                     (P, ld, r0, r1, F, fstride, runs, nruns, nbodies, v, vstride))
 
 void check_betas(const BodyModel& model, Eigen::Index n) {
   if (n > model.num_betas()) {
@@ -252,6 +459,173 @@ void add_pose_blend_shapes(
   }
 }
 
+// Steps 6-8 for one body: the kinematic chain from ws.rotations and the rest joints `rest` (K x 3
+// row-major), then skinning of the K x 3 posed rest vertices `x` (which may be `out_vertices`:
+// each vertex is read before it is written). Writes transforms (translation included), the
+// posed joints (3K values) and the vertices.
+void chain_and_skin(const BodyModel& model, const double* rest, const double* x,
+                    const Eigen::Vector3d& translation, Workspace& ws,
+                    std::vector<Eigen::Matrix4d, Eigen::aligned_allocator<Eigen::Matrix4d>>& G,
+                    double* out_vertices, double* out_joints) {
+  const int K = model.num_joints();
+  const auto Ks = static_cast<size_t>(K);
+  // 6. Kinematic chain: G_0 = [R_0 | J_0], G_k = G_parent [R_k | J_k - J_parent].
+  G.resize(Ks);
+  ws.skinning.resize(Ks);
+  for (int k = 0; k < K; ++k) {
+    const auto ks = static_cast<size_t>(k);
+    Eigen::Matrix4d local = Eigen::Matrix4d::Identity();
+    local.topLeftCorner<3, 3>() = ws.rotations[ks];
+    const int p = model.parents[ks];
+    const Eigen::Vector3d jk = Eigen::Map<const Eigen::Vector3d>(rest + 3 * k);
+    if (p < 0) {
+      local.topRightCorner<3, 1>() = jk;
+      G[ks] = local;
+    } else {
+      local.topRightCorner<3, 1>() = jk - Eigen::Map<const Eigen::Vector3d>(rest + 3 * p);
+      G[ks] = G[static_cast<size_t>(p)] * local;
+    }
+    // 7. Remove the rest pose: A_k = G_k * translation(-J_k).
+    ws.skinning[ks] = G[ks];
+    ws.skinning[ks].topRightCorner<3, 1>() -= G[ks].topLeftCorner<3, 3>() * jk;
+  }
+
+  // 8. Linear blend skinning, then the global translation.
+  ws.skinning_3x4.resize(12 * Ks);
+  for (size_t k = 0; k < Ks; ++k) {
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 4; ++c)
+        ws.skinning_3x4[12 * k + 4 * static_cast<size_t>(r) + static_cast<size_t>(c)] =
+            ws.skinning[k](r, c);
+    }
+  }
+  const SparseMatrix& W = model.weights;
+  skin(ws.skinning_3x4.data(), W.outerIndexPtr(), W.innerNonZeroPtr(), W.innerIndexPtr(),
+       W.valuePtr(), model.v_template.rows(), x, translation.data(), out_vertices);
+  for (int k = 0; k < K; ++k) {
+    auto& Gk = G[static_cast<size_t>(k)];
+    Gk.topRightCorner<3, 1>() += translation;
+    for (int i = 0; i < 3; ++i) out_joints[3 * k + i] = Gk(i, 3);
+  }
+}
+
+// Local rotations of one body (identity for an empty pose) and, when the model has pose blend
+// shapes, its P pose features (R_k - I)(row, col) at 9 (k - 1) + 3 row + col.
+void rotations_and_features(const BodyModel& model, const double* pose, bool has_pose,
+                            Eigen::Matrix3d* rot, double* feature) {
+  const int K = model.num_joints();
+  for (int k = 0; k < K; ++k) {
+    rot[k] = has_pose ? rodrigues(Eigen::Map<const Eigen::Vector3d>(pose + 3 * k))
+                      : Eigen::Matrix3d::Identity();
+  }
+  if (!model.has_pose_blend_shapes()) return;
+  for (int k = 1; k < K; ++k) {
+    const Eigen::Matrix3d d = rot[k] - Eigen::Matrix3d::Identity();
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) feature[9 * (k - 1) + 3 * i + j] = d(i, j);
+    }
+  }
+}
+
+// The float copy of posedirs in ws, (re)made when it is missing or from another matrix.
+void ensure_float_posedirs(const BodyModel& model, Workspace& ws) {
+  if (ws.posedirs_f_source != model.posedirs.data() ||
+      ws.posedirs_f.rows() != model.posedirs.rows() ||
+      ws.posedirs_f.cols() != model.posedirs.cols()) {
+    ws.posedirs_f = model.posedirs.cast<float>();
+    ws.posedirs_f_source = model.posedirs.data();
+  }
+}
+
+int resolve_threads(int threads, const char* who) {
+  if (threads < 0) {
+    throw std::invalid_argument(std::string(who) + ": threads is " + std::to_string(threads) +
+                                ", expected 0 (one per core) or a positive count");
+  }
+  if (threads == 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return threads;
+}
+
+// Runs f(begin, end) on `threads` contiguous shares of [0, n), each on its own thread (the
+// calling thread takes the first), with the caller's SIMD level; rethrows the first exception.
+template <typename F>
+void parallel_for(int threads, Eigen::Index n, const F& f) {
+  const Eigen::Index t = std::max<Eigen::Index>(1, std::min<Eigen::Index>(threads, n));
+  if (t <= 1) {
+    f(Eigen::Index{0}, n);
+    return;
+  }
+  const SimdLevel level = simd_level();
+  std::vector<std::exception_ptr> errors(static_cast<size_t>(t));
+  std::vector<std::thread> workers;
+  auto share = [&](Eigen::Index i) {
+    try {
+      const ScopedSimdLevel pin(level);
+      f(n * i / t, n * (i + 1) / t);
+    } catch (...) {
+      errors[static_cast<size_t>(i)] = std::current_exception();
+    }
+  };
+  for (Eigen::Index i = 1; i < t; ++i) workers.emplace_back(share, i);
+  share(0);
+  for (auto& w : workers) w.join();
+  for (auto& e : errors) {
+    if (e) std::rethrow_exception(e);
+  }
+}
+
+// shape() for bodies [n0, n1) of a batch, blocked over vertices: each block of shapedirs rows is
+// applied to every body, then the joint regressor's entries of that block of vertices are added
+// (per joint in the regressor's storage order, as in shaped_rest).
+void shape_rows(const BodyModel& model, const Eigen::Ref<const RowMatrixXd>& betas, Eigen::Index n0,
+                Eigen::Index n1, RowMatrixXd& vertices, RowMatrixXd& joints) {
+  const Eigen::Index V = model.v_template.rows(), nb = betas.cols();
+  const Eigen::Index K = model.j_regressor.rows();
+  const SparseMatrix& J = model.j_regressor;
+  const Eigen::Index block = std::max<Eigen::Index>(
+      64, (96 * 1024) / (24 * std::max<Eigen::Index>(nb, 1)) / 64 * 64);  // vertices
+  std::vector<Eigen::Index> cursor(static_cast<size_t>(K)), end(static_cast<size_t>(K));
+  for (Eigen::Index k = 0; k < K; ++k) {
+    cursor[static_cast<size_t>(k)] = J.outerIndexPtr()[k];
+    end[static_cast<size_t>(k)] = J.innerNonZeroPtr()
+                                      ? cursor[static_cast<size_t>(k)] + J.innerNonZeroPtr()[k]
+                                      : J.outerIndexPtr()[k + 1];
+  }
+  for (Eigen::Index n = n0; n < n1; ++n) joints.row(n).setZero();
+  const int* inner = J.innerIndexPtr();
+  const double* value = J.valuePtr();
+  for (Eigen::Index v0 = 0; v0 < V; v0 += block) {
+    const Eigen::Index v1 = std::min(V, v0 + block);
+    for (Eigen::Index n = n0; n < n1; ++n) {
+      blend(model.v_template.data() + 3 * v0, model.shapedirs.data() + 3 * v0,
+            model.shapedirs.rows(), 3 * (v1 - v0), betas.row(n).data(), nb,
+            vertices.row(n).data() + 3 * v0);
+    }
+    for (Eigen::Index k = 0; k < K; ++k) {
+      const Eigen::Index lo = cursor[static_cast<size_t>(k)];
+      Eigen::Index hi = lo;
+      while (hi < end[static_cast<size_t>(k)] && inner[hi] < v1) ++hi;
+      cursor[static_cast<size_t>(k)] = hi;
+      if (hi == lo) continue;
+      for (Eigen::Index n = n0; n < n1; ++n) {
+        double* j = joints.row(n).data() + 3 * k;
+        const double* x = vertices.row(n).data();
+        double j0 = j[0], j1 = j[1], j2 = j[2];
+        for (Eigen::Index e = lo; e < hi; ++e) {
+          const double w = value[e];
+          const double* xv = x + 3 * static_cast<Eigen::Index>(inner[e]);
+          j0 += w * xv[0];
+          j1 += w * xv[1];
+          j2 += w * xv[2];
+        }
+        j[0] = j0;
+        j[1] = j1;
+        j[2] = j2;
+      }
+    }
+  }
+}
+
 }  // namespace
 
 Eigen::Matrix3d rodrigues(const Eigen::Vector3d& r) {
@@ -302,33 +676,19 @@ void evaluate(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& b
   shaped_rest(model, betas, ws.v_shaped, ws.rest_joints);
   const Eigen::Index V = ws.v_shaped.rows();
 
-  // 3. Local rotations.
+  // 3-4. Local rotations and pose features: feature 9 (k - 1) + 3 row + col = (R_k - I)(row, col).
   const auto Ks = static_cast<size_t>(K);
   ws.rotations.resize(Ks);
-  for (size_t k = 0; k < Ks; ++k) {
-    ws.rotations[k] = pose.size() == 0
-                          ? Eigen::Matrix3d::Identity()
-                          : rodrigues(pose.segment<3>(3 * static_cast<Eigen::Index>(k)));
-  }
+  ws.pose_feature.resize(model.num_pose_features());
+  rotations_and_features(model, pose.data(), pose.size() != 0, ws.rotations.data(),
+                         ws.pose_feature.data());
 
-  // 4-5. Pose blend shapes: feature 9 (k - 1) + 3 row + col = (R_k - I)(row, col).
+  // 5. Pose blend shapes.
   if (model.has_pose_blend_shapes()) {
     const Eigen::Index P = model.num_pose_features();
-    ws.pose_feature.resize(P);
-    for (int k = 1; k < K; ++k) {
-      const Eigen::Matrix3d d = ws.rotations[static_cast<size_t>(k)] - Eigen::Matrix3d::Identity();
-      for (int i = 0; i < 3; ++i) {
-        for (int j = 0; j < 3; ++j) ws.pose_feature[9 * (k - 1) + 3 * i + j] = d(i, j);
-      }
-    }
     Eigen::Map<Eigen::VectorXd> flat(ws.v_shaped.data(), 3 * V);
     if (ws.single_precision_pose_blend_shapes) {
-      if (ws.posedirs_f_source != model.posedirs.data() ||
-          ws.posedirs_f.rows() != model.posedirs.rows() ||
-          ws.posedirs_f.cols() != model.posedirs.cols()) {
-        ws.posedirs_f = model.posedirs.cast<float>();
-        ws.posedirs_f_source = model.posedirs.data();
-      }
+      ensure_float_posedirs(model, ws);
       ws.pose_feature_f.resize(P);
       ws.pose_feature_f = ws.pose_feature.cast<float>();
       add_pose_blend_shapes(ws.posedirs_f, ws.pose_feature_f, ws.rotations, flat);
@@ -337,46 +697,11 @@ void evaluate(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& b
     }
   }
 
-  // 6. Kinematic chain: G_0 = [R_0 | J_0], G_k = G_parent [R_k | J_k - J_parent].
-  out.transforms.resize(Ks);
-  ws.skinning.resize(Ks);
-  for (int k = 0; k < K; ++k) {
-    const auto ks = static_cast<size_t>(k);
-    Eigen::Matrix4d local = Eigen::Matrix4d::Identity();
-    local.topLeftCorner<3, 3>() = ws.rotations[ks];
-    const int p = model.parents[ks];
-    const Eigen::Vector3d jk = ws.rest_joints.row(k).transpose();
-    if (p < 0) {
-      local.topRightCorner<3, 1>() = jk;
-      out.transforms[ks] = local;
-    } else {
-      local.topRightCorner<3, 1>() = jk - ws.rest_joints.row(p).transpose();
-      out.transforms[ks] = out.transforms[static_cast<size_t>(p)] * local;
-    }
-    // 7. Remove the rest pose: A_k = G_k * translation(-J_k).
-    ws.skinning[ks] = out.transforms[ks];
-    ws.skinning[ks].topRightCorner<3, 1>() -= out.transforms[ks].topLeftCorner<3, 3>() * jk;
-  }
-
-  // 8. Linear blend skinning, then the global translation.
-  ws.skinning_3x4.resize(12 * Ks);
-  for (size_t k = 0; k < Ks; ++k) {
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 4; ++c)
-        ws.skinning_3x4[12 * k + 4 * static_cast<size_t>(r) + static_cast<size_t>(c)] =
-            ws.skinning[k](r, c);
-    }
-  }
+  // 6-8. Kinematic chain, skinning, translation.
   out.vertices.resize(V, 3);
-  const SparseMatrix& W = model.weights;
-  skin(ws.skinning_3x4.data(), W.outerIndexPtr(), W.innerNonZeroPtr(), W.innerIndexPtr(),
-       W.valuePtr(), V, ws.v_shaped.data(), translation.data(), out.vertices.data());
   out.joints.resize(K, 3);
-  for (int k = 0; k < K; ++k) {
-    auto& G = out.transforms[static_cast<size_t>(k)];
-    G.topRightCorner<3, 1>() += translation;
-    out.joints.row(k) = G.topRightCorner<3, 1>().transpose();
-  }
+  chain_and_skin(model, ws.rest_joints.data(), ws.v_shaped.data(), translation, ws, out.transforms,
+                 out.vertices.data(), out.joints.data());
 }
 
 Body evaluate(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& betas,
@@ -385,6 +710,140 @@ Body evaluate(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& b
   Body body;
   evaluate(model, betas, pose, translation, ws, body);
   return body;
+}
+
+void shape_batch(const BodyModel& model, const Eigen::Ref<const RowMatrixXd>& betas, BodyBatch& out,
+                 int threads) {
+  threads = resolve_threads(threads, "smpl::shape_batch");
+  check_betas(model, betas.cols());
+  const Eigen::Index N = betas.rows();
+  out.vertices.resize(N, 3 * model.v_template.rows());
+  out.joints.resize(N, 3 * model.j_regressor.rows());
+  parallel_for(threads, N, [&](Eigen::Index n0, Eigen::Index n1) {
+    shape_rows(model, betas, n0, n1, out.vertices, out.joints);
+  });
+}
+
+void evaluate_batch(const BodyModel& model, const Eigen::Ref<const RowMatrixXd>& betas,
+                    const Eigen::Ref<const RowMatrixXd>& poses,
+                    const Eigen::Ref<const RowMatrixXd>& translations, Workspace& ws,
+                    BodyBatch& out, int threads) {
+  threads = resolve_threads(threads, "smpl::evaluate_batch");
+  check_betas(model, betas.cols());
+  const Eigen::Index N = betas.rows();
+  const int K = model.num_joints();
+  const Eigen::Index V = model.v_template.rows(), P = model.num_pose_features();
+  const bool has_pose = poses.cols() != 0;
+  if (has_pose && poses.cols() != 3 * K) {
+    throw std::invalid_argument("smpl::evaluate_batch: poses have " + std::to_string(poses.cols()) +
+                                " columns, expected 0 (rest pose) "
+                                "or 3 x " +
+                                std::to_string(K) + " = " + std::to_string(3 * K) +
+                                " axis-angle values per body");
+  }
+  if (poses.rows() != N && !(poses.cols() == 0 && poses.rows() == 0)) {
+    throw std::invalid_argument("smpl::evaluate_batch: " + std::to_string(N) +
+                                " rows of betas but " + std::to_string(poses.rows()) +
+                                " rows of poses; give one row per body");
+  }
+  if (!((translations.rows() == 0) || (translations.rows() == N && translations.cols() == 3))) {
+    throw std::invalid_argument("smpl::evaluate_batch: translations are " +
+                                std::to_string(translations.rows()) + " x " +
+                                std::to_string(translations.cols()) + ", expected " +
+                                std::to_string(N) + " x 3 metres or 0 rows (no translation)");
+  }
+  out.vertices.resize(N, 3 * V);
+  out.joints.resize(N, 3 * K);
+  // Rotations and pose features of every body; vertices and rest joints of every body.
+  std::vector<Eigen::Matrix3d, Eigen::aligned_allocator<Eigen::Matrix3d>> rot(
+      static_cast<size_t>(N * K));
+  RowMatrixXd feature(N, P);
+  parallel_for(threads, N, [&](Eigen::Index n0, Eigen::Index n1) {
+    shape_rows(model, betas, n0, n1, out.vertices, out.joints);
+    for (Eigen::Index n = n0; n < n1; ++n) {
+      rotations_and_features(model, has_pose ? poses.row(n).data() : nullptr, has_pose,
+                             rot.data() + n * K, feature.row(n).data());
+    }
+  });
+
+  // 5. Pose blend shapes: the runs of joints rotated in any body, every body at once per block.
+  if (model.has_pose_blend_shapes() && N > 0) {
+    std::vector<Eigen::Index> runs;
+    int k = 1;
+    auto rotated = [&](int j) {
+      for (Eigen::Index n = 0; n < N; ++n) {
+        if (!rot[static_cast<size_t>(n * K + j)].isIdentity(0.0)) return true;
+      }
+      return false;
+    };
+    while (k < K) {
+      if (!rotated(k)) {
+        ++k;
+        continue;
+      }
+      int e = k + 1;
+      while (e < K && rotated(e)) ++e;
+      runs.push_back(9 * (k - 1));
+      runs.push_back(9 * (e - k));
+      k = e;
+    }
+    const int nruns = static_cast<int>(runs.size() / 2);
+    if (nruns > 0) {
+      const Eigen::Index rows = 3 * V;
+      const Eigen::Index t = std::max<Eigen::Index>(1, std::min<Eigen::Index>(threads, rows / 64));
+      if (ws.single_precision_pose_blend_shapes) {
+        ensure_float_posedirs(model, ws);
+        Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> ff =
+            feature.cast<float>();
+        parallel_for(static_cast<int>(t), rows / 64 + 1, [&](Eigen::Index b0, Eigen::Index b1) {
+          const Eigen::Index r0 = std::min(rows, 64 * b0), r1 = std::min(rows, 64 * b1);
+          if (N < kMinPackedBatch) {
+            for (Eigen::Index n = 0; n < N; ++n) {
+              for (int run = 0; run < nruns; ++run) {
+                pose_blend_f32(ws.posedirs_f.data() + r0, rows, r1 - r0, ff.row(n).data(),
+                               runs[2 * run], runs[2 * run + 1], out.vertices.row(n).data() + r0);
+              }
+            }
+            return;
+          }
+          pose_batch_f32(ws.posedirs_f.data(), rows, r0, r1, ff.data(), P, runs.data(), nruns, N,
+                         out.vertices.data(), 3 * V);
+        });
+      } else {
+        parallel_for(static_cast<int>(t), rows / 64 + 1, [&](Eigen::Index b0, Eigen::Index b1) {
+          const Eigen::Index r0 = std::min(rows, 64 * b0), r1 = std::min(rows, 64 * b1);
+          if (N < kMinPackedBatch) {
+            for (Eigen::Index n = 0; n < N; ++n) {
+              for (int run = 0; run < nruns; ++run) {
+                pose_blend_f64(model.posedirs.data() + r0, rows, r1 - r0, feature.row(n).data(),
+                               runs[2 * run], runs[2 * run + 1], out.vertices.row(n).data() + r0);
+              }
+            }
+            return;
+          }
+          pose_batch_f64(model.posedirs.data(), rows, r0, r1, feature.data(), P, runs.data(), nruns,
+                         N, out.vertices.data(), 3 * V);
+        });
+      }
+    }
+  }
+
+  // 6-8. Chain and skinning, in place, per body.
+  parallel_for(threads, N, [&](Eigen::Index n0, Eigen::Index n1) {
+    Workspace local;
+    std::vector<Eigen::Matrix4d, Eigen::aligned_allocator<Eigen::Matrix4d>> G;
+    Eigen::VectorXd rest(3 * K);
+    local.rotations.resize(static_cast<size_t>(K));
+    for (Eigen::Index n = n0; n < n1; ++n) {
+      std::copy(rot.begin() + n * K, rot.begin() + (n + 1) * K, local.rotations.begin());
+      rest = out.joints.row(n).transpose();
+      const Eigen::Vector3d tr = translations.rows() == 0
+                                     ? Eigen::Vector3d::Zero()
+                                     : Eigen::Vector3d(translations.row(n).transpose());
+      double* x = out.vertices.row(n).data();
+      chain_and_skin(model, rest.data(), x, tr, local, G, x, out.joints.row(n).data());
+    }
+  });
 }
 
 }  // namespace smpl

@@ -161,9 +161,20 @@ tinygltf::Model build_model(const BodyModel& model, const Eigen::Ref<const Eigen
   const int position = add_vec3(g, to_float(body.vertices), TINYGLTF_TARGET_ARRAY_BUFFER, true);
   const int normal = add_vec3(g, to_float(vertex_normals(body.vertices, model.faces)),
                               TINYGLTF_TARGET_ARRAY_BUFFER, false);
-  std::vector<std::uint16_t> joint_ids;
-  std::vector<float> joint_weights;
-  top_influences(model.weights, joint_ids, joint_weights);
+  GltfSkinWeights own;
+  const GltfSkinWeights* skin_w = options.skin_weights;
+  if (!skin_w) {
+    top_influences(model.weights, own.joints, own.weights);
+    skin_w = &own;
+  } else if (skin_w->joints.size() != kMaxInfluences * V ||
+             skin_w->weights.size() != kMaxInfluences * V) {
+    throw std::invalid_argument(context + ": GltfOptions::skin_weights has " +
+                                std::to_string(skin_w->joints.size()) + " joints and " +
+                                std::to_string(skin_w->weights.size()) + " weights, expected 4 x " +
+                                std::to_string(V) + " (use gltf_skin_weights of this model)");
+  }
+  const std::vector<std::uint16_t>& joint_ids = skin_w->joints;
+  const std::vector<float>& joint_weights = skin_w->weights;
   const int joints0 =
       add_accessor(g,
                    add_view(g, joint_ids.data(), joint_ids.size() * sizeof(std::uint16_t),
@@ -284,6 +295,12 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 }
 
 }  // namespace
+
+GltfSkinWeights gltf_skin_weights(const BodyModel& model) {
+  GltfSkinWeights s;
+  top_influences(model.weights, s.joints, s.weights);
+  return s;
+}
 
 // ---------------------------------------------------------------------------------------------
 // 3. write_gltf / glb_bytes

@@ -2,11 +2,14 @@
 // 10 betas, 207 pose features; tests/support make_random_model). Run on one core:
 //   taskset -c 1 build/bin/bench_smpl --benchmark_repetitions=10
 //     --benchmark_report_aggregates_only=true   (one line)
-// The pose blend shapes are a 20670 x 207 double matrix (34 MB) read once per posed evaluation;
-// BM_StreamSum measures how fast this machine reads an array of that size in the same run, so the
-// posed evaluation can be compared with the memory (or last-level cache) bandwidth.
+// Every kernel benchmark runs once per SIMD variant this CPU has (smpl::ScopedSimdLevel; the name
+// ends in /baseline, /avx2 or /avx512), each next to the bare read of the same array with that
+// variant's vector width (BM_StreamSum/...), so each variant is compared with its own bandwidth
+// bound in the same run. The variants the CPU has are printed in the context ("simd_levels").
+// The pose blend shapes are a 20670 x 207 double matrix (34 MB) read once per posed evaluation.
 #include <benchmark/benchmark.h>
 
+#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -14,34 +17,40 @@
 #include "caliper_test/random_model.hpp"
 #include "smpl/evaluate.hpp"
 #include "smpl/gltf.hpp"
+#include "smpl/io.hpp"
+#include "smpl/simd.hpp"
 
 namespace {
 
+// The full-size random test model, or the model file named by CALIPER_BENCH_MODEL (as
+// tools/bench_vs_smplx.py does to time the user's own SMPL file), with its first 10 betas.
 const smpl::BodyModel& model() {
-  static const smpl::BodyModel m = caliper::test::make_random_model(10, 24, true, 1);
+  static const smpl::BodyModel m = [] {
+    if (const char* path = std::getenv("CALIPER_BENCH_MODEL")) {
+      smpl::LoadOptions options;
+      options.num_betas = 10;
+      return smpl::load_model(path, options);
+    }
+    return caliper::test::make_random_model(10, 24, true, 1);
+  }();
   return m;
 }
 
 // Plain sum over an array as large as posedirs (double) or its float copy, or as shapedirs: the
-// bandwidth bound. Vectorised like the library's kernels (GCC/Clang vector extension, 64-byte
-// vectors, 4 independent accumulators) and multi-versioned for AVX-512 / AVX2 / baseline.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-#define BENCH_MULTIVERSION __attribute__((target_clones("avx512f", "avx2", "default")))
-#else
-#define BENCH_MULTIVERSION
-#endif
-template <typename T>
-BENCH_MULTIVERSION T stream_sum(const T* a, size_t n) {
-  typedef T V __attribute__((vector_size(64)));
-  constexpr size_t kLanes = 64 / sizeof(T);
+// bandwidth bound. Vectorised like the library's kernels (GCC/Clang vector extension, vectors of
+// the variant's register width, 4 independent accumulators), one function per variant.
+template <typename T, int kBytes>
+inline __attribute__((always_inline)) T stream_sum_body(const T* a, size_t n) {
+  typedef T V __attribute__((vector_size(kBytes)));
+  constexpr size_t kLanes = kBytes / sizeof(T);
   V s0 = {}, s1 = {}, s2 = {}, s3 = {};
   size_t i = 0;
   for (; i + 4 * kLanes <= n; i += 4 * kLanes) {
     V x0, x1, x2, x3;
-    std::memcpy(&x0, a + i, 64);
-    std::memcpy(&x1, a + i + kLanes, 64);
-    std::memcpy(&x2, a + i + 2 * kLanes, 64);
-    std::memcpy(&x3, a + i + 3 * kLanes, 64);
+    std::memcpy(&x0, a + i, kBytes);
+    std::memcpy(&x1, a + i + kLanes, kBytes);
+    std::memcpy(&x2, a + i + 2 * kLanes, kBytes);
+    std::memcpy(&x3, a + i + 3 * kLanes, kBytes);
     s0 += x0;
     s1 += x1;
     s2 += x2;
@@ -54,26 +63,46 @@ BENCH_MULTIVERSION T stream_sum(const T* a, size_t n) {
   return total;
 }
 
-template <typename T, size_t kColumns>
-void BM_StreamSum(benchmark::State& state) {
-  const size_t n = 20670 * kColumns;
+template <typename T>
+T stream_sum_baseline(const T* a, size_t n) {
+  return stream_sum_body<T, 16>(a, n);
+}
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+template <typename T>
+__attribute__((target("avx2"))) T stream_sum_avx2(const T* a, size_t n) {
+  return stream_sum_body<T, 32>(a, n);
+}
+template <typename T>
+__attribute__((target("avx512f"))) T stream_sum_avx512(const T* a, size_t n) {
+  return stream_sum_body<T, 64>(a, n);
+}
+#endif
+
+template <typename T>
+T stream_sum(smpl::SimdLevel level, const T* a, size_t n) {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  if (level == smpl::SimdLevel::kAvx512) return stream_sum_avx512(a, n);
+  if (level == smpl::SimdLevel::kAvx2) return stream_sum_avx2(a, n);
+#endif
+  (void)level;
+  return stream_sum_baseline(a, n);
+}
+
+template <typename T>
+void BM_StreamSum(benchmark::State& state, smpl::SimdLevel level, size_t columns) {
+  const size_t n = 20670 * columns;
   std::vector<T> a(n);
   for (size_t i = 0; i < n; ++i) a[i] = static_cast<T>(i % 7);
   for (auto _ : state) {
-    T sum = stream_sum(a.data(), n);
+    T sum = stream_sum(level, a.data(), n);
     benchmark::DoNotOptimize(sum);
   }
   state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) *
                           static_cast<int64_t>(n * sizeof(T)));
 }
-BENCHMARK_TEMPLATE(BM_StreamSum, double, 207)->Name("BM_StreamSum/posedirs_f64_34MB");
-BENCHMARK_TEMPLATE(BM_StreamSum, float, 207)->Name("BM_StreamSum/posedirs_f32_17MB");
-// The same for shapedirs with 10 betas (1.65 MB: stays in this machine's 2 MB per-core L2).
-BENCHMARK_TEMPLATE(BM_StreamSum, double, 10)
-    ->Name("BM_StreamSum/shapedirs_f64_1.65MB")
-    ->Unit(benchmark::kMicrosecond);
 
-void BM_Shape(benchmark::State& state) {
+void BM_Shape(benchmark::State& state, smpl::SimdLevel level) {
+  const smpl::ScopedSimdLevel pin(level);
   const auto& m = model();
   const Eigen::VectorXd betas = caliper::test::random_betas(10, 1.0, 2);
   smpl::Body body;
@@ -83,7 +112,6 @@ void BM_Shape(benchmark::State& state) {
     benchmark::ClobberMemory();
   }
 }
-BENCHMARK(BM_Shape)->Unit(benchmark::kMicrosecond);
 
 void BM_ShapeReturningBody(benchmark::State& state) {
   const auto& m = model();
@@ -97,7 +125,8 @@ BENCHMARK(BM_ShapeReturningBody)->Unit(benchmark::kMicrosecond);
 
 // Full posed evaluation; range(0) = 1 for the single-precision pose blend shapes, range(1) = how
 // many joints are rotated (23 = all but the root: every pose-blend-shape column is read).
-void BM_Evaluate(benchmark::State& state) {
+void BM_Evaluate(benchmark::State& state, smpl::SimdLevel level) {
+  const smpl::ScopedSimdLevel pin(level);
   const auto& m = model();
   const Eigen::VectorXd betas = caliper::test::random_betas(10, 1.0, 3);
   Eigen::VectorXd pose = caliper::test::random_pose(24, 1.0, 4);
@@ -117,12 +146,64 @@ void BM_Evaluate(benchmark::State& state) {
   state.SetLabel(std::string(state.range(0) == 1 ? "float" : "double") + " posedirs, " +
                  std::to_string(state.range(1)) + " rotated joints");
 }
-BENCHMARK(BM_Evaluate)
-    ->Args({0, 23})
-    ->Args({1, 23})
-    ->Args({0, 5})
-    ->Args({0, 0})
-    ->Unit(benchmark::kMicrosecond);
+
+// N random bodies' betas (and poses), as the batch API takes them.
+smpl::RowMatrixXd batch_betas(int n) {
+  smpl::RowMatrixXd b(n, 10);
+  for (int i = 0; i < n; ++i)
+    b.row(i) =
+        caliper::test::random_betas(10, 1.0, 100 + static_cast<std::uint64_t>(i)).transpose();
+  return b;
+}
+
+// smpl::shape_batch: range(0) = N bodies, range(1) = threads. "per_body" is the time per body
+// (CPU time of the calling thread for 1 thread; with more threads the benchmark uses wall time,
+// and bodies_per_s is the throughput of all of them).
+void BM_ShapeBatch(benchmark::State& state, smpl::SimdLevel level) {
+  const smpl::ScopedSimdLevel pin(level);
+  const auto& m = model();
+  const int n = static_cast<int>(state.range(0)), threads = static_cast<int>(state.range(1));
+  const smpl::RowMatrixXd betas = batch_betas(n);
+  smpl::BodyBatch out;
+  smpl::shape_batch(m, betas, out, threads);
+  for (auto _ : state) {
+    smpl::shape_batch(m, betas, out, threads);
+    benchmark::DoNotOptimize(out.vertices.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["bodies_per_s"] =
+      benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["per_body_us"] = benchmark::Counter(
+      1e-6 * n, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
+// smpl::evaluate_batch, every joint rotated: range(0) = N, range(1) = 1 for float posedirs,
+// range(2) = threads.
+void BM_EvaluateBatch(benchmark::State& state, smpl::SimdLevel level) {
+  const smpl::ScopedSimdLevel pin(level);
+  const auto& m = model();
+  const int n = static_cast<int>(state.range(0)), threads = static_cast<int>(state.range(2));
+  const smpl::RowMatrixXd betas = batch_betas(n);
+  smpl::RowMatrixXd poses(n, 3 * m.num_joints());
+  for (int i = 0; i < n; ++i)
+    poses.row(i) =
+        caliper::test::random_pose(m.num_joints(), 1.0, 900 + static_cast<std::uint64_t>(i))
+            .transpose();
+  smpl::Workspace ws;
+  ws.single_precision_pose_blend_shapes = state.range(1) == 1;
+  smpl::BodyBatch out;
+  smpl::evaluate_batch(m, betas, poses, smpl::RowMatrixXd(0, 3), ws, out, threads);
+  for (auto _ : state) {
+    smpl::evaluate_batch(m, betas, poses, smpl::RowMatrixXd(0, 3), ws, out, threads);
+    benchmark::DoNotOptimize(out.vertices.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["bodies_per_s"] =
+      benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["per_body_us"] = benchmark::Counter(
+      1e-6 * n, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.SetLabel(state.range(1) == 1 ? "float posedirs" : "double posedirs");
+}
 
 void BM_GlbExport(benchmark::State& state) {
   const auto& m = model();
@@ -144,6 +225,86 @@ void BM_GlbWriteFile(benchmark::State& state) {
 }
 BENCHMARK(BM_GlbWriteFile)->Unit(benchmark::kMillisecond);
 
+// Every kernel benchmark once per variant this CPU has, named .../<variant>.
+void register_per_variant() {
+  std::vector<int> custom_batches;
+  if (const char* sizes = std::getenv("CALIPER_BENCH_BATCH_SIZES")) {
+    std::string list = sizes;
+    for (size_t pos = 0; pos < list.size();) {
+      const size_t comma = std::min(list.find(',', pos), list.size());
+      const int n = std::atoi(list.substr(pos, comma - pos).c_str());
+      if (n > 0) custom_batches.push_back(n);
+      pos = comma + 1;
+    }
+  }
+  std::string levels;
+  for (smpl::SimdLevel level : smpl::supported_simd_levels()) {
+    const std::string v = smpl::simd_level_name(level);
+    levels += (levels.empty() ? "" : " ") + v;
+    benchmark::RegisterBenchmark(("BM_StreamSum/shapedirs_f64_1.65MB/" + v).c_str(),
+                                 BM_StreamSum<double>, level, size_t{10})
+        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark(("BM_Shape/" + v).c_str(), BM_Shape, level)
+        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark(("BM_StreamSum/posedirs_f64_34MB/" + v).c_str(),
+                                 BM_StreamSum<double>, level, size_t{207})
+        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark(("BM_StreamSum/posedirs_f32_17MB/" + v).c_str(),
+                                 BM_StreamSum<float>, level, size_t{207})
+        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark(("BM_Evaluate/" + v).c_str(), BM_Evaluate, level)
+        ->Args({0, 23})
+        ->Args({1, 23})
+        ->Args({0, 5})
+        ->Args({0, 0})
+        ->Unit(benchmark::kMicrosecond);
+    if (!custom_batches.empty()) {
+      // CALIPER_BENCH_BATCH_SIZES (tools/bench_vs_smplx.py): these batch sizes, one thread.
+      for (int n : custom_batches) {
+        benchmark::RegisterBenchmark(("BM_ShapeBatch/" + v).c_str(), BM_ShapeBatch, level)
+            ->Args({n, 1})
+            ->Unit(benchmark::kMicrosecond);
+        benchmark::RegisterBenchmark(("BM_EvaluateBatch/" + v).c_str(), BM_EvaluateBatch, level)
+            ->Args({n, 0, 1})
+            ->Args({n, 1, 1})
+            ->Unit(benchmark::kMicrosecond);
+      }
+      continue;
+    }
+    benchmark::RegisterBenchmark(("BM_ShapeBatch/" + v).c_str(), BM_ShapeBatch, level)
+        ->Args({1, 1})
+        ->Args({64, 1})
+        ->Args({1024, 1})
+        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark(("BM_ShapeBatch/" + v).c_str(), BM_ShapeBatch, level)
+        ->Args({1024, 2})
+        ->UseRealTime()
+        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark(("BM_EvaluateBatch/" + v).c_str(), BM_EvaluateBatch, level)
+        ->Args({1, 0, 1})
+        ->Args({64, 0, 1})
+        ->Args({256, 0, 1})
+        ->Args({1, 1, 1})
+        ->Args({64, 1, 1})
+        ->Args({256, 1, 1})
+        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark(("BM_EvaluateBatch/" + v).c_str(), BM_EvaluateBatch, level)
+        ->Args({256, 0, 2})
+        ->Args({256, 1, 2})
+        ->UseRealTime()
+        ->Unit(benchmark::kMicrosecond);
+  }
+  benchmark::AddCustomContext("simd_levels", levels);
+  benchmark::AddCustomContext("simd_default", smpl::simd_level_name(smpl::default_simd_level()));
+}
+
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  register_per_variant();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -116,6 +117,20 @@ TEST(Gltf, GlbBytesEqualTheGlbFile) {
   ASSERT_GT(mem.size(), 12u);
   EXPECT_EQ(mem, disk);
   EXPECT_EQ(std::string(mem.begin(), mem.begin() + 4), "glTF");
+}
+
+TEST(Gltf, PrecomputedSkinWeightsGiveTheSameBytes) {
+  const auto& m = model24();
+  const Eigen::VectorXd betas = caliper::test::random_betas(4, 1.0, 6);
+  const smpl::GltfSkinWeights skin = smpl::gltf_skin_weights(m);
+  ASSERT_EQ(skin.joints.size(), 4u * static_cast<size_t>(m.num_vertices()));
+  smpl::GltfOptions o;
+  o.skin_weights = &skin;
+  EXPECT_EQ(smpl::glb_bytes(m, betas, o), smpl::glb_bytes(m, betas));
+  smpl::GltfSkinWeights wrong = skin;
+  wrong.weights.pop_back();
+  o.skin_weights = &wrong;
+  EXPECT_THROW(smpl::glb_bytes(m, betas, o), std::invalid_argument);
 }
 
 TEST(Gltf, MorphTargetsArePoseCorrectives) {

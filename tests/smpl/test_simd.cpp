@@ -25,6 +25,7 @@ bool same_bits(const double* a, const double* b, Eigen::Index n) {
 // One body's outputs, for a bitwise comparison.
 struct Outputs {
   smpl::Body shaped, posed, posed_float;
+  smpl::BodyBatch shape_batch, batch, batch_float;
 };
 
 Outputs run(const smpl::BodyModel& model, const Eigen::VectorXd& betas,
@@ -35,6 +36,18 @@ Outputs run(const smpl::BodyModel& model, const Eigen::VectorXd& betas,
   smpl::Workspace ws;
   ws.single_precision_pose_blend_shapes = true;
   smpl::evaluate(model, betas, pose, Eigen::Vector3d(0.1, -0.2, 0.3), ws, o.posed_float);
+  // Batches of 5 (a group of 4 and a tail): the second body is the one above, the others vary.
+  smpl::RowMatrixXd b(5, betas.size()), p(5, pose.size()), t(5, 3);
+  for (int n = 0; n < 5; ++n) {
+    b.row(n) = betas.transpose() * (0.5 + 0.25 * n);
+    p.row(n) = pose.transpose() * (1.0 - 0.1 * n);
+    t.row(n) = Eigen::RowVector3d(0.1, -0.2, 0.3 * n);
+  }
+  smpl::shape_batch(model, b, o.shape_batch);
+  smpl::Workspace bws;
+  smpl::evaluate_batch(model, b, p, t, bws, o.batch);
+  bws.single_precision_pose_blend_shapes = true;
+  smpl::evaluate_batch(model, b, p, t, bws, o.batch_float, 2);
   return o;
 }
 
@@ -66,6 +79,13 @@ TEST(Simd, EveryVariantGivesTheSameBits) {
         << smpl::simd_level_name(level) << ": posed (double) differs from baseline";
     EXPECT_TRUE(same_bits(base.posed_float.vertices.data(), o.posed_float.vertices.data(), n))
         << smpl::simd_level_name(level) << ": posed (float pose blend) differs from baseline";
+    const Eigen::Index nb = base.batch.vertices.size();
+    EXPECT_TRUE(same_bits(base.shape_batch.vertices.data(), o.shape_batch.vertices.data(), nb))
+        << smpl::simd_level_name(level) << ": shape_batch differs from baseline";
+    EXPECT_TRUE(same_bits(base.batch.vertices.data(), o.batch.vertices.data(), nb))
+        << smpl::simd_level_name(level) << ": evaluate_batch (double) differs from baseline";
+    EXPECT_TRUE(same_bits(base.batch_float.vertices.data(), o.batch_float.vertices.data(), nb))
+        << smpl::simd_level_name(level) << ": evaluate_batch (float) differs from baseline";
   }
   std::printf("[ simd ] variants compared on this CPU:");
   for (smpl::SimdLevel level : levels) std::printf(" %s", smpl::simd_level_name(level));

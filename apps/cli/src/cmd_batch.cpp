@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <ostream>
@@ -170,6 +171,34 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
           std::make_unique<ShapeMeasurer>(b->model, lm, available_measurements(lm), k);
     }
   }
+  // Each regressor is checked against its model once here (the check computes the model's
+  // fingerprint, a pass over the template and shape directions); a mismatch becomes the error of
+  // every person that would use that regressor, as a per-avatar check would make it.
+  // (Value: null when the check passed.)
+  std::map<std::pair<const ModelBundle*, std::string>, std::exception_ptr> checked;
+  if (need_mesh) {
+    for (const auto& [sex, b] : bundles) {
+      (void)sex;
+      const auto check = [&](const std::string& name, const ModelSignature& signature) {
+        std::exception_ptr& result = checked[{b.get(), name}];
+        try {
+          signature.check(b->model);
+        } catch (const std::exception&) {
+          result = std::current_exception();
+        }
+      };
+      for (const auto& r : b->regressors.linear) check(r.name(), r.signature());
+      if (b->regressors.noise_aware) check("noise-aware", b->regressors.noise_aware->signature());
+    }
+  }
+  // The GLB skin attributes depend on the model only: computed once per model.
+  std::map<const ModelBundle*, smpl::GltfSkinWeights> skins;
+  if (out_dir && (format == "glb" || format == "gltf")) {
+    for (const auto& [sex, b] : bundles) {
+      (void)sex;
+      if (!skins.count(b.get())) skins[b.get()] = smpl::gltf_skin_weights(b->model);
+    }
+  }
   const double load_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_load).count();
 
@@ -203,13 +232,17 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
           done.fetch_add(1);
           continue;
         }
+        const auto c = checked.find({&b, o.regressor});
+        if (c != checked.end() && c->second) std::rethrow_exception(c->second);
         Avatar av = make_avatar(b, o.regressor, p.inputs, mapping ? &*mapping : nullptr,
-                                circumferences, exact_inputs);
+                                circumferences, exact_inputs, /*check_model=*/c == checked.end());
         if (out_dir) {
           const std::string path =
               (std::filesystem::path(*out_dir) / (file_safe(p.id) + "." + format)).string();
+          const auto skin = skins.find(&b);
           write_avatar(path, b.model, av.betas, av.vertices,
-                       {{"generator", version_string()}, {"regressor", o.regressor}});
+                       {{"generator", version_string()}, {"regressor", o.regressor}},
+                       skin == skins.end() ? nullptr : &skin->second);
         }
         o.achieved = std::move(av.achieved);
         o.betas = std::move(av.betas);

@@ -103,8 +103,9 @@ void require_inputs(const std::string& regressor, const MeasurementMap& inputs) 
 
 Avatar make_avatar(const ModelBundle& bundle, const std::string& regressor,
                    const MeasurementMap& inputs, const MeasurementMapping* mapping,
-                   bool circumferences, bool exact_inputs) {
+                   bool circumferences, bool exact_inputs, bool check_model) {
   AvatarOptions o;
+  o.check_model = check_model;
   o.exact_inputs = exact_inputs;
   o.mapping = mapping;
   o.circumferences = circumferences;

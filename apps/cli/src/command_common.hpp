@@ -31,9 +31,11 @@ void require_inputs(const std::string& regressor, const MeasurementMap& inputs);
 /// One avatar: the regressor `regressor` ("R2".."R6" or "noise-aware") of `bundle` on `inputs`.
 /// `exact_inputs` (plain regressors): refine the betas so that every input, weight included, is
 /// reproduced exactly (libcaliper's refine_to_inputs); off = the paper's linear prediction.
+/// `check_model` false: the caller has already checked the regressor against bundle.model
+/// (check_regressors_once), so the model fingerprint is not recomputed for this avatar.
 Avatar make_avatar(const ModelBundle& bundle, const std::string& regressor,
                    const MeasurementMap& inputs, const MeasurementMapping* mapping,
-                   bool circumferences, bool exact_inputs = false);
+                   bool circumferences, bool exact_inputs = false, bool check_model = true);
 
 /// Loads a mapping: a .json written by MeasurementMapping::save, or a .csv of paired values
 /// (fitted on the fly). Errors become RuntimeError naming the file.

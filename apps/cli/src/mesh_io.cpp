@@ -235,11 +235,13 @@ bool is_avatar_extension(const std::string& path) {
 
 void write_avatar(const std::string& path, const smpl::BodyModel& model,
                   const Eigen::VectorXd& betas, const smpl::Vertices& rest_vertices,
-                  const std::map<std::string, std::string>& extras) {
+                  const std::map<std::string, std::string>& extras,
+                  const smpl::GltfSkinWeights* skin_weights) {
   const std::string ext = extension_of(path);
   if (ext == ".glb" || ext == ".gltf") {
     smpl::GltfOptions o;
     o.extras = extras;
+    o.skin_weights = skin_weights;
     smpl::write_gltf(path, model, betas, o);
     return;
   }

@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 
 #include "smpl/body_model.hpp"
+#include "smpl/gltf.hpp"
 
 namespace caliper::cli {
 
@@ -27,10 +28,12 @@ MeshFile read_mesh(const std::string& path);
 
 /// Writes the avatar of `model` with `betas` standing on the floor (min y = 0): .glb / .gltf
 /// (rigged, with `extras` in asset.extras), .obj or .ply (the rest-pose mesh). Throws
-/// UsageError for another extension; smpl::ModelError for write failures.
+/// UsageError for another extension; smpl::ModelError for write failures. `skin_weights`:
+/// smpl::gltf_skin_weights(model) computed once for many avatars of `model`, or null.
 void write_avatar(const std::string& path, const smpl::BodyModel& model,
                   const Eigen::VectorXd& betas, const smpl::Vertices& rest_vertices,
-                  const std::map<std::string, std::string>& extras);
+                  const std::map<std::string, std::string>& extras,
+                  const smpl::GltfSkinWeights* skin_weights = nullptr);
 
 /// True when `path` has an extension write_avatar() accepts.
 bool is_avatar_extension(const std::string& path);

@@ -38,6 +38,11 @@ struct AvatarOptions {
   /// refine_to_inputs() so that every input (weight included) is reproduced exactly. Off by
   /// default (the paper's behaviour).
   bool exact_inputs = false;
+  /// Check the regressor's model signature against `model` (ModelMismatchError). The check
+  /// computes the model's fingerprint (a pass over the template and shape directions); a caller
+  /// that makes many avatars with one model and regressor checks once (`regressor.signature()
+  /// .check(model)`) and sets this to false for every avatar.
+  bool check_model = true;
 };
 
 /// Gauss-Newton refinement of `betas` (k <= model.num_betas() values) so that the rest-pose

@@ -69,6 +69,46 @@ void evaluate(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& b
               const Eigen::Ref<const Eigen::VectorXd>& pose, const Eigen::Vector3d& translation,
               Workspace& ws, Body& out);
 
+/// Row-major double matrix: one body (or one body's parameters) per row, as numpy's C order.
+using RowMatrixXd = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+/// N bodies evaluated together (shape_batch, evaluate_batch).
+struct BodyBatch {
+  /// N x 3V, metres: row n holds body n's vertices x0 y0 z0 x1 y1 z1 ... (numpy shape (N, V, 3)
+  /// in C order), posed and translated.
+  RowMatrixXd vertices;
+  /// N x 3K, metres: row n holds body n's joint positions (translation included), (N, K, 3).
+  RowMatrixXd joints;
+};
+
+/// shape() for N bodies at once. `betas`: N x B, B <= model.num_betas() (missing betas are 0).
+/// Blocked: shapedirs is read once per batch per thread (a block of rows at a time, applied to
+/// every body of the thread's share while it is in cache). Every output has the same bits as
+/// shape() on that row of `betas` (same operations in the same order) on every SIMD variant.
+/// `threads`: worker threads (std::thread; 1 = the calling thread only, 0 = one per core); bodies
+/// are shared out among them, results do not depend on the count. `out` is resized to N x 3V and
+/// N x 3K (allocation-free when it already has these sizes). Throws std::invalid_argument when B
+/// exceeds the model's betas or `threads` is negative.
+void shape_batch(const BodyModel& model, const Eigen::Ref<const RowMatrixXd>& betas, BodyBatch& out,
+                 int threads = 1);
+
+/// evaluate() for N bodies at once. `betas`: N x B as in shape_batch; `poses`: N x 3K axis-angle
+/// values (radians; joint 0 is the global orientation) or 0 columns for the rest pose;
+/// `translations`: N x 3 metres or 0 rows (no translation). The pose blend shapes are a blocked
+/// matrix product: each block of rows of posedirs (or of ws's float copy when
+/// ws.single_precision_pose_blend_shapes is set; see Workspace) is read once per batch and applied
+/// to every body while it is in cache, the blocks shared out among `threads` workers; the joint
+/// columns skipped are those whose rotation is the identity in every body of the batch. Results
+/// are within 1e-12 m of evaluate() on each body (equal bits when the same joint columns are
+/// skipped, e.g. every joint rotated) and have the same bits on every SIMD variant and for every
+/// thread count. Throws std::invalid_argument when the row counts differ, B exceeds the model's
+/// betas, poses are neither 0 nor 3K wide, translations are neither 0 x 3 nor N x 3, or `threads`
+/// is negative.
+void evaluate_batch(const BodyModel& model, const Eigen::Ref<const RowMatrixXd>& betas,
+                    const Eigen::Ref<const RowMatrixXd>& poses,
+                    const Eigen::Ref<const RowMatrixXd>& translations, Workspace& ws,
+                    BodyBatch& out, int threads = 1);
+
 /// Rotation matrix of an axis-angle vector (angle = norm, radians; right-handed about the axis):
 /// R = I + (sin t / t) K + ((1 - cos t) / t^2) K^2 with K = [axis_angle]x. Exact and finite at zero
 /// angle: below t = 1e-3 the two coefficients come from their Taylor series (error < 1e-19), and

@@ -16,6 +16,18 @@
 
 namespace smpl {
 
+/// The skin attributes of a model's avatars: the 4 largest skinning weights of each vertex
+/// renormalised so that their float sum is 1 (JOINTS_0 / WEIGHTS_0, 4 V values each). They depend
+/// on the model only (not on betas).
+struct GltfSkinWeights {
+  std::vector<std::uint16_t> joints;  ///< 4 V joint indices, unused slots 0
+  std::vector<float> weights;         ///< 4 V weights, unused slots 0
+};
+
+/// What write_gltf() computes per call for `model`'s skin; compute it once and pass it in
+/// GltfOptions::skin_weights to write many avatars of one model faster (same bytes).
+GltfSkinWeights gltf_skin_weights(const BodyModel& model);
+
 struct GltfOptions {
   bool stand_on_floor = true;     ///< translate so that the mesh's min y is 0.
   bool pose_correctives = false;  ///< add posedirs as morph targets (P targets).
@@ -23,6 +35,9 @@ struct GltfOptions {
   /// Extra key/values written to asset.extras (e.g. measurements, betas); never personal data
   /// beyond what the caller passes.
   std::map<std::string, std::string> extras;
+  /// Precomputed gltf_skin_weights() of the same model (not owned; must outlive the call), or
+  /// null to compute them. Wrong sizes throw std::invalid_argument.
+  const GltfSkinWeights* skin_weights = nullptr;
 };
 
 /// Exports the avatar of `model` with `betas` baked in (rest T-pose). The file holds one skinned

@@ -1,0 +1,194 @@
+// Batch evaluation (smpl::shape_batch, smpl::evaluate_batch): every body of a batch equals a
+// single call (the same bits where the same columns of posedirs are read, within 1e-12 m
+// otherwise), for any thread count, with both pose-blend-shape precisions; bad sizes are refused.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+#include "caliper_test/random_model.hpp"
+#include "smpl/evaluate.hpp"
+
+namespace {
+
+using caliper::test::random_betas;
+using caliper::test::random_pose;
+using smpl::RowMatrixXd;
+
+// Batch against single calls when a body's skipped joint columns differ from the batch's (the
+// batch skips a joint only when it is at rest in every body, so it adds zero products that the
+// single call skips, which changes where partial sums round): a few ulps of metre-sized values.
+constexpr double kBatchVsSingle = 1e-12;
+
+// The same with the float pose blend shapes: float partial sums (float epsilon 6e-8 relative) of
+// 207 products each, summed over different runs of columns; both paths are documented to be
+// within 1e-7 m of the double path, so they are within that of each other.
+constexpr double kFloatBatchVsSingle = 1e-7;
+
+bool same_bits(const double* a, const double* b, Eigen::Index n) {
+  return std::memcmp(a, b, static_cast<std::size_t>(n) * sizeof(double)) == 0;
+}
+
+double max_abs_diff(const double* a, const double* b, Eigen::Index n) {
+  double m = 0.0;
+  for (Eigen::Index i = 0; i < n; ++i) m = std::max(m, std::abs(a[i] - b[i]));
+  return m;
+}
+
+struct Inputs {
+  RowMatrixXd betas, poses, translations;
+};
+
+// N bodies; when `sparse`, body n leaves joints with (k + n) % 3 == 0 at rest, so the bodies'
+// skipped columns differ.
+Inputs make_inputs(int n_bodies, int n_betas, int K, bool sparse, std::uint64_t seed) {
+  Inputs in;
+  in.betas.resize(n_bodies, n_betas);
+  in.poses.resize(n_bodies, 3 * K);
+  in.translations.resize(n_bodies, 3);
+  for (int n = 0; n < n_bodies; ++n) {
+    in.betas.row(n) = random_betas(n_betas, 1.5, seed + 3 * static_cast<std::uint64_t>(n));
+    Eigen::VectorXd pose = random_pose(K, 0.9, seed + 3 * static_cast<std::uint64_t>(n) + 1);
+    if (sparse) {
+      for (int k = 1; k < K; ++k) {
+        if ((k + n) % 3 == 0) pose.segment<3>(3 * k).setZero();
+      }
+    }
+    in.poses.row(n) = pose.transpose();
+    in.translations.row(n) = Eigen::RowVector3d(0.1 * n, -0.05, 0.02 * n);
+  }
+  return in;
+}
+
+TEST(Batch, ShapeBatchHasTheBitsOfSingleCallsForAnyThreadCount) {
+  caliper::test::RandomModelOptions mo;
+  mo.num_betas = 13;
+  const smpl::BodyModel model = caliper::test::make_random_model(mo);
+  const Inputs in = make_inputs(7, 11, 24, false, 40);  // fewer betas than the model's
+  for (int threads : {1, 3}) {
+    smpl::BodyBatch batch;
+    smpl::shape_batch(model, in.betas, batch, threads);
+    ASSERT_EQ(batch.vertices.rows(), 7);
+    ASSERT_EQ(batch.vertices.cols(), 3 * model.num_vertices());
+    ASSERT_EQ(batch.joints.cols(), 3 * model.num_joints());
+    for (int n = 0; n < 7; ++n) {
+      const smpl::Body one = smpl::shape(model, in.betas.row(n).transpose());
+      EXPECT_TRUE(same_bits(one.vertices.data(), batch.vertices.row(n).data(), one.vertices.size()))
+          << "body " << n << ", " << threads << " threads";
+      EXPECT_TRUE(same_bits(one.joints.data(), batch.joints.row(n).data(), one.joints.size()))
+          << "body " << n << ", " << threads << " threads";
+    }
+  }
+}
+
+void check_evaluate_batch(bool single_precision, bool sparse) {
+  const smpl::BodyModel model = caliper::test::make_random_model(10, 24, true, 3);
+  const int N = 9;  // two groups of 4 bodies and a tail of 1
+  const Inputs in = make_inputs(N, 10, 24, sparse, 70);
+  smpl::BodyBatch b1, b2;
+  smpl::Workspace ws;
+  ws.single_precision_pose_blend_shapes = single_precision;
+  smpl::evaluate_batch(model, in.betas, in.poses, in.translations, ws, b1, 1);
+  smpl::evaluate_batch(model, in.betas, in.poses, in.translations, ws, b2, 2);
+  EXPECT_TRUE(same_bits(b1.vertices.data(), b2.vertices.data(), b1.vertices.size()))
+      << "thread count changed the result";
+  smpl::Workspace single_ws;
+  single_ws.single_precision_pose_blend_shapes = single_precision;
+  smpl::Body one;
+  double worst = 0.0;
+  for (int n = 0; n < N; ++n) {
+    smpl::evaluate(model, in.betas.row(n).transpose(), in.poses.row(n).transpose(),
+                   in.translations.row(n).transpose(), single_ws, one);
+    const double dv =
+        max_abs_diff(one.vertices.data(), b1.vertices.row(n).data(), one.vertices.size());
+    const double dj = max_abs_diff(one.joints.data(), b1.joints.row(n).data(), one.joints.size());
+    EXPECT_EQ(dj, 0.0) << "joints do not depend on the pose blend shapes";
+    worst = std::max(worst, dv);
+    if (!sparse) {
+      EXPECT_TRUE(same_bits(one.vertices.data(), b1.vertices.row(n).data(), one.vertices.size()))
+          << "body " << n << ": every joint rotated, so the batch reads the same columns";
+    }
+  }
+  EXPECT_LE(worst, single_precision ? kFloatBatchVsSingle : kBatchVsSingle);
+  std::printf("[ batch ] %s, %s: max |batch - single| = %.3g m\n",
+              single_precision ? "float" : "double", sparse ? "sparse poses" : "all rotated",
+              worst);
+}
+
+TEST(Batch, EvaluateBatchEqualsSingleCallsDouble) {
+  check_evaluate_batch(false, false);
+  check_evaluate_batch(false, true);
+}
+
+TEST(Batch, EvaluateBatchEqualsSingleCallsFloat) {
+  check_evaluate_batch(true, false);
+  check_evaluate_batch(true, true);
+}
+
+TEST(Batch, SmallBatchesGiveTheBitsOfTheirBodiesInALargeBatch) {
+  // Fewer than 4 bodies take the streaming kernels, more the packed ones: same operations.
+  const smpl::BodyModel model = caliper::test::make_random_model(10, 24, true, 3);
+  const Inputs in = make_inputs(6, 10, 24, false, 20);
+  for (bool single_precision : {false, true}) {
+    smpl::Workspace ws;
+    ws.single_precision_pose_blend_shapes = single_precision;
+    smpl::BodyBatch large, small;
+    smpl::evaluate_batch(model, in.betas, in.poses, in.translations, ws, large);
+    smpl::evaluate_batch(model, in.betas.topRows(2), in.poses.topRows(2),
+                         in.translations.topRows(2), ws, small, 2);
+    EXPECT_TRUE(same_bits(large.vertices.data(), small.vertices.data(), small.vertices.size()))
+        << (single_precision ? "float" : "double");
+  }
+}
+
+TEST(Batch, RestPoseAndNoTranslationEqualShape) {
+  const smpl::BodyModel model = caliper::test::make_random_model(10, 24, true, 5);
+  const Inputs in = make_inputs(3, 10, 24, false, 90);
+  smpl::BodyBatch batch;
+  smpl::Workspace ws;
+  smpl::evaluate_batch(model, in.betas, RowMatrixXd(0, 0), RowMatrixXd(0, 3), ws, batch);
+  for (int n = 0; n < 3; ++n) {
+    const smpl::Body one = smpl::evaluate(model, in.betas.row(n).transpose(), Eigen::VectorXd());
+    EXPECT_TRUE(same_bits(one.vertices.data(), batch.vertices.row(n).data(), one.vertices.size()));
+  }
+}
+
+TEST(Batch, WrongSizesAreRefusedWithTheReason) {
+  const smpl::BodyModel model = caliper::test::make_random_model(10, 24, true, 5);
+  const Inputs in = make_inputs(3, 10, 24, false, 90);
+  smpl::BodyBatch batch;
+  smpl::Workspace ws;
+  auto message = [&](auto&& call) {
+    try {
+      call();
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message([&] {
+              smpl::evaluate_batch(model, in.betas, in.poses.topRows(2), in.translations, ws,
+                                   batch);
+            }).find("rows of poses"),
+            std::string::npos);
+  EXPECT_NE(message([&] {
+              smpl::evaluate_batch(model, in.betas, in.poses.leftCols(9), in.translations, ws,
+                                   batch);
+            }).find("axis-angle"),
+            std::string::npos);
+  EXPECT_NE(message([&] {
+              smpl::evaluate_batch(model, in.betas, in.poses, in.translations.leftCols(2), ws,
+                                   batch);
+            }).find("translations"),
+            std::string::npos);
+  EXPECT_NE(message([&] {
+              smpl::shape_batch(model, RowMatrixXd::Zero(2, 11), batch);
+            }).find("shape components"),
+            std::string::npos);
+  EXPECT_NE(message([&] { smpl::shape_batch(model, in.betas, batch, -1); }).find("threads"),
+            std::string::npos);
+}
+
+}  // namespace
