@@ -79,6 +79,7 @@ const char* kUsage =
 struct Args {
   std::map<std::string, std::string> values;
   std::vector<std::string> flags;
+  std::vector<std::string> argv;  ///< the arguments as given (for the --resume command)
   bool has(const std::string& k) const {
     return values.count(k) || std::count(flags.begin(), flags.end(), k);
   }
@@ -100,6 +101,7 @@ Args parse_args(int argc, char** argv) {
       "--frame-rate", "--dropout",     "--third-take",    "--early-release", "--redo",
       "--assets",     "--typed-in-log"};
   Args a;
+  a.argv.assign(argv + 1, argv + argc);
   for (int i = 1; i < argc; ++i) {
     const std::string k = argv[i];
     if (std::count(kFlags.begin(), kFlags.end(), k)) {
@@ -150,8 +152,10 @@ double percentile(std::vector<double> v, double p) {
   return v[std::min(v.size() - 1, static_cast<size_t>(p * static_cast<double>(v.size())))];
 }
 
-/// Common app options from the command line.
-VrAppOptions app_options(const Args& a, const std::string& role, const std::string& profile) {
+/// Common app options from the command line; `recorded` holds the typed values of a replayed
+/// log's header (used when the command line does not give them).
+VrAppOptions app_options(const Args& a, const std::string& role, const std::string& profile,
+                         const PoseLogHeader* recorded = nullptr) {
   const std::string assets = assets_dir(a);
   VrAppOptions o;
   const std::string protocol_path = a.get("--protocol", assets + "/protocol/virtual-caliper.json");
@@ -162,6 +166,8 @@ VrAppOptions app_options(const Args& a, const std::string& role, const std::stri
   o.session.role = role;
   if (a.has("--weight")) o.session.weight = number(a, "--weight", 0.0);
   if (a.has("--sex")) o.session.sex = a.get("--sex");
+  if (recorded && !o.session.weight) o.session.weight = recorded->weight;
+  if (recorded && o.session.sex.empty()) o.session.sex = recorded->sex;
   o.avatar.model_path = a.get("--model");
   o.avatar.models_dir = a.get("--models-dir", assets + "/models");
   o.avatar.regressor = a.get("--regressor", "R5");
@@ -190,10 +196,53 @@ std::unique_ptr<Audio> open_audio(const Args& a) {
   }
 }
 
-/// Finishes a run: outputs, the audio queue, and the plain-words summary. Returns the exit code.
-int finish(VrApp& app, Audio& audio, const std::string& journal_path) {
-  audio.drain(10.0);
+/// Quotes one shell word when it needs it.
+std::string shell_word(const std::string& w) {
+  if (!w.empty() && w.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                        "0123456789-_./=:,+@%") == std::string::npos)
+    return w;
+  std::string q = "'";
+  for (char c : w) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+/// The command that continues this run's session: the same options, `--resume JOURNAL` (which
+/// is also the journal appended to), no --max-frames, and a new --record file so that the first
+/// recording is kept.
+std::string resume_command(const Args& a, const std::string& journal) {
+  std::string cmd = "caliper-vr";
+  for (size_t i = 0; i < a.argv.size(); ++i) {
+    const std::string& k = a.argv[i];
+    const bool has_value = a.values.count(k) && i + 1 < a.argv.size();
+    if (k == "--resume" || k == "--journal" || k == "--max-frames") {
+      i += has_value ? 1 : 0;
+      continue;
+    }
+    cmd += " " + shell_word(k);
+    if (!has_value) continue;
+    std::string v = a.argv[++i];
+    if (k == "--record") {
+      const std::filesystem::path p(v);
+      v = (p.parent_path() / (p.stem().string() + "-resumed" + p.extension().string())).string();
+    }
+    cmd += " " + shell_word(v);
+  }
+  return cmd + " --resume " + shell_word(journal);
+}
+
+/// Writes the outputs once, when the session is complete (printing each file), so that a
+/// later crash or lost runtime cannot lose them.
+void write_outputs_once(VrApp& app) {
+  if (app.outputs_written()) return;
   for (const std::string& f : app.write_outputs()) std::cout << "wrote " << f << "\n";
+  if (app.finished()) std::cout << "The session is complete. " << kEndHint << std::endl;
+}
+
+/// Finishes a run: outputs (unless written at completion), the audio queue, and the plain-words
+/// summary. Returns the exit code.
+int finish(VrApp& app, Audio& audio, const std::string& journal_path, const Args& a) {
+  audio.drain(10.0);
+  write_outputs_once(app);
   const SessionResult r = app.session().result();
   for (const auto& kv : r.measurements) {
     std::printf("  %-22s %9.4f %s", kv.first.c_str(), kv.second, kv.first == "weight" ? "kg" : "m");
@@ -204,12 +253,19 @@ int finish(VrApp& app, Audio& audio, const std::string& journal_path) {
   std::cout << "accepted samples: " << app.accepted_this_run()
             << ", rejected: " << app.rejected_this_run() << ", audio: " << audio.description()
             << "\n";
+  std::cout.flush();
   if (!app.session().done()) {
     const ProtocolStep* s = app.session().current_step();
-    std::cerr << "caliper-vr: the session stopped before it was finished (at "
-              << (s ? "step \"" + s->id + "\"" : std::string("the floor calibration"))
+    const Phase phase = app.session().view().phase;
+    const std::string where = s ? "at step \"" + s->id + "\""
+                              : phase == Phase::WaitingForStart
+                                  ? "before the operator pressed Start"
+                                  : "at the floor calibration";
+    std::cerr << "caliper-vr: the session stopped before it was finished (" << where
               << "). Every accepted sample is in the journal " << journal_path
-              << "; continue with: caliper-vr --resume " << journal_path << "\n";
+              << "; continue with:\n  " << resume_command(a, journal_path) << "\n";
+    if (a.has("--replay"))
+      std::cerr << "(replaying: give --replay the log of the rest of the session)\n";
     return kExitIncomplete;
   }
   if (!app.avatar_error().empty())
@@ -221,8 +277,11 @@ int run_replay(const Args& a) {
   const std::string log_path = a.get("--replay");
   PoseLog log = read_pose_log(log_path);
   const std::string role = a.get("--role", log.header.role.empty() ? "self" : log.header.role);
-  const std::string profile = log.header.interaction_profile;
-  VrAppOptions o = app_options(a, role, profile);
+  std::string profile = log.header.interaction_profile;
+  const PoseLogHeader recorded = log.header;
+  VrAppOptions o = app_options(a, role, profile, &recorded);
+  const ControllerConfig controllers =
+      read_controller_config(a.get("--controllers", assets_dir(a) + "/protocol/controllers.json"));
   int eye_w = 320, eye_h = 356;
   if (a.has("--eye-size") && std::sscanf(a.get("--eye-size").c_str(), "%dx%d", &eye_w, &eye_h) != 2)
     throw std::invalid_argument("--eye-size needs WxH, e.g. 1440x1600");
@@ -256,8 +315,9 @@ int run_replay(const Args& a) {
   if (a.has("--record")) {
     PoseLogHeader h;
     h.role = role;
-    h.interaction_profile = profile;
     h.source = "caliper-vr --replay " + log_path;
+    h.weight = app.session().options().weight;
+    h.sex = app.session().options().sex;
     source = std::make_unique<RecordingPoseSource>(std::move(source), a.get("--record"), h);
   }
   render::Scene scene;
@@ -279,8 +339,18 @@ int run_replay(const Args& a) {
   };
   while (max_frames < 0 || n < max_frames) {
     const double c0 = thread_cpu_seconds();
-    std::optional<PoseFrame> f = source->next_frame();
+    std::optional<PoseFrame> f;
+    try {
+      f = source->next_frame();
+    } catch (const PoseSourceLost& e) {
+      std::cerr << "caliper-vr: " << e.what() << "\n";
+      break;
+    }
     if (!f) break;
+    if (source->interaction_profile() != profile) {  // as live: the runtime named the controllers
+      profile = source->interaction_profile();
+      app.set_tips(controllers.offsets(profile));
+    }
     app.advance(*f, source.get());
     app.build_scene(scene);
     const std::vector<render::View> views = app.stereo_views(eye_w, eye_h);
@@ -314,6 +384,8 @@ int run_replay(const Args& a) {
       }
     }
     ++n;
+    if (app.finished()) write_outputs_once(app);
+    if (app.end_requested()) break;  // the user pressed the end button
   }
   std::printf(
       "replayed %ld frames: app CPU per frame median %.3f ms, p95 %.3f ms (thread CPU time of the "
@@ -326,7 +398,7 @@ int run_replay(const Args& a) {
     t << "frame,app_cpu_ms\n";
     for (size_t i = 0; i < app_cpu.size(); ++i) t << i << "," << 1e3 * app_cpu[i] << "\n";
   }
-  return finish(app, *audio, journal_path);
+  return finish(app, *audio, journal_path, a);
 }
 
 /// The pivot-calibration step driven by a pose log (the same code as live).
@@ -427,9 +499,12 @@ int run_live(const Args& a) {
     return app_options(a, role, profile);
   };
   live.open_audio = [&a]() { return open_audio(a); };
-  live.finish = [](VrApp& app, Audio& audio, const std::string& journal) {
-    return finish(app, audio, journal);
+  live.finish = [&a](VrApp& app, Audio& audio, const std::string& journal) {
+    return finish(app, audio, journal, a);
   };
+  live.write_outputs = [](VrApp& app) { write_outputs_once(app); };
+  if (a.has("--weight")) live.weight = number(a, "--weight", 0.0);
+  live.sex = a.get("--sex");
   return run_openxr(live);
 }
 

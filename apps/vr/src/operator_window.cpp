@@ -51,6 +51,14 @@ std::vector<OperatorCommand> OperatorWindow::frame(VrApp& app, render::Renderer&
   ImGui::SameLine();
   if (ImGui::Button("Skip")) out.push_back({"skip", Json()});
   ImGui::Separator();
+  // The fields show the session's values (--weight/--sex, the log, ...) whenever those change;
+  // in between the operator's typing is kept.
+  const TypedFields typed = typed_fields(app.session());
+  if (!synced_ || synced_->weight != typed.weight || synced_->sex != typed.sex) {
+    weight_ = typed.weight;
+    sex_ = typed.sex;
+    synced_ = typed;
+  }
   ImGui::InputDouble("kg", &weight_, 0.5, 5.0, "%.1f");
   ImGui::SameLine();
   if (ImGui::Button("Set weight")) out.push_back({"weight", Json(weight_)});

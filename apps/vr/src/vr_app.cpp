@@ -102,6 +102,18 @@ std::shared_ptr<const smpl::BodyModel> load_default_model(const std::string& dir
   return std::make_shared<const smpl::BodyModel>(smpl::load_model(path));
 }
 
+TypedFields typed_fields(const MeasuringSession& session) {
+  TypedFields t;
+  const SessionResult r = session.result();
+  if (auto it = r.measurements.find("weight"); it != r.measurements.end())
+    t.weight = it->second;
+  else if (session.options().weight)
+    t.weight = *session.options().weight;
+  const std::string sex = !r.sex.empty() ? r.sex : session.options().sex;
+  t.sex = sex == "female" ? 0 : sex == "male" ? 1 : -1;
+  return t;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Construction
 
@@ -169,6 +181,12 @@ const std::vector<SessionEvent>& VrApp::advance(const PoseFrame& frame, PoseSour
   if (session_.done() && !finished_) {
     make_avatar();
     finished_ = true;
+  }
+  if (finished_) {
+    const bool menu = (frame.device(Device::Left).valid && frame.device(Device::Left).menu) ||
+                      (frame.device(Device::Right).valid && frame.device(Device::Right).menu);
+    if (!menu) end_button_released_ = true;
+    if (menu && end_button_released_) end_requested_ = true;
   }
   return events_;
 }
@@ -278,6 +296,7 @@ PanelContent VrApp::panel_content() const {
                  ") is in the mirror in front of you. Look down to see your body.";
       else if (!avatar_error_.empty())
         c.body = "No avatar: " + avatar_error_;
+      c.lines.push_back(kEndHint);
       break;
     }
   }
@@ -617,7 +636,8 @@ Json VrApp::session_json() const {
   return j;
 }
 
-std::vector<std::string> VrApp::write_outputs() const {
+std::vector<std::string> VrApp::write_outputs() {
+  outputs_written_ = true;
   std::vector<std::string> files;
   if (options_.output_dir.empty()) return files;
   std::filesystem::create_directories(options_.output_dir);

@@ -24,6 +24,10 @@
 
 namespace caliper::vr {
 
+/// How to end the session once it is complete: on the panel and the terminal (the menu action
+/// is bound to the menu button, and to B on the Valve Index controller).
+inline const char* kEndHint = "To finish, press the menu button of a controller (Valve Index: B).";
+
 /// How the avatar is made at the end.
 struct AvatarSettings {
   std::string model_path;        ///< explicit model; "" = models_dir/caliper-<sex>.npz
@@ -95,9 +99,18 @@ class VrApp {
   /// Seconds since the current step (or floor phase) began.
   double step_time() const { return time_ - step_started_; }
 
+  /// After the session is complete: the user pressed the end button (menu, either controller;
+  /// pressed after completion, so a button held through the last sample does not count). The
+  /// program ends the session on it.
+  bool end_requested() const { return end_requested_; }
+  /// The instruction panel's content for the current state.
+  PanelContent panel() const { return panel_content(); }
+
   /// Writes output_dir/avatar.glb and output_dir/session.json (when output_dir is set).
   /// Returns the files written.
-  std::vector<std::string> write_outputs() const;
+  std::vector<std::string> write_outputs();
+  /// write_outputs() has been called.
+  bool outputs_written() const { return outputs_written_; }
   /// The session file content.
   Json session_json() const;
 
@@ -123,6 +136,9 @@ class VrApp {
   int accepted_ = 0, rejected_ = 0;
   double last_reject_time_ = -1e9;
   bool finished_ = false;
+  bool end_requested_ = false;
+  bool end_button_released_ = false;  ///< no menu button held since completion
+  bool outputs_written_ = false;
   std::optional<AvatarOutcome> avatar_;
   std::string avatar_error_;
   // Demonstration avatar (reference body).
@@ -138,6 +154,14 @@ class VrApp {
   std::string video_step_;
   render::TextureHandle video_texture_ = 0;
 };
+
+/// The typed values the operator window shows: the session's (typed in the window, in a log,
+/// or given with --weight/--sex), else the field's starting value (70 kg, no sex chosen).
+struct TypedFields {
+  double weight = 70.0;  ///< kg
+  int sex = -1;          ///< 0 female, 1 male, -1 none
+};
+TypedFields typed_fields(const MeasuringSession& session);
 
 /// Loads an open default model by sex from `dir` ("caliper-female.npz", ...; "" or unknown sex:
 /// neutral). Throws smpl::ModelError naming the file.
