@@ -273,8 +273,13 @@ void BodyIk::solve_arm(int side, const IkInput& in) {
     hand_rotation = Eigen::Quaterniond::FromTwoVectors(r[wr] - r[el], target - S);
   }
   pose_.wrist_target[static_cast<size_t>(side)] = target;
-  // Elbow down and out (and a little back).
-  const Eigen::Vector3d pole = Eigen::Vector3d(0.0, -1.0, 0.0) + 0.6 * out + 0.3 * back;
+  // Elbow down and out (and a little back), pulled towards where the controller's handle points
+  // (the forearm continues behind the grip, along its +Z).
+  Eigen::Vector3d pole = (Eigen::Vector3d(0.0, -1.0, 0.0) + 0.6 * out + 0.3 * back).normalized();
+  if (grip) {
+    const Eigen::Vector3d hint = target + grip->orientation * Eigen::Vector3d(0.0, 0.0, b) - S;
+    if (hint.norm() > kTiny) pole += 0.8 * hint.normalized();
+  }
   // Keep the fold within the elbow's range: a target closer than that is pushed out.
   const double dmin = min_reach(a, b, options_.limits.max_elbow_bend);
   Eigen::Vector3d goal = target;
@@ -282,7 +287,28 @@ void BodyIk::solve_arm(int side, const IkInput& in) {
     const Eigen::Vector3d d = goal - S;
     goal = S + dmin * (d.norm() > kTiny ? Eigen::Vector3d(d.normalized()) : -back);
   }
-  const TwoBoneSolution sol = solve_two_bone(S, a, b, goal, pole);
+  // The elbow's swing about the shoulder-wrist line is rate-limited, so that a pole passing
+  // close to that line does not flip the elbow from one frame to the next.
+  const Eigen::Vector3d line =
+      (goal - S).norm() > kTiny ? Eigen::Vector3d((goal - S).normalized()) : Eigen::Vector3d(-back);
+  Eigen::Vector3d swing = pole - pole.dot(line) * line;
+  swing = swing.norm() > kTiny ? Eigen::Vector3d(swing.normalized()) : line.unitOrthogonal();
+  Eigen::Vector3d& previous = elbow_dir_[static_cast<size_t>(side)];
+  if (dt_ > 0.0) {
+    Eigen::Vector3d q = previous - previous.dot(line) * line;
+    if (q.norm() > 1e-6) {
+      q.normalize();
+      const double angle = std::acos(std::clamp(q.dot(swing), -1.0, 1.0));
+      const double max_angle = options_.max_elbow_swing * dt_;
+      if (angle > max_angle) {
+        const Eigen::Vector3d axis =
+            q.cross(swing).norm() > kTiny ? Eigen::Vector3d(q.cross(swing).normalized()) : line;
+        swing = Eigen::AngleAxisd(max_angle, axis) * q;
+      }
+    }
+  }
+  previous = swing;
+  const TwoBoneSolution sol = solve_two_bone(S, a, b, goal, swing);
   pose_.reachable[static_cast<size_t>(side)] = sol.reachable && (target - S).norm() >= dmin - kTiny;
   const Eigen::Vector3d hinge_rest = elbow_hinge(left);
   const Eigen::Quaterniond g_sh =
@@ -293,8 +319,16 @@ void BodyIk::solve_arm(int side, const IkInput& in) {
   pose_.global[el] = (g_sh * l_el).normalized();
   place(el);
   place(wr);
-  const Eigen::Quaterniond wrist_local =
+  Eigen::Quaterniond wrist_local =
       clamp_rotation(pose_.global[el].conjugate() * hand_rotation, options_.limits.max_wrist);
+  // Rate-limited too: a hand turned past the wrist's range must not flip the hand over.
+  Eigen::Quaterniond& last = wrist_local_[static_cast<size_t>(side)];
+  if (dt_ > 0.0) {
+    const double angle = last.angularDistance(wrist_local);
+    const double max_angle = options_.max_wrist_speed * dt_;
+    if (angle > max_angle) wrist_local = last.slerp(max_angle / angle, wrist_local).normalized();
+  }
+  last = wrist_local;
   pose_.global[wr] = (pose_.global[el] * wrist_local).normalized();
   pose_.global[hand] = pose_.global[wr];
   place(hand);
@@ -333,6 +367,8 @@ void BodyIk::solve_leg(int side, const Eigen::Vector3d& ankle, double foot_yaw) 
 
 const IkPose& BodyIk::solve(const IkInput& in) {
   const std::vector<Eigen::Vector3d>& r = rig_.rest;
+  dt_ = started_ ? std::max(0.0, in.time - last_time_) : 0.0;
+  last_time_ = in.time;
   // Head: rigidly attached to the headset (which looks along its -Z; the avatar faces +Z).
   const Eigen::Quaterniond g_head = (in.head.orientation * yaw_rotation(kPi)).normalized();
   const Eigen::Vector3d head_joint = in.head.position + g_head * (r[kHead] - rig_.eyes);

@@ -69,12 +69,16 @@ const char* kUsage =
     "  --draw-every N       replay: rasterise every N-th frame (default 1; 0 = only snapshots)\n"
     "  --frames-dir DIR     replay: save key frames as PNG (floor targets, panel, mirror)\n"
     "  --timing FILE        replay: per-frame CPU times as CSV\n"
+    "  --embodiment-report FILE  replay: how well the avatar followed the tracking (JSON)\n"
     "  --max-frames N       stop after N frames (a simulated crash)\n"
     "  --no-audio           no confirmation tones\n"
     "  --operator-window    also open the operator's desktop window (replay: instead of OSMesa;\n"
     "                       needs a display, e.g. xvfb-run)\n"
     "Simulation (--simulate): --betas \"b0 b1 ...\" --noise M --seed N --frame-rate HZ\n"
-    "  --dropout STEP --third-take STEP --early-release STEP --redo STEP\n";
+    "  --dropout STEP --third-take STEP --early-release STEP --redo STEP\n"
+    "  --profile PATH       the controllers' interaction profile (default: the HTC Vive wand)\n"
+    "  --motions            after the measurements: wave, reach up, cross arms, squat, turn\n"
+    "  (every simulated session ends with the right controller's menu button)\n";
 
 struct Args {
   std::map<std::string, std::string> values;
@@ -90,16 +94,21 @@ struct Args {
 };
 
 Args parse_args(int argc, char** argv) {
-  static const std::vector<std::string> kFlags = {"--no-audio", "--operator-window", "--help",
-                                                  "-h"};
+  static const std::vector<std::string> kFlags = {"--no-audio", "--operator-window", "--motions",
+                                                  "--help", "-h"};
   static const std::vector<std::string> kValues = {
-      "--replay",     "--simulate",    "--calibrate-tip", "--protocol",      "--controllers",
-      "--role",       "--journal",     "--resume",        "--out",           "--record",
-      "--weight",     "--sex",         "--model",         "--models-dir",    "--regressor",
-      "--regressors", "--mapping",     "--eye-size",      "--draw-every",    "--frames-dir",
-      "--timing",     "--max-frames",  "--betas",         "--noise",         "--seed",
-      "--frame-rate", "--dropout",     "--third-take",    "--early-release", "--redo",
-      "--assets",     "--typed-in-log"};
+      "--replay",     "--simulate",      "--calibrate-tip",
+      "--protocol",   "--controllers",   "--role",
+      "--journal",    "--resume",        "--out",
+      "--record",     "--weight",        "--sex",
+      "--model",      "--models-dir",    "--regressor",
+      "--regressors", "--mapping",       "--eye-size",
+      "--draw-every", "--frames-dir",    "--timing",
+      "--max-frames", "--betas",         "--noise",
+      "--seed",       "--frame-rate",    "--dropout",
+      "--third-take", "--early-release", "--redo",
+      "--assets",     "--typed-in-log",  "--embodiment-report",
+      "--profile"};
   Args a;
   a.argv.assign(argv + 1, argv + argc);
   for (int i = 1; i < argc; ++i) {
@@ -194,6 +203,30 @@ std::unique_ptr<Audio> open_audio(const Args& a) {
               << "); confirmations are visual and haptic only.\n";
     return std::make_unique<SilentAudio>();
   }
+}
+
+/// The posture of the driven body for the documentation snapshots: "raised" (both wrists above
+/// the head joint), "crossed" (each wrist on the other side of the body's midline, in front of
+/// the chest), "bent" (pelvis 20 cm lower than standing, both elbows bent over 60 degrees), or "".
+std::string embodiment_posture(const BodyIk& ik) {
+  using namespace ik_joint;
+  const IkPose& p = ik.pose();
+  const std::vector<Eigen::Vector3d>& j = p.joints;
+  const Eigen::Quaterniond to_body(Eigen::AngleAxisd(-p.body_yaw, Eigen::Vector3d::UnitY()));
+  const Eigen::Vector3d l = to_body * (j[kLeftWrist] - j[kPelvis]);
+  const Eigen::Vector3d r = to_body * (j[kRightWrist] - j[kPelvis]);
+  if (j[kLeftWrist].y() > j[kHead].y() && j[kRightWrist].y() > j[kHead].y()) return "raised";
+  if (l.x() < -0.05 && r.x() > 0.05 && l.z() > 0.1 && r.z() > 0.1) return "crossed";
+  const auto bend = [&](int s, int e, int w) {
+    return std::acos(
+        std::clamp((j[e] - j[s]).normalized().dot((j[w] - j[e]).normalized()), -1.0, 1.0));
+  };
+  const double drop = ik.rig().rest[kPelvis].y() -
+                      (j[kPelvis].y() - (j[kLeftAnkle].y() - ik.rig().rest[kLeftAnkle].y()));
+  if (drop > 0.2 && bend(kLeftShoulder, kLeftElbow, kLeftWrist) > 1.05 &&
+      bend(kRightShoulder, kRightElbow, kRightWrist) > 1.05)
+    return "bent";
+  return "";
 }
 
 /// Quotes one shell word when it needs it.
@@ -323,6 +356,8 @@ int run_replay(const Args& a) {
   render::Scene scene;
   std::vector<double> app_cpu, draw_wall;
   std::map<std::string, bool> saved;
+  std::string held_posture;
+  double held_since = 0.0;
   double finished_at = -1.0;
   long n = 0;
   const auto save = [&](const std::string& name, const std::vector<render::View>& views) {
@@ -382,6 +417,20 @@ int run_replay(const Args& a) {
         save("vr-mirror", views);
         if (!op) save("vr-first-person", {app.first_person_view(2 * eye_w, eye_h)});
       }
+      // The driven body in three postures, each once it has been held for half a second.
+      if (const BodyIk* ik = app.body_ik(); ik && app.embodiment().frames > 0) {
+        const std::string posture = embodiment_posture(*ik);
+        if (posture != held_posture) {
+          held_posture = posture;
+          held_since = app.time();
+        }
+        const std::string name = "vr-mirror-" + posture;
+        if (!posture.empty() && !saved.count(name) && app.time() - held_since >= 0.5) {
+          save(name, views);
+          if (!op && posture == "crossed")
+            save("vr-first-person-crossed", {app.first_person_view(2 * eye_w, eye_h)});
+        }
+      }
     }
     ++n;
     if (app.finished()) write_outputs_once(app);
@@ -393,6 +442,49 @@ int run_replay(const Args& a) {
       "%dx%d)\n",
       n, 1e3 * median(app_cpu), 1e3 * percentile(app_cpu, 0.95), 1e3 * median(draw_wall), 2 * eye_w,
       eye_h);
+  if (app.embodiment().frames > 0) {
+    const EmbodimentStats& e = app.embodiment();
+    std::printf(
+        "embodiment: %ld frames; wrist to controller-derived wrist max %.2f mm over %ld reachable "
+        "wrists; hands inside the torso in %ld frames; %ld joint-limit violations; largest joint "
+        "move %.1f mm in %.4f s; IK %.4f ms CPU per frame (mean)\n",
+        e.frames, 1e3 * e.max_wrist_error, e.reachable_wrists, e.hands_in_torso, e.limit_violations,
+        1e3 * e.max_joint_step, e.max_step_dt,
+        1e3 * e.ik_cpu_seconds / static_cast<double>(e.frames));
+  }
+  if (a.has("--embodiment-report")) {
+    const EmbodimentStats& e = app.embodiment();
+    Json j = Json::object();
+    j.set("frames", e.frames);
+    j.set("reachable_wrists", e.reachable_wrists);
+    j.set("max_wrist_error_m", e.max_wrist_error);
+    j.set("hands_in_torso_frames", e.hands_in_torso);
+    j.set("limit_violations", e.limit_violations);
+    j.set("max_joint_step_m", e.max_joint_step);
+    j.set("max_joint_step_dt_s", e.max_step_dt);
+    j.set("ik_cpu_ms_per_frame",
+          e.frames > 0 ? 1e3 * e.ik_cpu_seconds / static_cast<double>(e.frames) : 0.0);
+    Json t = Json::array(), we = Json::array(), in = Json::array(), st = Json::array(),
+         lv = Json::array();
+    for (const EmbodimentStats::Frame& f : e.per_frame) {
+      t.push_back(f.time);
+      we.push_back(f.wrist_error);
+      in.push_back(f.hand_in_torso);
+      st.push_back(f.joint_step);
+      lv.push_back(f.limit_violations);
+    }
+    Json per = Json::object();
+    per.set("time", t);
+    per.set("wrist_error_m", we);
+    per.set("hand_in_torso", in);
+    per.set("joint_step_m", st);
+    per.set("limit_violations", lv);
+    j.set("per_frame", per);
+    Json shots = Json::array();
+    for (const auto& kv : saved) shots.push_back(kv.first);
+    j.set("snapshots", shots);
+    write_json_file(a.get("--embodiment-report"), j);
+  }
   if (a.has("--timing")) {
     std::ofstream t(a.get("--timing"));
     t << "frame,app_cpu_ms\n";
@@ -464,6 +556,8 @@ int run_simulate(const Args& a) {
   o.early_release_step = a.get("--early-release");
   o.redo_step = a.get("--redo");
   o.typed_in_log = a.get("--typed-in-log", "yes") != "no";
+  o.motions = a.has("--motions");
+  if (a.has("--profile")) o.interaction_profile = a.get("--profile");
   const ControllerConfig cc =
       read_controller_config(a.get("--controllers", assets + "/protocol/controllers.json"));
   o.tip_offsets = cc.offsets(o.interaction_profile);
@@ -480,6 +574,8 @@ int run_simulate(const Args& a) {
   Json quiet = Json::array();
   for (size_t q : sim.quiet_frames) quiet.push_back(static_cast<long>(q));
   j.set("quiet_frames", quiet);
+  j.set("motion_frames", Json(std::vector<double>{static_cast<double>(sim.motion_begin),
+                                                  static_cast<double>(sim.motion_end)}));
   write_json_file(a.get("--simulate") + ".truth.json", j);
   std::cout << "wrote " << a.get("--simulate") << " (" << sim.log.frames.size() << " frames, "
             << sim.accepted_samples << " samples to accept) and " << a.get("--simulate")

@@ -13,6 +13,7 @@
 
 #include "audio.hpp"
 #include "caliper/avatar.hpp"
+#include "caliper/body_ik.hpp"
 #include "caliper/journal.hpp"
 #include "caliper/session.hpp"
 #include "panel.hpp"
@@ -20,6 +21,7 @@
 #include "render/renderer.hpp"
 #include "render/scene.hpp"
 #include "smpl/body_model.hpp"
+#include "smpl/evaluate.hpp"
 #include "video.hpp"
 
 namespace caliper::vr {
@@ -50,6 +52,32 @@ struct VrAppOptions {
   int panel_pixels = 512;   ///< instruction panel texture width (height = 5/8 of it)
 };
 
+/// How well the avatar followed the user since it was made (docs/vr.md, "Embodiment"); the
+/// replay prints it and `--embodiment-report FILE` writes it.
+struct EmbodimentStats {
+  long frames = 0;               ///< frames the avatar was driven
+  long reachable_wrists = 0;     ///< wrist targets within the arm's reach (counted per hand)
+  double max_wrist_error = 0.0;  ///< m, avatar wrist to controller-derived wrist, when reachable
+  long hands_in_torso = 0;       ///< frames with a hand or wrist joint inside the torso capsule
+  long limit_violations = 0;     ///< joint-limit violations (check_limits) summed over frames
+  double max_joint_step = 0.0;   ///< m, largest move of any joint between consecutive frames
+  double max_step_dt = 0.0;      ///< s, the frame interval where that happened
+  double ik_cpu_seconds = 0.0;   ///< thread CPU time spent in BodyIk::solve, total
+  /// Per frame, for metrics over a part of the session (e.g. the scripted motions).
+  struct Frame {
+    double time = 0.0;
+    double wrist_error = -1.0;  ///< m, larger of the reachable wrists' errors; -1 = none
+    bool hand_in_torso = false;
+    double joint_step = 0.0;  ///< m, largest joint move since the previous frame
+    int limit_violations = 0;
+  };
+  std::vector<Frame> per_frame;
+};
+
+/// Radius of the torso capsule (pelvis to neck joint) the hands must stay out of: a little
+/// less than the half depth of a slim adult torso (about 0.1 m).
+constexpr double kTorsoRadius = 0.09;
+
 /// The avatar made at the end.
 struct AvatarOutcome {
   std::shared_ptr<const smpl::BodyModel> model;
@@ -58,6 +86,10 @@ struct AvatarOutcome {
   std::string mapping_path;
   Avatar avatar;
   double eye_height = 0.0;  ///< y of the avatar's eyes above its soles, m
+  /// The model without pose correctives, for the per-frame posed mesh (the correctives are a
+  /// 3V x 207 product per frame and barely visible at mirror distance).
+  std::shared_ptr<const smpl::BodyModel> posing_model;
+  std::vector<std::uint32_t> headless_faces;  ///< faces without head vertices (first person)
 };
 
 class VrApp {
@@ -103,6 +135,11 @@ class VrApp {
   /// pressed after completion, so a button held through the last sample does not count). The
   /// program ends the session on it.
   bool end_requested() const { return end_requested_; }
+  /// The embodiment solver (after the avatar is made) and its statistics.
+  const BodyIk* body_ik() const { return body_ik_ ? &*body_ik_ : nullptr; }
+  const EmbodimentStats& embodiment() const { return stats_; }
+  /// World vertices of the driven avatar this frame (empty before the avatar exists).
+  const smpl::Vertices& posed_vertices();
   /// The instruction panel's content for the current state.
   PanelContent panel() const { return panel_content(); }
 
@@ -141,6 +178,18 @@ class VrApp {
   bool outputs_written_ = false;
   std::optional<AvatarOutcome> avatar_;
   std::string avatar_error_;
+  // Embodiment.
+  void drive_avatar();
+  std::optional<BodyIk> body_ik_;
+  EmbodimentStats stats_;
+  std::vector<Eigen::Vector3d> previous_joints_;
+  double previous_time_ = 0.0;
+  smpl::Workspace posing_workspace_;
+  smpl::Body posed_;
+  long posed_frame_ = -1;
+  Eigen::Vector3d mirror_centre_ = Eigen::Vector3d::Zero(),
+                  mirror_normal_ = Eigen::Vector3d::UnitZ();
+  render::MeshHandle mirror_mesh_ = 0, own_mesh_ = 0;
   // Demonstration avatar (reference body).
   std::shared_ptr<const smpl::BodyModel> demo_model_;
   smpl::Vertices demo_vertices_;

@@ -130,6 +130,10 @@ struct BodyIkOptions {
   /// pelvis follows; the rest is spine bending (leaning forward bends, it does not slide).
   double pelvis_follow = 0.35;
   double max_spine_bend = 1.4;  ///< rad, whole-chain bend from pelvis to head joint
+  /// rad/s: how fast the elbow may swing about the shoulder-wrist line, and the hand turn
+  /// relative to the forearm (faster demands are followed over a few frames, never flipped).
+  double max_elbow_swing = 8.0;
+  double max_wrist_speed = 10.0;
 };
 
 /// The skeleton the solver works on: rest joints of one body (model + betas), standing.
@@ -212,7 +216,12 @@ class BodyIk {
   bool started_ = false;
   double body_yaw_ = 0.0;
   std::array<Foot, 2> feet_;
-  int follow_foot_ = -1;  ///< foot that may finish the stance after the other stepped
+  int follow_foot_ = -1;
+  double dt_ = 0.0, last_time_ = 0.0;  ///< this frame's interval (0 on the first frame)
+  std::array<Eigen::Vector3d, 2> elbow_dir_{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  std::array<Eigen::Quaterniond, 2> wrist_local_{
+      Eigen::Quaterniond::Identity(),
+      Eigen::Quaterniond::Identity()};  ///< foot that may finish the stance after the other stepped
 };
 
 }  // namespace caliper
