@@ -172,6 +172,21 @@ IkRig make_ik_rig(const smpl::BodyModel& model, const Eigen::VectorXd& betas,
   for (int k = 0; k < kCount; ++k)
     rig.rest.push_back(b.joints.row(k).transpose() + rig.standing_shift);
   rig.eyes = eyes;
+  // A standing T-pose skeleton (the solver's hinge axes and poles assume it): spine upwards,
+  // knees between hips and ankles, arms outwards, the subject's left at +X.
+  const std::vector<Eigen::Vector3d>& r = rig.rest;
+  const bool upright = r[kPelvis].y() < r[kSpine3].y() && r[kSpine3].y() < r[kNeck].y() &&
+                       r[kNeck].y() < r[kHead].y();
+  const bool legs = r[kLeftAnkle].y() < r[kLeftKnee].y() && r[kLeftKnee].y() < r[kLeftHip].y() &&
+                    r[kRightAnkle].y() < r[kRightKnee].y() && r[kRightKnee].y() < r[kRightHip].y();
+  const bool arms = r[kLeftShoulder].x() < r[kLeftElbow].x() &&
+                    r[kLeftElbow].x() < r[kLeftWrist].x() &&
+                    r[kRightShoulder].x() > r[kRightElbow].x() &&
+                    r[kRightElbow].x() > r[kRightWrist].x();
+  if (!upright || !legs || !arms)
+    throw IkError(
+        "the body model's rest skeleton is not a standing T-pose (spine up, knees between hips and "
+        "ankles, arms out to the sides with the left at +X); the embodiment IK needs one");
   return rig;
 }
 

@@ -407,7 +407,11 @@ PanelContent VrApp::panel_content() const {
           line += "  (" + std::to_string(t->second.size()) + " takes)";
         c.lines.push_back(line);
       }
-      if (avatar_)
+      if (avatar_ && options_.session.role == "operator")
+        c.body = "The avatar (" + avatar_->regressor +
+                 ") is in the mirror. Hand the headset and the controllers to the participant: "
+                 "it follows them.";
+      else if (avatar_)
         c.body = "Your avatar (" + avatar_->regressor +
                  ") is in the mirror in front of you. Look down to see your body.";
       else if (!avatar_error_.empty())
@@ -537,7 +541,7 @@ void VrApp::add_demo(render::Scene& scene) {
   }
 }
 
-void VrApp::add_mirror(render::Scene& scene) {
+void VrApp::add_mirror(render::Scene& scene, bool own_head) {
   if (!avatar_) return;
   if (body_ik_ && renderer_ && stats_.frames > 0) {
     // The driven body: the user's own (first person, without the head) and its reflection in
@@ -564,15 +568,20 @@ void VrApp::add_mirror(render::Scene& scene) {
       for (Eigen::Index i = 0; i < f.rows(); ++i)
         for (int c : {0, 2, 1}) r.indices.push_back(static_cast<std::uint32_t>(f(i, c)));
       mirror_mesh_ = renderer_->upload_mesh(r);
+      render::MeshData full;
+      full.positions = own;
+      full.indices = mesh_data(v, f).indices;
+      full_mesh_ = renderer_->upload_mesh(full);
     } else {
       renderer_->update_positions(own_mesh_, own);
       renderer_->update_positions(mirror_mesh_, mirrored);
+      if (own_head) renderer_->update_positions(full_mesh_, own);
     }
     render::MeshInstance reflection;
     reflection.mesh = mirror_mesh_;
     scene.meshes.push_back(reflection);
     render::MeshInstance self;
-    self.mesh = own_mesh_;
+    self.mesh = own_head ? full_mesh_ : own_mesh_;
     self.colour = {0.80f, 0.66f, 0.56f, 1.0f};
     scene.meshes.push_back(self);
     // The mirror's frame, in its plane.
@@ -634,7 +643,7 @@ void VrApp::add_mirror(render::Scene& scene) {
   }
 }
 
-void VrApp::build_scene(render::Scene& scene) {
+void VrApp::build_scene(render::Scene& scene, bool own_head) {
   scene = render::Scene{};
   scene.background = {0.80f, 0.86f, 0.92f, 1.0f};
   scene.grid.visible = true;
@@ -704,7 +713,7 @@ void VrApp::build_scene(render::Scene& scene) {
     scene.quads.push_back(vq);
   }
   if (session_.view().phase == Phase::Steps) add_demo(scene);
-  if (session_.view().phase == Phase::Done) add_mirror(scene);
+  if (session_.view().phase == Phase::Done) add_mirror(scene, own_head);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -742,6 +751,25 @@ render::View VrApp::first_person_view(int width, int height, float pitch_degrees
   v.camera.projection =
       render::perspective(kFovYDegrees * kPi / 180.0f,
                           static_cast<float>(width) / static_cast<float>(height), 0.05f, 50.0f);
+  return v;
+}
+
+render::View VrApp::operator_view(int width, int height) const {
+  if (!body_ik_ || stats_.frames == 0) {
+    render::View v = stereo_views(width, height)[0];
+    v.viewport = {0, 0, width, height};
+    return v;
+  }
+  const IkPose& p = body_ik_->pose();
+  const Eigen::Vector3d chest = p.joints[ik_joint::kSpine3];
+  const Eigen::Vector3d eye =
+      chest + Eigen::AngleAxisd(p.body_yaw, Eigen::Vector3d::UnitY()) *
+                  Eigen::Vector3d(1.2, 0.25, 1.9);  // the user's front left, a little higher
+  render::View v;
+  v.viewport = {0, 0, width, height};
+  v.camera.eye = f3(eye);
+  v.camera.target = f3(chest - Eigen::Vector3d(0.0, 0.25, 0.0));
+  v.camera.fov_y_degrees = 55.0f;
   return v;
 }
 

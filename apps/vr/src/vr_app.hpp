@@ -110,7 +110,10 @@ class VrApp {
 
   /// Fills `scene` for the current state (uploads changed textures and meshes when a renderer
   /// was given).
-  void build_scene(render::Scene& scene);
+  void build_scene(render::Scene& scene) { build_scene(scene, false); }
+  /// As build_scene(); with `own_head` the driven body keeps its head (seen from outside: the
+  /// operator's window), otherwise the head is left out (it would block the user's own view).
+  void build_scene(render::Scene& scene, bool own_head);
   /// Two eye views side by side in a framebuffer of 2 eye_width x eye_height pixels, from the
   /// last head pose (interpupillary distance 64 mm, symmetric 100 degree vertical field).
   std::vector<render::View> stereo_views(int eye_width, int eye_height) const;
@@ -118,6 +121,9 @@ class VrApp {
   render::View first_person_view(int width, int height, float pitch_degrees = 60.0f) const;
   /// One view from behind and above the user (documentation pictures of the whole scene).
   render::View overview(int width, int height) const;
+  /// The operator's view of the driven avatar: from in front and to the side of the user, 2.3 m
+  /// away, following the body's heading (the left eye's view before the avatar exists).
+  render::View operator_view(int width, int height) const;
 
   const MeasuringSession& session() const { return session_; }
   const std::optional<AvatarOutcome>& avatar() const { return avatar_; }
@@ -157,7 +163,7 @@ class VrApp {
   void add_floor_targets(render::Scene& scene) const;
   void add_controllers(render::Scene& scene) const;
   void add_demo(render::Scene& scene);
-  void add_mirror(render::Scene& scene);
+  void add_mirror(render::Scene& scene, bool own_head);
   render::MeshHandle ensure_mesh(render::MeshHandle& handle, const smpl::Vertices& v,
                                  const smpl::Faces& f);
 
@@ -189,7 +195,7 @@ class VrApp {
   long posed_frame_ = -1;
   Eigen::Vector3d mirror_centre_ = Eigen::Vector3d::Zero(),
                   mirror_normal_ = Eigen::Vector3d::UnitZ();
-  render::MeshHandle mirror_mesh_ = 0, own_mesh_ = 0;
+  render::MeshHandle mirror_mesh_ = 0, own_mesh_ = 0, full_mesh_ = 0;
   // Demonstration avatar (reference body).
   std::shared_ptr<const smpl::BodyModel> demo_model_;
   smpl::Vertices demo_vertices_;

@@ -146,7 +146,8 @@ struct IkRig {
 
 /// The rig of `model` with `betas` (rest vertices shifted to stand on y = 0, centred in x and z,
 /// as the app shows the avatar); `eyes` is where the headset sits on that body. Throws IkError
-/// when the model does not have SMPL's 24 joints in SMPL's order.
+/// when the model does not have SMPL's 24 joints in SMPL's order, or its rest skeleton is not a
+/// standing T-pose (spine up, knees between hips and ankles, arms out, left at +X).
 IkRig make_ik_rig(const smpl::BodyModel& model, const Eigen::VectorXd& betas,
                   const Eigen::Vector3d& eyes);
 
