@@ -144,6 +144,16 @@ PoseLogHeader parse_header(const Json& j, const std::string& name) {
   }
   if (const Json* s = j.find("frame_rate"); s && s->is_number()) h.frame_rate = s->as_number();
   if (const Json* s = j.find("source"); s && s->is_string()) h.source = s->as_string();
+  if (const Json* w = j.find("weight"); w && !w->is_null()) {
+    if (!w->is_number() || !std::isfinite(w->as_number()) || w->as_number() <= 0.0)
+      fail(name, 1, "\"weight\" must be a positive number (kg)");
+    h.weight = w->as_number();
+  }
+  if (const Json* s = j.find("sex"); s && !s->is_null()) {
+    if (!s->is_string() || (s->as_string() != "female" && s->as_string() != "male"))
+      fail(name, 1, "\"sex\" must be \"female\" or \"male\"");
+    h.sex = s->as_string();
+  }
   return h;
 }
 
@@ -211,6 +221,14 @@ PoseLog parse_pose_log(const std::string& text, const std::string& name,
       continue;
     }
     if (!j.is_object()) fail(name, line_no, "a frame line must be a JSON object");
+    if (!log.lost.empty())
+      fail(name, line_no, "a line follows the \"lost\" line, which must be the last one");
+    if (const Json* lost = j.find("lost")) {
+      if (!lost->is_string() || lost->as_string().empty())
+        fail(name, line_no, "\"lost\" must be a non-empty string (why the source ended)");
+      log.lost = lost->as_string();
+      continue;
+    }
     PoseFrame f;
     f.line = line_no;
     const Json* t = j.find("t");
@@ -221,6 +239,11 @@ PoseLog parse_pose_log(const std::string& text, const std::string& name,
       const Json* dj = j.find(device_name(dev));
       if (!dj) fail(name, line_no, std::string("the frame has no \"") + device_name(dev) + "\"");
       f.devices[d] = parse_device(*dj, dev, name, line_no, limits);
+    }
+    if (const Json* ip = j.find("profile")) {
+      if (!ip->is_string() || ip->as_string().empty())
+        fail(name, line_no, "\"profile\" must be an interaction profile path");
+      f.interaction_profile = ip->as_string();
     }
     if (const Json* c = j.find("commands")) {
       if (!c->is_array()) fail(name, line_no, "\"commands\" must be an array");
@@ -285,6 +308,8 @@ std::string pose_log_header_line(const PoseLogHeader& header) {
   for (const char* d : {"head", "left", "right"}) devices.push_back(d);
   j.set("devices", devices);
   j.set("source", header.source);
+  if (header.weight) j.set("weight", *header.weight);
+  if (!header.sex.empty()) j.set("sex", header.sex);
   return j.dump();
 }
 
@@ -327,6 +352,10 @@ std::string pose_log_frame_line(const PoseFrame& frame) {
     }
     out += '}';
   }
+  if (!frame.interaction_profile.empty()) {
+    out += ",\"profile\":";
+    out += Json(frame.interaction_profile).dump();
+  }
   if (!frame.commands.empty()) {
     Json c = Json::array();
     for (const OperatorCommand& oc : frame.commands) {
@@ -355,9 +384,17 @@ void PoseLogWriter::write(const PoseFrame& frame) {
     throw PoseLogError(path_ + ": cannot append to the pose log (disk full?)", 0);
 }
 
+void PoseLogWriter::write_lost(const std::string& reason) {
+  Json j = Json::object();
+  j.set("lost", reason.empty() ? std::string("the source was lost") : reason);
+  if (!file_.append_line(j.dump()))
+    throw PoseLogError(path_ + ": cannot append to the pose log (disk full?)", 0);
+}
+
 void write_pose_log(const std::string& path, const PoseLog& log) {
   PoseLogWriter w(path, log.header);
   for (const PoseFrame& f : log.frames) w.write(f);
+  if (!log.lost.empty()) w.write_lost(log.lost);
 }
 
 }  // namespace caliper

@@ -6,8 +6,10 @@
 #include <optional>
 #include <random>
 
+#include "caliper/body_ik.hpp"
 #include "caliper/errors.hpp"
 #include "caliper/measurements.hpp"
+#include "smpl/evaluate.hpp"
 
 namespace caliper {
 namespace {
@@ -71,6 +73,72 @@ const Eigen::Vector3d& landmark(const SimulatedPerson& person, const std::string
   return it->second;
 }
 
+/// One posture of the embodiment motions, in the body frame (standing at the origin facing +Z
+/// before `yaw`): wrists relative to the own shoulder, hand rotations, crouch.
+struct Posture {
+  double move = 0.8;                     ///< s to get here from the previous posture
+  double hold = 1.0;                     ///< s held (waving, if `wave`)
+  std::array<Eigen::Vector3d, 2> wrist;  ///< left, right: offset from the shoulder joint
+  std::array<Eigen::Quaterniond, 2> hand;
+  double yaw = 0.0, drop = 0.0, forward = 0.0;
+  bool wave = false;
+};
+
+Eigen::Quaterniond rot(double angle, const Eigen::Vector3d& axis) {
+  return Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis));
+}
+
+/// wave, reach up, cross arms, squat, turn (docs/vr.md).
+std::vector<Posture> motion_script(const SimulatedPerson& person) {
+  using namespace ik_joint;
+  const std::vector<Eigen::Vector3d>& j = person.joints;
+  const double reach =
+      (j[kLeftElbow] - j[kLeftShoulder]).norm() + (j[kLeftWrist] - j[kLeftElbow]).norm();
+  const double span = j[kLeftShoulder].x() - j[kRightShoulder].x();
+  const Eigen::Vector3d X = Eigen::Vector3d::UnitX(), Y = Eigen::Vector3d::UnitY(),
+                        Z = Eigen::Vector3d::UnitZ();
+  Posture rest;
+  rest.wrist = {Eigen::Vector3d(0.06, -0.93 * reach, 0.03),
+                Eigen::Vector3d(-0.06, -0.93 * reach, 0.03)};
+  rest.hand = {rot(-kPi / 2, Z), rot(kPi / 2, Z)};  // fingers down, palms in
+  std::vector<Posture> s;
+  s.push_back(rest);
+  Posture wave = rest;
+  wave.wrist[1] = Eigen::Vector3d(-0.2, 0.28, 0.12);
+  wave.hand[1] = rot(kPi / 2, Y) * rot(-kPi / 2, Z);  // fingers up, palm forward
+  wave.hold = 2.5;  // three waves at 1.2 Hz: the hand is back in the middle at the end
+  wave.wave = true;
+  s.push_back(wave);
+  s.push_back(rest);
+  Posture up = rest;
+  up.wrist = {Eigen::Vector3d(0.04, 0.9 * reach, 0.06), Eigen::Vector3d(-0.04, 0.9 * reach, 0.06)};
+  up.hand = {rot(kPi, Y) * rot(kPi / 2, Z), rot(kPi, Y) * rot(-kPi / 2, Z)};  // palms in
+  up.move = 1.0;
+  s.push_back(up);
+  Posture cross = rest;
+  cross.wrist = {Eigen::Vector3d(-span + 0.05, -0.18, 0.24),
+                 Eigen::Vector3d(span - 0.05, -0.24, 0.27)};
+  cross.hand = {rot(kPi / 2, X) * rot(kPi, Y), rot(kPi / 2, X) * rot(kPi, Y)};  // palms to body
+  cross.move = 1.0;
+  s.push_back(cross);
+  s.push_back(rest);
+  Posture squat = rest;
+  squat.drop = 0.35;
+  squat.forward = 0.12;
+  squat.wrist = {Eigen::Vector3d(0.02, -0.1, 0.3), Eigen::Vector3d(-0.02, -0.1, 0.3)};
+  squat.hand = {rot(-kPi / 2, Y), rot(kPi / 2, Y)};  // fingers forward, palms down
+  squat.move = 1.2;
+  s.push_back(squat);
+  Posture stand = rest;
+  stand.move = 1.2;
+  s.push_back(stand);
+  Posture turn = rest;
+  turn.yaw = kPi / 2;
+  turn.move = 2.0;
+  s.push_back(turn);
+  return s;
+}
+
 }  // namespace
 
 SimulatedPerson person_from_model(const smpl::BodyModel& model, const Eigen::VectorXd& betas,
@@ -85,6 +153,9 @@ SimulatedPerson person_from_model(const smpl::BodyModel& model, const Eigen::Vec
   p.weight = weight;
   p.sex = sex;
   for (const auto& kv : table) p.landmarks[kv.first] = landmark_point(v, kv.second) + shift;
+  const smpl::Body b = smpl::shape(model, betas);
+  for (Eigen::Index k = 0; k < b.joints.rows(); ++k)
+    p.joints.push_back(b.joints.row(k).transpose() + shift);
   return p;
 }
 
@@ -296,6 +367,117 @@ SimulatedSession simulate_session(const Protocol& protocol, const SimulatedPerso
     }
     head_q = head_to;
     t0 += duration;
+  }
+
+  // Embodiment motions: headset and controllers move as the body would.
+  const auto frame_at = [&](double t) {
+    PoseFrame f;
+    f.time = t;
+    f.device(Device::Head) = out.log.frames.back().device(Device::Head);
+    f.device(Device::Left) = out.log.frames.back().device(Device::Left);
+    f.device(Device::Right) = out.log.frames.back().device(Device::Right);
+    for (Device d : {Device::Left, Device::Right}) {
+      f.device(d).trigger = 0.0;
+      f.device(d).menu = false;
+    }
+    return f;
+  };
+  if (o.motions) {
+    using namespace ik_joint;
+    if (person.joints.size() != static_cast<size_t>(kCount))
+      throw InvalidInputError("simulator: the motions need a body model with SMPL's 24 joints");
+    const HandGrip grip;
+    const std::vector<Posture> script = motion_script(person);
+    // Start from where the controllers are now.
+    std::array<Eigen::Vector3d, 2> wrist0;
+    std::array<Eigen::Quaterniond, 2> hand0;
+    for (int h = 0; h < 2; ++h) {
+      const DevicePose& d = out.log.frames.back().device(h == 0 ? Device::Left : Device::Right);
+      wrist0[h] = d.position + d.orientation * grip.wrist_in_grip - up;
+      hand0[h] = HandGrip::hand_from_grip(d.orientation, h == 0);
+    }
+    const Eigen::Vector3d shoulder[2] = {person.joints[kLeftShoulder],
+                                         person.joints[kRightShoulder]};
+    const auto world = [&](const Posture& p, int h, double wave_t) {
+      const Eigen::Quaterniond body = rot(p.yaw, Eigen::Vector3d::UnitY());
+      const Eigen::Vector3d lowered(0.0, -p.drop, p.forward);
+      Eigen::Vector3d w = shoulder[h] + lowered + p.wrist[h];
+      if (p.wave && h == 1) w.x() += 0.1 * std::sin(2.0 * kPi * 1.2 * wave_t);
+      return std::make_pair(Eigen::Vector3d(body * w), Eigen::Quaterniond(body * p.hand[h]));
+    };
+    out.motion_begin = frame_index;
+    double local0 = t0;
+    Posture prev;
+    bool first = true;
+    for (const Posture& p : script) {
+      const double duration = p.move + p.hold;
+      while (static_cast<double>(frame_index) * dt < local0 + duration - 1e-9) {
+        const double t = static_cast<double>(frame_index) * dt;
+        const double local = t - local0;
+        const double e = smoothstep(local / p.move);
+        const double wave_t = std::max(0.0, local - p.move);
+        PoseFrame f = frame_at(t);
+        const double yaw = first ? p.yaw : prev.yaw + e * (p.yaw - prev.yaw);
+        const double drop = first ? e * p.drop : prev.drop + e * (p.drop - prev.drop);
+        const double fwd = first ? e * p.forward : prev.forward + e * (p.forward - prev.forward);
+        const Eigen::Quaterniond body = rot(yaw, Eigen::Vector3d::UnitY());
+        DevicePose& head = f.device(Device::Head);
+        head.position =
+            body * (eyes_below_head_top(head_top) + Eigen::Vector3d(0.0, -drop, fwd)) + up;
+        head.orientation = head_q.slerp(first ? e : 1.0, rot(yaw + kPi, Eigen::Vector3d::UnitY()));
+        for (int h = 0; h < 2; ++h) {
+          const auto to = world(p, h, wave_t);
+          Eigen::Vector3d w;
+          Eigen::Quaterniond q;
+          if (first) {
+            // From the last measuring posture (a hand may be on the other shoulder) round the
+            // front of the body, not through it.
+            w = wrist0[h] + e * (to.first - wrist0[h]) +
+                0.3 * std::sin(kPi * e) * Eigen::Vector3d(0.0, 0.0, 1.0);
+            q = hand0[h].slerp(e, to.second);
+          } else {
+            // Intermediate postures turn and crouch with the body.
+            Posture mid = p;
+            mid.yaw = yaw;
+            mid.drop = drop;
+            mid.forward = fwd;
+            // Hands travel in an arc in front of the body (raising the arms from the sides to
+            // above the head does not pass through the shoulder).
+            for (int k = 0; k < 2; ++k)
+              mid.wrist[k] = prev.wrist[k] + e * (p.wrist[k] - prev.wrist[k]) +
+                             0.5 * (p.wrist[k] - prev.wrist[k]).norm() * std::sin(kPi * e) *
+                                 Eigen::Vector3d(0.0, 0.0, 1.0);
+            w = world(mid, h, wave_t).first;
+            q = Eigen::Quaterniond(rot(yaw, Eigen::Vector3d::UnitY()) *
+                                   prev.hand[h].slerp(e, p.hand[h]));
+          }
+          DevicePose& d = f.device(h == 0 ? Device::Left : Device::Right);
+          d.valid = true;
+          d.orientation = HandGrip::grip_from_hand(q, h == 0);
+          d.position = w - d.orientation * grip.wrist_in_grip + up;
+        }
+        out.log.frames.push_back(std::move(f));
+        ++frame_index;
+      }
+      head_q = rot(p.yaw + kPi, Eigen::Vector3d::UnitY());
+      if (first) out.motion_begin = static_cast<size_t>(std::ceil((local0 + p.move) / dt - 1e-9));
+      prev = p;
+      first = false;
+      local0 += duration;
+    }
+    out.motion_end = frame_index;
+    t0 = local0;
+  }
+  if (o.end_button) {
+    // The right menu button, pressed for 0.3 s, then 0.5 s more.
+    const double end = t0 + 0.8;
+    while (static_cast<double>(frame_index) * dt < end - 1e-9) {
+      const double t = static_cast<double>(frame_index) * dt;
+      PoseFrame f = frame_at(t);
+      f.device(Device::Right).menu = t - t0 < 0.3;
+      out.log.frames.push_back(std::move(f));
+      ++frame_index;
+    }
   }
   return out;
 }

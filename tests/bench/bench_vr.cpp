@@ -18,11 +18,14 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "caliper/body_ik.hpp"
+#include "caliper/measurements.hpp"
 #include "caliper/protocol_file.hpp"
 #include "caliper/simulator.hpp"
 #include "controller_config.hpp"
 #include "render/context.hpp"
 #include "render/renderer.hpp"
+#include "smpl/evaluate.hpp"
 #include "smpl/io.hpp"
 #include "vr_app.hpp"
 
@@ -47,6 +50,7 @@ void BM_VrReplayFrameCpu(benchmark::State& state) {
   betas.head(4) << 0.8, -0.6, 0.4, 0.2;
   SimulatorOptions so;
   so.tip_noise = 0.0005;
+  so.end_button = false;  // the measuring session only (the embodiment has its own benchmark)
   const SimulatedSession sim =
       simulate_session(protocol, person_from_model(model, betas, 61.5, "female"), so);
   const std::string dir = (std::filesystem::temp_directory_path() / "caliper_bench_vr").string();
@@ -93,6 +97,68 @@ void BM_VrReplayFrameCpu(benchmark::State& state) {
   state.counters["max_ms"] = s.back();
 }
 BENCHMARK(BM_VrReplayFrameCpu)->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(3);
+
+/// Embodiment: CPU time of BodyIk::solve per frame over the simulator's scripted motions (wave,
+/// reach up, cross arms, squat, turn; 90 Hz, about 1800 frames), and, as the baseline measured
+/// in the same run, the skinning of the posed mesh that the app does next for every frame
+/// (smpl::evaluate without pose correctives, 6890 vertices). One iteration = all frames.
+void BM_BodyIkSolveCpu(benchmark::State& state) {
+  const std::string assets = std::string(CALIPER_SOURCE_DIR) + "/assets";
+  const Protocol protocol = read_protocol(assets + "/protocol/virtual-caliper.json");
+  smpl::BodyModel model = smpl::load_model(assets + "/models/caliper-female.npz");
+  Eigen::VectorXd betas = Eigen::VectorXd::Zero(model.num_betas());
+  betas.head(4) << 0.8, -0.6, 0.4, 0.2;
+  const SimulatedPerson person = person_from_model(model, betas, 61.5, "female");
+  SimulatorOptions so;
+  so.motions = true;
+  const SimulatedSession sim = simulate_session(protocol, person, so);
+  const IkRig rig = make_ik_rig(model, betas, eyes_below_head_top(person.landmarks.at("head_top")));
+  model.posedirs.resize(model.posedirs.rows(), 0);
+  const bool skinning = state.range(0) == 1;
+  std::vector<double> frame_us;
+  for (auto _ : state) {
+    BodyIk ik(rig);
+    smpl::Workspace ws;
+    smpl::Body body;
+    double total = 0.0;
+    for (size_t i = sim.motion_begin; i < sim.motion_end; ++i) {
+      const PoseFrame& f = sim.log.frames[i];
+      IkInput in;
+      in.head = {f.device(Device::Head).position, f.device(Device::Head).orientation};
+      for (int h = 0; h < 2; ++h) {
+        const DevicePose& d = f.device(h == 0 ? Device::Left : Device::Right);
+        in.grips[static_cast<size_t>(h)] = RigidPose{d.position, d.orientation};
+      }
+      in.floor = so.runtime_floor_offset;
+      in.time = f.time;
+      double c0 = thread_cpu();
+      const IkPose& p = ik.solve(in);
+      benchmark::DoNotOptimize(p.joints.data());
+      if (skinning) {  // the baseline: time the skinning of this frame's pose instead
+        c0 = thread_cpu();
+        smpl::evaluate(model, betas, p.axis_angle(), p.translation, ws, body);
+        benchmark::DoNotOptimize(body.vertices.data());
+      }
+      const double dt = thread_cpu() - c0;
+      frame_us.push_back(1e6 * dt);
+      total += dt;
+    }
+    state.SetIterationTime(total);
+  }
+  std::vector<double> s = frame_us;
+  std::sort(s.begin(), s.end());
+  state.counters["frames"] = static_cast<double>(s.size() / state.iterations());
+  state.counters["median_us"] = s[s.size() / 2];
+  state.counters["p95_us"] = s[static_cast<size_t>(0.95 * static_cast<double>(s.size()))];
+  state.counters["max_us"] = s.back();
+}
+// Arg 0: BodyIk::solve; arg 1: the skinning baseline.
+BENCHMARK(BM_BodyIkSolveCpu)
+    ->Arg(0)
+    ->Arg(1)
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(5);
 
 }  // namespace
 

@@ -5,8 +5,10 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -262,6 +264,162 @@ TEST(VrApp, CrashAndResume) {
   EXPECT_GT(accepted1, 5) << "the crash happened after the floor calibration";
 }
 
+/// Occurrences of `needle` in `hay`.
+size_t count_of(const std::string& hay, const std::string& needle) {
+  size_t n = 0;
+  for (size_t p = hay.find(needle); p != std::string::npos; p = hay.find(needle, p + 1)) ++n;
+  return n;
+}
+
+TEST(VrApp, LiveRecordingWhoseProfileIsReportedLateReplaysToTheSameResult) {
+  // A live recording: the header is written with the first frame, before the runtime reported
+  // the bound controllers (Valve Index); the frame where it did names the profile. Weight and
+  // sex came from the command line.
+  const std::string dir = work_dir("late_profile");
+  const std::string index = "/interaction_profiles/valve/index_controller";
+  const Json truth = simulate(dir, "index.jsonl", "--typed-in-log no --profile " + index);
+  caliper::PoseLog live = caliper::read_pose_log(dir + "/index.jsonl");
+  ASSERT_EQ(live.header.interaction_profile, index);
+  live.header.interaction_profile = "";
+  live.frames[3].interaction_profile = index;
+  caliper::write_pose_log(dir + "/live.jsonl", live);
+  // Replayed with the live command line's typed values, re-recorded.
+  const RunResult r = run_vr(dir,
+                             "--replay live.jsonl --weight 61.5 --sex female --record "
+                             "rec.jsonl" +
+                                 kReplayArgs);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  expect_session_matches(dir, truth);
+  const caliper::PoseLog rec = caliper::read_pose_log(dir + "/rec.jsonl");
+  EXPECT_EQ(rec.header.frame_rate, 90.0) << "the source's frame rate";
+  ASSERT_TRUE(rec.header.weight.has_value());
+  EXPECT_EQ(*rec.header.weight, 61.5);
+  EXPECT_EQ(rec.header.sex, "female");
+  EXPECT_EQ(rec.frames.at(3).interaction_profile, index);
+  // The recording alone (no --weight, no --sex) replays to the same result.
+  const std::string dir2 = work_dir("late_profile_rec");
+  fs::copy_file(dir + "/rec.jsonl", dir2 + "/rec.jsonl");
+  const RunResult r2 = run_vr(dir2, "--replay rec.jsonl" + kReplayArgs);
+  ASSERT_EQ(r2.exit_code, 0) << r2.err;
+  expect_session_matches(dir2, truth);
+  // Without the profile change the Vive-like fallback offsets measure wrongly: the change matters.
+  caliper::PoseLog stale = live;
+  stale.frames[3].interaction_profile.clear();
+  caliper::write_pose_log(dir + "/stale.jsonl", stale);
+  const std::string dir3 = work_dir("late_profile_stale");
+  fs::copy_file(dir + "/stale.jsonl", dir3 + "/stale.jsonl");
+  const RunResult r3 =
+      run_vr(dir3, "--replay stale.jsonl --weight 61.5 --sex female" + kReplayArgs);
+  ASSERT_EQ(r3.exit_code, 0) << r3.err;
+  const Json s3 = caliper::read_json_file(dir3 + "/out/session.json");
+  double worst = 0.0;
+  for (const auto& kv : truth.at("truth").as_object())
+    worst = std::max(worst, std::abs(s3.at("measurements").at(kv.first).at("value").as_number() -
+                                     kv.second.as_number()));
+  EXPECT_GT(worst, kAcceptance);
+}
+
+TEST(VrApp, LostRuntimeEndsWithSummaryExit3AndTheResumeCommand) {
+  const std::string dir = work_dir("lost");
+  const Json truth = simulate(dir, "log.jsonl", "--role self --noise 0.0");
+  const caliper::PoseLog log = caliper::read_pose_log(dir + "/log.jsonl");
+  const std::vector<double> quiet = truth.at("quiet_frames").as_numbers();
+  const size_t cut = static_cast<size_t>(quiet[quiet.size() / 2]);
+  caliper::PoseLog first, second;
+  first.header = second.header = log.header;
+  first.frames.assign(log.frames.begin(), log.frames.begin() + static_cast<long>(cut));
+  first.lost = "the OpenXR runtime lost the session (XR_ERROR_SESSION_LOST from xrWaitFrame)";
+  second.frames.assign(log.frames.begin() + static_cast<long>(cut), log.frames.end());
+  caliper::write_pose_log(dir + "/part1.jsonl", first);
+  caliper::write_pose_log(dir + "/part2.jsonl", second);
+  const RunResult r = run_vr(dir, "--replay part1.jsonl" + kReplayArgs);
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_NE(r.err.find("caliper-vr: " + first.lost), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("accepted samples:"), std::string::npos) << "the summary: " << r.out;
+  const std::string expected =
+      "caliper-vr --replay part1.jsonl --out out --eye-size 96x107 --draw-every 25 --resume "
+      "out/journal.jsonl";
+  ASSERT_NE(r.err.find("continue with:\n  " + expected + "\n"), std::string::npos) << r.err;
+  // That command (given the rest of the log) finishes the session.
+  std::string cmd = expected.substr(std::string("caliper-vr ").size());
+  cmd.replace(cmd.find("part1"), 5, "part2");
+  const RunResult r2 = run_vr(dir, cmd, "tones2.wav");
+  ASSERT_EQ(r2.exit_code, 0) << r2.err;
+  expect_session_matches(dir, truth, "tones2.wav");
+}
+
+TEST(VrApp, TheMenuButtonEndsACompletedSessionAndOutputsAreReportedOnce) {
+  const std::string dir = work_dir("end_button");
+  const Json truth = simulate(dir, "log.jsonl", "--role self --frame-rate 30");
+  const RunResult r = run_vr(dir, "--replay log.jsonl" + kReplayArgs);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  expect_session_matches(dir, truth);
+  EXPECT_NE(r.out.find("To finish, press the menu button of a controller"), std::string::npos)
+      << r.out;
+  EXPECT_EQ(count_of(r.out, "wrote "), 2u) << r.out;
+  EXPECT_EQ(count_of(r.out, "wrote out/session.json"), 1u);
+  // It ended on the press: the frames after it (0.8 s at 30 Hz from the press) were not read.
+  const long frames = truth.at("frames").as_int();
+  long replayed = -1;
+  std::sscanf(r.out.substr(r.out.find("replayed ")).c_str(), "replayed %ld", &replayed);
+  EXPECT_EQ(replayed, frames - 24 + 1) << r.out;
+}
+
+TEST(VrApp, AnOperatorSessionStoppedBeforeStartSaysSo) {
+  const std::string dir = work_dir("before_start");
+  simulate(dir, "log.jsonl", "--role operator");
+  // The operator presses Start a second in (not on the first frame as the simulator does).
+  caliper::PoseLog log = caliper::read_pose_log(dir + "/log.jsonl");
+  ASSERT_EQ(log.frames[0].commands.at(0).command, "start");
+  log.frames[0].commands.clear();
+  log.frames[30].commands.push_back({"start", Json()});
+  caliper::write_pose_log(dir + "/late-start.jsonl", log);
+  const RunResult r = run_vr(dir, "--replay late-start.jsonl --max-frames 10" + kReplayArgs);
+  EXPECT_EQ(r.exit_code, 3);
+  EXPECT_NE(r.err.find("(before the operator pressed Start)"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("floor calibration"), std::string::npos) << r.err;
+}
+
+TEST(VrApp, EmbodimentFollowsTheScriptedMotions) {
+  // The avatar driven at 90 Hz through wave, reach up, cross arms, squat and turn; the issue's
+  // bounds over the scripted motions.
+  const std::string dir = work_dir("embodiment");
+  const Json truth = simulate(dir, "log.jsonl", "--role self --frame-rate 90 --motions");
+  const RunResult r = run_vr(dir,
+                             "--replay log.jsonl --no-audio --draw-every 0 --out out "
+                             "--embodiment-report report.json --frames-dir frames "
+                             "--eye-size 64x72");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json report = caliper::read_json_file(dir + "/report.json");
+  const Json& per = report.at("per_frame");
+  const std::vector<double> time = per.at("time").as_numbers();
+  const std::vector<double> wrist = per.at("wrist_error_m").as_numbers();
+  const std::vector<double> step = per.at("joint_step_m").as_numbers();
+  const std::vector<double> limits = per.at("limit_violations").as_numbers();
+  const std::vector<double> window = truth.at("motion_frames").as_numbers();
+  const double t0 = window[0] / 90.0, t1 = window[1] / 90.0;
+  // Bounds from the issue: wrist within 1 cm when reachable, no joint move over 5 cm per frame.
+  constexpr double kWristBound = 0.01, kStepBound = 0.05;
+  size_t in_window = 0, reachable = 0;
+  for (size_t i = 0; i < time.size(); ++i) {
+    if (time[i] < t0 - 1e-9 || time[i] >= t1 - 1e-9) continue;
+    ++in_window;
+    if (wrist[i] >= 0.0) {
+      ++reachable;
+      EXPECT_LT(wrist[i], kWristBound) << "t = " << time[i];
+    }
+    EXPECT_FALSE(per.at("hand_in_torso")[i].as_bool()) << "t = " << time[i];
+    EXPECT_EQ(limits[i], 0.0) << "t = " << time[i];
+    EXPECT_LT(step[i], kStepBound) << "t = " << time[i];
+  }
+  EXPECT_GT(in_window, 1500u) << "about 20 s of motions at 90 Hz";
+  EXPECT_GT(reachable, in_window * 9 / 10);
+  std::vector<std::string> shots;
+  for (const Json& j : report.at("snapshots").as_array()) shots.push_back(j.as_string());
+  for (const char* s : {"vr-mirror-raised", "vr-mirror-crossed", "vr-mirror-bent"})
+    EXPECT_NE(std::find(shots.begin(), shots.end(), s), shots.end()) << s;
+}
+
 TEST(VrApp, CommittedSampleLogsReplay) {
   for (const char* name : {"self-female", "operator-male"}) {
     const std::string dir = work_dir(std::string("sample-") + name);
@@ -454,6 +612,33 @@ TEST(VrApp, GoldenImages) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const bool update = std::getenv("CALIPER_UPDATE_GOLDEN") != nullptr;
   for (const char* name : {"vr-floor-targets", "vr-instruction-panel", "vr-mirror"}) {
+    const std::string got = dir + "/frames/" + name + ".png";
+    const std::string golden = std::string(CALIPER_VR_GOLDEN_DIR) + "/" + name + ".png";
+    ASSERT_TRUE(fs::exists(got)) << got;
+    if (update) fs::copy_file(got, golden, fs::copy_options::overwrite_existing);
+    const caliper::render::ImageDifference d = caliper::render::compare_images(
+        caliper::render::read_png(got), caliper::render::read_png(golden));
+    ASSERT_TRUE(d.same_size) << name;
+    EXPECT_LE(d.mean_abs, kGoldenMaxMeanAbs) << name;
+    EXPECT_LE(d.fraction_over, kGoldenMaxFractionOver) << name;
+  }
+}
+
+TEST(VrApp, EmbodimentGoldenImages) {
+  // The driven avatar in the mirror with raised, crossed and bent arms (the simulator's reach up,
+  // cross arms and squat). Drawn with the open female model: the IK needs a humanoid skeleton,
+  // which the test's fixed model (GoldenImages) does not have; so these pictures move when the
+  // open models are regenerated (CALIPER_UPDATE_GOLDEN=1, then review them).
+  const std::string dir = work_dir("embodiment_golden");
+  simulate(dir, "log.jsonl", "--role self --frame-rate 30 --motions");
+  const RunResult r =
+      run_vr(dir,
+             "--replay log.jsonl --no-audio --draw-every 0 --eye-size 160x178 --frames-dir frames "
+             "--out out --models-dir '" +
+                 kSource + "/assets/models'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const bool update = std::getenv("CALIPER_UPDATE_GOLDEN") != nullptr;
+  for (const char* name : {"vr-mirror-raised", "vr-mirror-crossed", "vr-mirror-bent"}) {
     const std::string got = dir + "/frames/" + name + ".png";
     const std::string golden = std::string(CALIPER_VR_GOLDEN_DIR) + "/" + name + ".png";
     ASSERT_TRUE(fs::exists(got)) << got;

@@ -12,6 +12,7 @@
 #include "pose_source.hpp"
 #include "render/text.hpp"
 #include "video.hpp"
+#include "vr_app.hpp"
 
 namespace caliper::vr {
 namespace {
@@ -153,6 +154,100 @@ TEST(PoseSources, ReplayAndRecordingDecorator) {
       << "a command from the window goes with the next frame";
   EXPECT_EQ(back.frames[0].commands[0].command, "skip");
   EXPECT_EQ(back.header.role, "operator");
+}
+
+/// A live-like source: the runtime reports the controllers only from frame 2, runs at 144 Hz,
+/// and is lost after `lose_after` frames (never when negative).
+class LiveLikeSource final : public PoseSource {
+ public:
+  explicit LiveLikeSource(int lose_after) : lose_after_(lose_after) {}
+  std::optional<PoseFrame> next_frame() override {
+    if (n_ == lose_after_) throw PoseSourceLost("the OpenXR runtime lost the session (test)");
+    if (n_ >= 6) return std::nullopt;
+    if (n_ == 2) profile_ = "/interaction_profiles/valve/index_controller";
+    PoseFrame f;
+    f.time = n_ / 144.0;
+    ++n_;
+    return f;
+  }
+  std::string interaction_profile() const override { return profile_; }
+  double frame_rate() const override { return 144.0; }
+
+ private:
+  int lose_after_;
+  int n_ = 0;
+  std::string profile_;
+};
+
+TEST(PoseSources, RecordingWritesTheHeaderWithTheFirstFrameAndProfileChanges) {
+  const std::string path = std::string(CALIPER_TEST_DATA_DIR) + "/recorded-live.jsonl";
+  std::filesystem::remove(path);
+  PoseLogHeader h;
+  h.role = "self";
+  h.weight = 65.0;
+  h.sex = "male";
+  {
+    RecordingPoseSource rec(std::make_unique<LiveLikeSource>(-1), path, h);
+    EXPECT_FALSE(std::filesystem::exists(path)) << "nothing is written before the first frame";
+    while (rec.next_frame()) {
+    }
+  }
+  const PoseLog log = read_pose_log(path);
+  EXPECT_EQ(log.header.interaction_profile, "") << "not reported yet at the first frame";
+  EXPECT_EQ(log.header.frame_rate, 144.0);
+  ASSERT_TRUE(log.header.weight.has_value());
+  EXPECT_EQ(*log.header.weight, 65.0);
+  EXPECT_EQ(log.header.sex, "male");
+  ASSERT_EQ(log.frames.size(), 6u);
+  EXPECT_EQ(log.frames[1].interaction_profile, "");
+  EXPECT_EQ(log.frames[2].interaction_profile, "/interaction_profiles/valve/index_controller");
+  EXPECT_EQ(log.frames[3].interaction_profile, "") << "recorded once, when it changes";
+  // Replayed, the profile changes on the same frame.
+  ReplayPoseSource replay(log);
+  std::vector<std::string> seen;
+  while (replay.next_frame()) seen.push_back(replay.interaction_profile());
+  EXPECT_EQ(seen[1], "");
+  EXPECT_EQ(seen[2], "/interaction_profiles/valve/index_controller");
+  EXPECT_EQ(seen[5], "/interaction_profiles/valve/index_controller");
+}
+
+TEST(PoseSources, ALostSourceIsRecordedAndReplayedAsLost) {
+  const std::string path = std::string(CALIPER_TEST_DATA_DIR) + "/recorded-lost.jsonl";
+  {
+    RecordingPoseSource rec(std::make_unique<LiveLikeSource>(4), path, PoseLogHeader{});
+    int n = 0;
+    try {
+      while (rec.next_frame()) ++n;
+      ADD_FAILURE() << "the loss must come through";
+    } catch (const PoseSourceLost& e) {
+      EXPECT_STREQ(e.what(), "the OpenXR runtime lost the session (test)");
+    }
+    EXPECT_EQ(n, 4);
+  }
+  const PoseLog log = read_pose_log(path);
+  EXPECT_EQ(log.frames.size(), 4u);
+  EXPECT_EQ(log.lost, "the OpenXR runtime lost the session (test)");
+  ReplayPoseSource replay(log);
+  int n = 0;
+  EXPECT_THROW(
+      {
+        while (replay.next_frame()) ++n;
+      },
+      PoseSourceLost);
+  EXPECT_EQ(n, 4);
+}
+
+TEST(OperatorWindowFields, ShowTheSessionsTypedValues) {
+  const Protocol p =
+      read_protocol(std::string(CALIPER_SOURCE_DIR) + "/assets/protocol/virtual-caliper.json");
+  SessionOptions o;
+  EXPECT_EQ(typed_fields(MeasuringSession(p, o)).weight, 70.0) << "the field's start value";
+  EXPECT_EQ(typed_fields(MeasuringSession(p, o)).sex, -1);
+  o.weight = 65.0;
+  o.sex = "male";
+  const TypedFields t = typed_fields(MeasuringSession(p, o));
+  EXPECT_EQ(t.weight, 65.0) << "--weight 65";
+  EXPECT_EQ(t.sex, 1);
 }
 
 }  // namespace

@@ -69,16 +69,21 @@ const char* kUsage =
     "  --draw-every N       replay: rasterise every N-th frame (default 1; 0 = only snapshots)\n"
     "  --frames-dir DIR     replay: save key frames as PNG (floor targets, panel, mirror)\n"
     "  --timing FILE        replay: per-frame CPU times as CSV\n"
+    "  --embodiment-report FILE  replay: how well the avatar followed the tracking (JSON)\n"
     "  --max-frames N       stop after N frames (a simulated crash)\n"
     "  --no-audio           no confirmation tones\n"
     "  --operator-window    also open the operator's desktop window (replay: instead of OSMesa;\n"
     "                       needs a display, e.g. xvfb-run)\n"
     "Simulation (--simulate): --betas \"b0 b1 ...\" --noise M --seed N --frame-rate HZ\n"
-    "  --dropout STEP --third-take STEP --early-release STEP --redo STEP\n";
+    "  --dropout STEP --third-take STEP --early-release STEP --redo STEP\n"
+    "  --profile PATH       the controllers' interaction profile (default: the HTC Vive wand)\n"
+    "  --motions            after the measurements: wave, reach up, cross arms, squat, turn\n"
+    "  (every simulated session ends with the right controller's menu button)\n";
 
 struct Args {
   std::map<std::string, std::string> values;
   std::vector<std::string> flags;
+  std::vector<std::string> argv;  ///< the arguments as given (for the --resume command)
   bool has(const std::string& k) const {
     return values.count(k) || std::count(flags.begin(), flags.end(), k);
   }
@@ -89,17 +94,23 @@ struct Args {
 };
 
 Args parse_args(int argc, char** argv) {
-  static const std::vector<std::string> kFlags = {"--no-audio", "--operator-window", "--help",
-                                                  "-h"};
+  static const std::vector<std::string> kFlags = {"--no-audio", "--operator-window", "--motions",
+                                                  "--help", "-h"};
   static const std::vector<std::string> kValues = {
-      "--replay",     "--simulate",    "--calibrate-tip", "--protocol",      "--controllers",
-      "--role",       "--journal",     "--resume",        "--out",           "--record",
-      "--weight",     "--sex",         "--model",         "--models-dir",    "--regressor",
-      "--regressors", "--mapping",     "--eye-size",      "--draw-every",    "--frames-dir",
-      "--timing",     "--max-frames",  "--betas",         "--noise",         "--seed",
-      "--frame-rate", "--dropout",     "--third-take",    "--early-release", "--redo",
-      "--assets",     "--typed-in-log"};
+      "--replay",     "--simulate",      "--calibrate-tip",
+      "--protocol",   "--controllers",   "--role",
+      "--journal",    "--resume",        "--out",
+      "--record",     "--weight",        "--sex",
+      "--model",      "--models-dir",    "--regressor",
+      "--regressors", "--mapping",       "--eye-size",
+      "--draw-every", "--frames-dir",    "--timing",
+      "--max-frames", "--betas",         "--noise",
+      "--seed",       "--frame-rate",    "--dropout",
+      "--third-take", "--early-release", "--redo",
+      "--assets",     "--typed-in-log",  "--embodiment-report",
+      "--profile"};
   Args a;
+  a.argv.assign(argv + 1, argv + argc);
   for (int i = 1; i < argc; ++i) {
     const std::string k = argv[i];
     if (std::count(kFlags.begin(), kFlags.end(), k)) {
@@ -150,8 +161,10 @@ double percentile(std::vector<double> v, double p) {
   return v[std::min(v.size() - 1, static_cast<size_t>(p * static_cast<double>(v.size())))];
 }
 
-/// Common app options from the command line.
-VrAppOptions app_options(const Args& a, const std::string& role, const std::string& profile) {
+/// Common app options from the command line; `recorded` holds the typed values of a replayed
+/// log's header (used when the command line does not give them).
+VrAppOptions app_options(const Args& a, const std::string& role, const std::string& profile,
+                         const PoseLogHeader* recorded = nullptr) {
   const std::string assets = assets_dir(a);
   VrAppOptions o;
   const std::string protocol_path = a.get("--protocol", assets + "/protocol/virtual-caliper.json");
@@ -162,6 +175,8 @@ VrAppOptions app_options(const Args& a, const std::string& role, const std::stri
   o.session.role = role;
   if (a.has("--weight")) o.session.weight = number(a, "--weight", 0.0);
   if (a.has("--sex")) o.session.sex = a.get("--sex");
+  if (recorded && !o.session.weight) o.session.weight = recorded->weight;
+  if (recorded && o.session.sex.empty()) o.session.sex = recorded->sex;
   o.avatar.model_path = a.get("--model");
   o.avatar.models_dir = a.get("--models-dir", assets + "/models");
   o.avatar.regressor = a.get("--regressor", "R5");
@@ -190,10 +205,77 @@ std::unique_ptr<Audio> open_audio(const Args& a) {
   }
 }
 
-/// Finishes a run: outputs, the audio queue, and the plain-words summary. Returns the exit code.
-int finish(VrApp& app, Audio& audio, const std::string& journal_path) {
-  audio.drain(10.0);
+/// The posture of the driven body for the documentation snapshots: "raised" (both wrists above
+/// the head joint), "crossed" (each wrist on the other side of the body's midline, in front of
+/// the chest), "bent" (pelvis 20 cm lower than standing, both elbows bent over 60 degrees), or "".
+std::string embodiment_posture(const BodyIk& ik) {
+  using namespace ik_joint;
+  const IkPose& p = ik.pose();
+  const std::vector<Eigen::Vector3d>& j = p.joints;
+  const Eigen::Quaterniond to_body(Eigen::AngleAxisd(-p.body_yaw, Eigen::Vector3d::UnitY()));
+  const Eigen::Vector3d l = to_body * (j[kLeftWrist] - j[kPelvis]);
+  const Eigen::Vector3d r = to_body * (j[kRightWrist] - j[kPelvis]);
+  if (j[kLeftWrist].y() > j[kHead].y() && j[kRightWrist].y() > j[kHead].y()) return "raised";
+  if (l.x() < -0.05 && r.x() > 0.05 && l.z() > 0.1 && r.z() > 0.1) return "crossed";
+  const auto bend = [&](int s, int e, int w) {
+    return std::acos(
+        std::clamp((j[e] - j[s]).normalized().dot((j[w] - j[e]).normalized()), -1.0, 1.0));
+  };
+  const double drop = ik.rig().rest[kPelvis].y() -
+                      (j[kPelvis].y() - (j[kLeftAnkle].y() - ik.rig().rest[kLeftAnkle].y()));
+  if (drop > 0.2 && bend(kLeftShoulder, kLeftElbow, kLeftWrist) > 1.05 &&
+      bend(kRightShoulder, kRightElbow, kRightWrist) > 1.05)
+    return "bent";
+  return "";
+}
+
+/// Quotes one shell word when it needs it.
+std::string shell_word(const std::string& w) {
+  if (!w.empty() && w.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                        "0123456789-_./=:,+@%") == std::string::npos)
+    return w;
+  std::string q = "'";
+  for (char c : w) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+/// The command that continues this run's session: the same options, `--resume JOURNAL` (which
+/// is also the journal appended to), no --max-frames, and a new --record file so that the first
+/// recording is kept.
+std::string resume_command(const Args& a, const std::string& journal) {
+  std::string cmd = "caliper-vr";
+  for (size_t i = 0; i < a.argv.size(); ++i) {
+    const std::string& k = a.argv[i];
+    const bool has_value = a.values.count(k) && i + 1 < a.argv.size();
+    if (k == "--resume" || k == "--journal" || k == "--max-frames") {
+      i += has_value ? 1 : 0;
+      continue;
+    }
+    cmd += " " + shell_word(k);
+    if (!has_value) continue;
+    std::string v = a.argv[++i];
+    if (k == "--record") {
+      const std::filesystem::path p(v);
+      v = (p.parent_path() / (p.stem().string() + "-resumed" + p.extension().string())).string();
+    }
+    cmd += " " + shell_word(v);
+  }
+  return cmd + " --resume " + shell_word(journal);
+}
+
+/// Writes the outputs once, when the session is complete (printing each file), so that a
+/// later crash or lost runtime cannot lose them.
+void write_outputs_once(VrApp& app) {
+  if (app.outputs_written()) return;
   for (const std::string& f : app.write_outputs()) std::cout << "wrote " << f << "\n";
+  if (app.finished()) std::cout << "The session is complete. " << kEndHint << std::endl;
+}
+
+/// Finishes a run: outputs (unless written at completion), the audio queue, and the plain-words
+/// summary. Returns the exit code.
+int finish(VrApp& app, Audio& audio, const std::string& journal_path, const Args& a) {
+  audio.drain(10.0);
+  write_outputs_once(app);
   const SessionResult r = app.session().result();
   for (const auto& kv : r.measurements) {
     std::printf("  %-22s %9.4f %s", kv.first.c_str(), kv.second, kv.first == "weight" ? "kg" : "m");
@@ -204,12 +286,19 @@ int finish(VrApp& app, Audio& audio, const std::string& journal_path) {
   std::cout << "accepted samples: " << app.accepted_this_run()
             << ", rejected: " << app.rejected_this_run() << ", audio: " << audio.description()
             << "\n";
+  std::cout.flush();
   if (!app.session().done()) {
     const ProtocolStep* s = app.session().current_step();
-    std::cerr << "caliper-vr: the session stopped before it was finished (at "
-              << (s ? "step \"" + s->id + "\"" : std::string("the floor calibration"))
+    const Phase phase = app.session().view().phase;
+    const std::string where = s ? "at step \"" + s->id + "\""
+                              : phase == Phase::WaitingForStart
+                                  ? "before the operator pressed Start"
+                                  : "at the floor calibration";
+    std::cerr << "caliper-vr: the session stopped before it was finished (" << where
               << "). Every accepted sample is in the journal " << journal_path
-              << "; continue with: caliper-vr --resume " << journal_path << "\n";
+              << "; continue with:\n  " << resume_command(a, journal_path) << "\n";
+    if (a.has("--replay"))
+      std::cerr << "(replaying: give --replay the log of the rest of the session)\n";
     return kExitIncomplete;
   }
   if (!app.avatar_error().empty())
@@ -221,8 +310,11 @@ int run_replay(const Args& a) {
   const std::string log_path = a.get("--replay");
   PoseLog log = read_pose_log(log_path);
   const std::string role = a.get("--role", log.header.role.empty() ? "self" : log.header.role);
-  const std::string profile = log.header.interaction_profile;
-  VrAppOptions o = app_options(a, role, profile);
+  std::string profile = log.header.interaction_profile;
+  const PoseLogHeader recorded = log.header;
+  VrAppOptions o = app_options(a, role, profile, &recorded);
+  const ControllerConfig controllers =
+      read_controller_config(a.get("--controllers", assets_dir(a) + "/protocol/controllers.json"));
   int eye_w = 320, eye_h = 356;
   if (a.has("--eye-size") && std::sscanf(a.get("--eye-size").c_str(), "%dx%d", &eye_w, &eye_h) != 2)
     throw std::invalid_argument("--eye-size needs WxH, e.g. 1440x1600");
@@ -256,13 +348,16 @@ int run_replay(const Args& a) {
   if (a.has("--record")) {
     PoseLogHeader h;
     h.role = role;
-    h.interaction_profile = profile;
     h.source = "caliper-vr --replay " + log_path;
+    h.weight = app.session().options().weight;
+    h.sex = app.session().options().sex;
     source = std::make_unique<RecordingPoseSource>(std::move(source), a.get("--record"), h);
   }
   render::Scene scene;
   std::vector<double> app_cpu, draw_wall;
   std::map<std::string, bool> saved;
+  std::string held_posture;
+  double held_since = 0.0;
   double finished_at = -1.0;
   long n = 0;
   const auto save = [&](const std::string& name, const std::vector<render::View>& views) {
@@ -279,8 +374,18 @@ int run_replay(const Args& a) {
   };
   while (max_frames < 0 || n < max_frames) {
     const double c0 = thread_cpu_seconds();
-    std::optional<PoseFrame> f = source->next_frame();
+    std::optional<PoseFrame> f;
+    try {
+      f = source->next_frame();
+    } catch (const PoseSourceLost& e) {
+      std::cerr << "caliper-vr: " << e.what() << "\n";
+      break;
+    }
     if (!f) break;
+    if (source->interaction_profile() != profile) {  // as live: the runtime named the controllers
+      profile = source->interaction_profile();
+      app.set_tips(controllers.offsets(profile));
+    }
     app.advance(*f, source.get());
     app.build_scene(scene);
     const std::vector<render::View> views = app.stereo_views(eye_w, eye_h);
@@ -312,8 +417,24 @@ int run_replay(const Args& a) {
         save("vr-mirror", views);
         if (!op) save("vr-first-person", {app.first_person_view(2 * eye_w, eye_h)});
       }
+      // The driven body in three postures, each once it has been held for half a second.
+      if (const BodyIk* ik = app.body_ik(); ik && app.embodiment().frames > 0) {
+        const std::string posture = embodiment_posture(*ik);
+        if (posture != held_posture) {
+          held_posture = posture;
+          held_since = app.time();
+        }
+        const std::string name = "vr-mirror-" + posture;
+        if (!posture.empty() && !saved.count(name) && app.time() - held_since >= 0.5) {
+          save(name, views);
+          if (!op && posture == "crossed")
+            save("vr-first-person-crossed", {app.first_person_view(2 * eye_w, eye_h)});
+        }
+      }
     }
     ++n;
+    if (app.finished()) write_outputs_once(app);
+    if (app.end_requested()) break;  // the user pressed the end button
   }
   std::printf(
       "replayed %ld frames: app CPU per frame median %.3f ms, p95 %.3f ms (thread CPU time of the "
@@ -321,12 +442,55 @@ int run_replay(const Args& a) {
       "%dx%d)\n",
       n, 1e3 * median(app_cpu), 1e3 * percentile(app_cpu, 0.95), 1e3 * median(draw_wall), 2 * eye_w,
       eye_h);
+  if (app.embodiment().frames > 0) {
+    const EmbodimentStats& e = app.embodiment();
+    std::printf(
+        "embodiment: %ld frames; wrist to controller-derived wrist max %.2f mm over %ld reachable "
+        "wrists; hands inside the torso in %ld frames; %ld joint-limit violations; largest joint "
+        "move %.1f mm in %.4f s; IK %.4f ms CPU per frame (mean)\n",
+        e.frames, 1e3 * e.max_wrist_error, e.reachable_wrists, e.hands_in_torso, e.limit_violations,
+        1e3 * e.max_joint_step, e.max_step_dt,
+        1e3 * e.ik_cpu_seconds / static_cast<double>(e.frames));
+  }
+  if (a.has("--embodiment-report")) {
+    const EmbodimentStats& e = app.embodiment();
+    Json j = Json::object();
+    j.set("frames", e.frames);
+    j.set("reachable_wrists", e.reachable_wrists);
+    j.set("max_wrist_error_m", e.max_wrist_error);
+    j.set("hands_in_torso_frames", e.hands_in_torso);
+    j.set("limit_violations", e.limit_violations);
+    j.set("max_joint_step_m", e.max_joint_step);
+    j.set("max_joint_step_dt_s", e.max_step_dt);
+    j.set("ik_cpu_ms_per_frame",
+          e.frames > 0 ? 1e3 * e.ik_cpu_seconds / static_cast<double>(e.frames) : 0.0);
+    Json t = Json::array(), we = Json::array(), in = Json::array(), st = Json::array(),
+         lv = Json::array();
+    for (const EmbodimentStats::Frame& f : e.per_frame) {
+      t.push_back(f.time);
+      we.push_back(f.wrist_error);
+      in.push_back(f.hand_in_torso);
+      st.push_back(f.joint_step);
+      lv.push_back(f.limit_violations);
+    }
+    Json per = Json::object();
+    per.set("time", t);
+    per.set("wrist_error_m", we);
+    per.set("hand_in_torso", in);
+    per.set("joint_step_m", st);
+    per.set("limit_violations", lv);
+    j.set("per_frame", per);
+    Json shots = Json::array();
+    for (const auto& kv : saved) shots.push_back(kv.first);
+    j.set("snapshots", shots);
+    write_json_file(a.get("--embodiment-report"), j);
+  }
   if (a.has("--timing")) {
     std::ofstream t(a.get("--timing"));
     t << "frame,app_cpu_ms\n";
     for (size_t i = 0; i < app_cpu.size(); ++i) t << i << "," << 1e3 * app_cpu[i] << "\n";
   }
-  return finish(app, *audio, journal_path);
+  return finish(app, *audio, journal_path, a);
 }
 
 /// The pivot-calibration step driven by a pose log (the same code as live).
@@ -392,6 +556,8 @@ int run_simulate(const Args& a) {
   o.early_release_step = a.get("--early-release");
   o.redo_step = a.get("--redo");
   o.typed_in_log = a.get("--typed-in-log", "yes") != "no";
+  o.motions = a.has("--motions");
+  if (a.has("--profile")) o.interaction_profile = a.get("--profile");
   const ControllerConfig cc =
       read_controller_config(a.get("--controllers", assets + "/protocol/controllers.json"));
   o.tip_offsets = cc.offsets(o.interaction_profile);
@@ -408,6 +574,8 @@ int run_simulate(const Args& a) {
   Json quiet = Json::array();
   for (size_t q : sim.quiet_frames) quiet.push_back(static_cast<long>(q));
   j.set("quiet_frames", quiet);
+  j.set("motion_frames", Json(std::vector<double>{static_cast<double>(sim.motion_begin),
+                                                  static_cast<double>(sim.motion_end)}));
   write_json_file(a.get("--simulate") + ".truth.json", j);
   std::cout << "wrote " << a.get("--simulate") << " (" << sim.log.frames.size() << " frames, "
             << sim.accepted_samples << " samples to accept) and " << a.get("--simulate")
@@ -427,9 +595,12 @@ int run_live(const Args& a) {
     return app_options(a, role, profile);
   };
   live.open_audio = [&a]() { return open_audio(a); };
-  live.finish = [](VrApp& app, Audio& audio, const std::string& journal) {
-    return finish(app, audio, journal);
+  live.finish = [&a](VrApp& app, Audio& audio, const std::string& journal) {
+    return finish(app, audio, journal, a);
   };
+  live.write_outputs = [](VrApp& app) { write_outputs_once(app); };
+  if (a.has("--weight")) live.weight = number(a, "--weight", 0.0);
+  live.sex = a.get("--sex");
   return run_openxr(live);
 }
 

@@ -47,6 +47,10 @@ std::string xr_result_name(XrInstance instance, XrResult r) {
 
 void xr_check(XrInstance instance, XrResult r, const char* expr, const char* file, int line) {
   if (XR_SUCCEEDED(r)) return;
+  if (r == XR_ERROR_SESSION_LOST || r == XR_ERROR_INSTANCE_LOST)
+    throw PoseSourceLost("the OpenXR runtime lost the " +
+                         std::string(r == XR_ERROR_SESSION_LOST ? "session" : "instance") + " (" +
+                         xr_result_name(instance, r) + " from " + expr + ")");
   std::ostringstream s;
   s << "OpenXR call failed: " << expr << " returned " << xr_result_name(instance, r) << " (" << file
     << ":" << line << ")";
@@ -95,6 +99,12 @@ class OpenXrSystem final : public PoseSource {
   /// std::nullopt when the runtime ends the session.
   std::optional<PoseFrame> next_frame() override;
   std::string interaction_profile() const override { return profile_; }
+  /// The runtime's display rate (1 / predictedDisplayPeriod of the last frame).
+  double frame_rate() const override {
+    return frame_state_.predictedDisplayPeriod > 0
+               ? 1e9 / static_cast<double>(frame_state_.predictedDisplayPeriod)
+               : 0.0;
+  }
   void haptic_pulse(Tip hand, double amplitude, double seconds) override;
   std::string role() const override { return ""; }
 
@@ -129,7 +139,7 @@ class OpenXrSystem final : public PoseSource {
   bool running_ = false;
   bool frame_begun_ = false;
   double start_time_ = -1.0;
-  std::string profile_ = "/interaction_profiles/htc/vive_controller";
+  std::string profile_;  ///< "" until the runtime reports the bound controllers
   std::unique_ptr<render::GlfwWindowContext> window_;
   std::unique_ptr<render::Renderer> renderer_;
 };
@@ -428,7 +438,10 @@ bool OpenXrSystem::poll_events() {
         } else if (state_ == XR_SESSION_STATE_STOPPING) {
           CALIPER_XR(instance_, xrEndSession(session_));
           running_ = false;
-        } else if (state_ == XR_SESSION_STATE_EXITING || state_ == XR_SESSION_STATE_LOSS_PENDING) {
+        } else if (state_ == XR_SESSION_STATE_LOSS_PENDING) {
+          throw PoseSourceLost(
+              "the OpenXR runtime is losing the session (XR_SESSION_STATE_LOSS_PENDING)");
+        } else if (state_ == XR_SESSION_STATE_EXITING) {
           return false;
         }
         break;
@@ -437,7 +450,8 @@ bool OpenXrSystem::poll_events() {
         update_profile();
         break;
       case XR_TYPE_EVENT_DATA_INSTANCE_LOSS_PENDING:
-        return false;
+        throw PoseSourceLost(
+            "the OpenXR runtime is going away (XR_TYPE_EVENT_DATA_INSTANCE_LOSS_PENDING)");
       default:
         break;
     }
@@ -465,6 +479,7 @@ std::optional<PoseFrame> OpenXrSystem::next_frame() {
   sync.countActiveActionSets = 1;
   sync.activeActionSets = &active;
   CALIPER_XR(instance_, xrSyncActions(session_, &sync));
+  if (profile_.empty()) update_profile();  // some runtimes bind without sending the event
 
   const XrTime t = frame_state_.predictedDisplayTime;
   if (start_time_ < 0.0) start_time_ = static_cast<double>(t) * 1e-9;
@@ -645,10 +660,11 @@ int run_openxr(const LiveOptions& o) {
   PoseSource* source = &xr;
   std::unique_ptr<RecordingPoseSource> recorder;
   if (!o.record_path.empty()) {
-    PoseLogHeader h;
+    PoseLogHeader h;  // profile and frame rate are filled in with the first frame
     h.role = o.role;
-    h.interaction_profile = xr.interaction_profile();
     h.source = "openxr";
+    h.weight = o.weight;
+    h.sex = o.sex;
     recorder = std::make_unique<RecordingPoseSource>(std::move(system), o.record_path, h);
     source = recorder.get();
   }
@@ -657,25 +673,28 @@ int run_openxr(const LiveOptions& o) {
   render::Scene scene;
   const ControllerConfig controllers = read_controller_config(o.controllers_path);
   std::string profile = xr.interaction_profile();
-  bool written = false;
-  while (std::optional<PoseFrame> f = source->next_frame()) {
-    if (xr.interaction_profile() != profile) {  // the runtime told us which controllers are in use
-      profile = xr.interaction_profile();
-      app.set_tips(controllers.offsets(profile));
-    }
-    app.advance(*f, source);
-    app.build_scene(scene);
-    xr.submit(scene);
-    if (window)
-      for (const OperatorCommand& c : window->frame(app, xr.renderer(), scene)) {
-        if (recorder) recorder->record_command(c);
-        app.command(c);
+  try {
+    while (std::optional<PoseFrame> f = source->next_frame()) {
+      if (xr.interaction_profile() != profile) {  // the runtime told us which controllers are used
+        profile = xr.interaction_profile();
+        app.set_tips(controllers.offsets(profile));
       }
-    if (window) xr.window().swap_buffers();
-    if (app.finished() && !written) {
-      for (const std::string& file : app.write_outputs()) std::cout << "wrote " << file << "\n";
-      written = true;
+      app.advance(*f, source);
+      app.build_scene(scene);
+      xr.submit(scene);
+      if (window)
+        for (const OperatorCommand& c : window->frame(app, xr.renderer(), scene)) {
+          if (recorder) recorder->record_command(c);
+          app.command(c);
+        }
+      if (window) xr.window().swap_buffers();
+      if (app.finished()) o.write_outputs(app);
+      if (app.end_requested()) break;
     }
+  } catch (const PoseSourceLost& e) {
+    // Like the end of the pose source: the journal holds every accepted sample.
+    std::cerr << "caliper-vr: " << e.what() << "\n";
+    if (recorder) recorder->mark_lost(e.what());
   }
   return o.finish(app, *audio, journal);
 }

@@ -8,6 +8,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -37,10 +38,16 @@ struct LiveOptions {
   std::function<VrAppOptions(const std::string& profile)> make_app_options;
   std::function<std::unique_ptr<Audio>()> open_audio;
   std::function<int(VrApp&, Audio&, const std::string& journal)> finish;
+  std::function<void(VrApp&)> write_outputs;  ///< once, when the session is complete
+  std::optional<double> weight;               ///< --weight, kept in the recording's header
+  std::string sex;                            ///< --sex, kept in the recording's header
 };
 
-/// Runs a live session (or a pivot calibration) until the session ends or the runtime quits.
-/// Throws NoRuntimeError when no runtime is available, std::runtime_error for other failures.
+/// Runs a live session (or a pivot calibration) until the user ends the completed session (menu
+/// button), the runtime quits, or the runtime is lost (XR_ERROR_SESSION_LOST, ..._INSTANCE_LOST,
+/// a loss-pending event: said in plain words, then options.finish as at the end of a pose
+/// source). Throws NoRuntimeError when no runtime is available, std::runtime_error for other
+/// failures.
 int run_openxr(const LiveOptions& options);
 
 }  // namespace caliper::vr

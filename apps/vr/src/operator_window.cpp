@@ -26,9 +26,16 @@ std::vector<OperatorCommand> OperatorWindow::frame(VrApp& app, render::Renderer&
   std::vector<OperatorCommand> out;
   window_.make_current();
   const int w = window_.width(), h = window_.height();
-  render::View v = app.stereo_views(w, h)[0];
-  v.viewport = {0, 0, w, h};
-  renderer.draw(scene, v);
+  if (app.body_ik() && app.embodiment().frames > 0) {
+    // The driven avatar from outside, head included.
+    render::Scene outside;
+    app.build_scene(outside, true);
+    renderer.draw(outside, app.operator_view(w, h));
+  } else {
+    render::View v = app.stereo_views(w, h)[0];
+    v.viewport = {0, 0, w, h};
+    renderer.draw(scene, v);
+  }
   ImGui_ImplOpenGL3_NewFrame();
   ImGui_ImplGlfw_NewFrame();
   ImGui::NewFrame();
@@ -51,6 +58,14 @@ std::vector<OperatorCommand> OperatorWindow::frame(VrApp& app, render::Renderer&
   ImGui::SameLine();
   if (ImGui::Button("Skip")) out.push_back({"skip", Json()});
   ImGui::Separator();
+  // The fields show the session's values (--weight/--sex, the log, ...) whenever those change;
+  // in between the operator's typing is kept.
+  const TypedFields typed = typed_fields(app.session());
+  if (!synced_ || synced_->weight != typed.weight || synced_->sex != typed.sex) {
+    weight_ = typed.weight;
+    sex_ = typed.sex;
+    synced_ = typed;
+  }
   ImGui::InputDouble("kg", &weight_, 0.5, 5.0, "%.1f");
   ImGui::SameLine();
   if (ImGui::Button("Set weight")) out.push_back({"weight", Json(weight_)});

@@ -4,6 +4,7 @@
 /// with `--operator-window` (under Xvfb in CI, which also renders docs/images/vr-operator.png).
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "render/glfw_context.hpp"
@@ -29,6 +30,7 @@ class OperatorWindow {
   render::GlfwWindowContext& window_;
   double weight_ = 70.0;
   int sex_ = -1;
+  std::optional<TypedFields> synced_;  ///< the session's values last copied into the fields
 };
 
 }  // namespace caliper::vr

@@ -4,6 +4,8 @@
 // panel | scene (floor targets, controllers, demonstration, mirror) | views | outputs.
 #include "vr_app.hpp"
 
+#include <time.h>
+
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -25,7 +27,24 @@ constexpr float kFovYDegrees = 100.0f;  ///< vertical field of view of the stere
 const Eigen::Vector3d kPanelCentre(-0.15, 1.35, 0.95);  ///< in front of the user (who faces +Z)
 constexpr double kPanelHalfWidth = 0.36;
 const Eigen::Vector3d kDemoPosition(0.8, 0.0, 1.7);  ///< reference avatar beside the panel
-constexpr double kMirrorDistance = 1.6;              ///< m in front of the head
+constexpr double kMirrorDistance = 1.6;              ///< m in front of the head (rest avatar)
+/// The mirror's plane, m in front of the head when the avatar is made (then fixed in the room);
+/// the reflection of the user appears twice as far.
+constexpr double kMirrorPlane = 1.0;
+
+double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+/// Distance of `p` from the segment a-b.
+double segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                        const Eigen::Vector3d& b) {
+  const Eigen::Vector3d ab = b - a;
+  const double t = std::clamp((p - a).dot(ab) / std::max(1e-12, ab.squaredNorm()), 0.0, 1.0);
+  return (p - (a + t * ab)).norm();
+}
 
 render::Vec3 f3(const Eigen::Vector3d& v) {
   return v.cast<float>();
@@ -102,6 +121,18 @@ std::shared_ptr<const smpl::BodyModel> load_default_model(const std::string& dir
   return std::make_shared<const smpl::BodyModel>(smpl::load_model(path));
 }
 
+TypedFields typed_fields(const MeasuringSession& session) {
+  TypedFields t;
+  const SessionResult r = session.result();
+  if (auto it = r.measurements.find("weight"); it != r.measurements.end())
+    t.weight = it->second;
+  else if (session.options().weight)
+    t.weight = *session.options().weight;
+  const std::string sex = !r.sex.empty() ? r.sex : session.options().sex;
+  t.sex = sex == "female" ? 0 : sex == "male" ? 1 : -1;
+  return t;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Construction
 
@@ -170,6 +201,13 @@ const std::vector<SessionEvent>& VrApp::advance(const PoseFrame& frame, PoseSour
     make_avatar();
     finished_ = true;
   }
+  if (finished_) drive_avatar();
+  if (finished_) {
+    const bool menu = (frame.device(Device::Left).valid && frame.device(Device::Left).menu) ||
+                      (frame.device(Device::Right).valid && frame.device(Device::Right).menu);
+    if (!menu) end_button_released_ = true;
+    if (menu && end_button_released_) end_requested_ = true;
+  }
   return events_;
 }
 
@@ -225,10 +263,106 @@ void VrApp::make_avatar() {
     if (auto it = lm.find("head_top"); it != lm.end())
       out.eye_height = landmark_point(v, it->second).y() - 0.11;
     out.avatar.vertices = v;
+    // Embodiment: the solver, a model for per-frame posing and the first-person faces (no head
+    // or neck, so that they do not block the own view). Models without SMPL's skeleton keep the
+    // rest pose.
+    try {
+      auto posing = std::make_shared<smpl::BodyModel>(*out.model);
+      posing->posedirs.resize(posing->posedirs.rows(), 0);
+      const smpl::Faces& f = out.model->faces;
+      for (Eigen::Index i = 0; i < f.rows(); ++i) {
+        bool head = false;
+        for (int c = 0; c < 3; ++c)
+          head = head || out.model->weights.coeff(f(i, c), ik_joint::kHead) +
+                                 out.model->weights.coeff(f(i, c), ik_joint::kNeck) >
+                             0.5;
+        if (head) continue;
+        for (int c = 0; c < 3; ++c)
+          out.headless_faces.push_back(static_cast<std::uint32_t>(f(i, c)));
+      }
+      const Eigen::Vector3d top = lm.count("head_top")
+                                      ? landmark_point(v, lm.at("head_top"))
+                                      : Eigen::Vector3d(0.0, v.col(1).maxCoeff(), 0.0);
+      body_ik_.emplace(make_ik_rig(*out.model, out.avatar.betas, eyes_below_head_top(top)));
+      out.posing_model = std::move(posing);
+    } catch (const IkError&) {
+      body_ik_.reset();
+    }
+    const DevicePose& head = frame_.device(Device::Head);
+    const double yaw = head_yaw(head.orientation);
+    mirror_normal_ = Eigen::Vector3d(std::sin(yaw), 0.0, std::cos(yaw));
+    mirror_centre_ =
+        Eigen::Vector3d(head.position.x(), session_.floor().offset, head.position.z()) +
+        kMirrorPlane * mirror_normal_;
     avatar_ = std::move(out);
   } catch (const std::exception& e) {
     avatar_error_ = e.what();
   }
+}
+
+void VrApp::drive_avatar() {
+  const DevicePose& head = frame_.device(Device::Head);
+  if (!body_ik_ || !head.valid) return;
+  IkInput in;
+  in.head.position = head.position;
+  in.head.orientation = head.orientation;
+  for (int h = 0; h < 2; ++h) {
+    const DevicePose& d = frame_.device(h == 0 ? Device::Left : Device::Right);
+    if (d.valid) in.grips[static_cast<size_t>(h)] = RigidPose{d.position, d.orientation};
+  }
+  in.floor = session_.floor().offset;
+  in.time = time_;
+  const double c0 = thread_cpu_seconds();
+  const IkPose& p = body_ik_->solve(in);
+  stats_.ik_cpu_seconds += thread_cpu_seconds() - c0;
+  ++stats_.frames;
+  using namespace ik_joint;
+  EmbodimentStats::Frame fr;
+  fr.time = time_;
+  for (int h = 0; h < 2; ++h) {
+    const size_t k = static_cast<size_t>(h);
+    if (!p.hand_tracked[k] || !p.reachable[k]) continue;
+    ++stats_.reachable_wrists;
+    const double e = (p.joints[h == 0 ? kLeftWrist : kRightWrist] - p.wrist_target[k]).norm();
+    stats_.max_wrist_error = std::max(stats_.max_wrist_error, e);
+    fr.wrist_error = std::max(fr.wrist_error, e);
+  }
+  for (int j : {kLeftWrist, kRightWrist, kLeftHand, kRightHand})
+    fr.hand_in_torso =
+        fr.hand_in_torso || segment_distance(p.joints[static_cast<size_t>(j)], p.joints[kPelvis],
+                                             p.joints[kNeck]) < kTorsoRadius;
+  stats_.hands_in_torso += fr.hand_in_torso ? 1 : 0;
+  fr.limit_violations =
+      static_cast<int>(check_limits(body_ik_->rig(), p, body_ik_->options().limits).size());
+  stats_.limit_violations += fr.limit_violations;
+  if (!previous_joints_.empty())
+    for (size_t j = 0; j < p.joints.size(); ++j) {
+      const double step = (p.joints[j] - previous_joints_[j]).norm();
+      fr.joint_step = std::max(fr.joint_step, step);
+      if (step > stats_.max_joint_step) {
+        stats_.max_joint_step = step;
+        stats_.max_step_dt = time_ - previous_time_;
+      }
+    }
+  stats_.per_frame.push_back(fr);
+  previous_joints_ = p.joints;
+  previous_time_ = time_;
+}
+
+const smpl::Vertices& VrApp::posed_vertices() {
+  if (!avatar_) return posed_.vertices;
+  if (!body_ik_ || !avatar_->posing_model || body_ik_->pose().joints.empty() ||
+      stats_.frames == 0) {
+    posed_.vertices = avatar_->avatar.vertices;
+    return posed_.vertices;
+  }
+  if (posed_frame_ != stats_.frames) {
+    const IkPose& p = body_ik_->pose();
+    smpl::evaluate(*avatar_->posing_model, avatar_->avatar.betas, p.axis_angle(), p.translation,
+                   posing_workspace_, posed_);
+    posed_frame_ = stats_.frames;
+  }
+  return posed_.vertices;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -273,11 +407,16 @@ PanelContent VrApp::panel_content() const {
           line += "  (" + std::to_string(t->second.size()) + " takes)";
         c.lines.push_back(line);
       }
-      if (avatar_)
+      if (avatar_ && options_.session.role == "operator")
+        c.body = "The avatar (" + avatar_->regressor +
+                 ") is in the mirror. Hand the headset and the controllers to the participant: "
+                 "it follows them.";
+      else if (avatar_)
         c.body = "Your avatar (" + avatar_->regressor +
                  ") is in the mirror in front of you. Look down to see your body.";
       else if (!avatar_error_.empty())
         c.body = "No avatar: " + avatar_error_;
+      c.lines.push_back(kEndHint);
       break;
     }
   }
@@ -402,8 +541,65 @@ void VrApp::add_demo(render::Scene& scene) {
   }
 }
 
-void VrApp::add_mirror(render::Scene& scene) {
+void VrApp::add_mirror(render::Scene& scene, bool own_head) {
   if (!avatar_) return;
+  if (body_ik_ && renderer_ && stats_.frames > 0) {
+    // The driven body: the user's own (first person, without the head) and its reflection in
+    // a mirror fixed in the room (reflected vertices, triangles turned round so they still face
+    // out).
+    const smpl::Vertices& v = posed_vertices();
+    std::vector<float> own(static_cast<size_t>(v.size())), mirrored(own.size());
+    for (Eigen::Index i = 0; i < v.rows(); ++i) {
+      const Eigen::Vector3d p = v.row(i).transpose();
+      const Eigen::Vector3d r = p - 2.0 * (p - mirror_centre_).dot(mirror_normal_) * mirror_normal_;
+      for (int c = 0; c < 3; ++c) {
+        own[static_cast<size_t>(3 * i + c)] = static_cast<float>(p[c]);
+        mirrored[static_cast<size_t>(3 * i + c)] = static_cast<float>(r[c]);
+      }
+    }
+    if (!own_mesh_) {
+      render::MeshData m;
+      m.positions = own;
+      m.indices = avatar_->headless_faces;
+      own_mesh_ = renderer_->upload_mesh(m);
+      const smpl::Faces& f = avatar_->model->faces;
+      render::MeshData r;
+      r.positions = mirrored;
+      for (Eigen::Index i = 0; i < f.rows(); ++i)
+        for (int c : {0, 2, 1}) r.indices.push_back(static_cast<std::uint32_t>(f(i, c)));
+      mirror_mesh_ = renderer_->upload_mesh(r);
+      render::MeshData full;
+      full.positions = own;
+      full.indices = mesh_data(v, f).indices;
+      full_mesh_ = renderer_->upload_mesh(full);
+    } else {
+      renderer_->update_positions(own_mesh_, own);
+      renderer_->update_positions(mirror_mesh_, mirrored);
+      if (own_head) renderer_->update_positions(full_mesh_, own);
+    }
+    render::MeshInstance reflection;
+    reflection.mesh = mirror_mesh_;
+    scene.meshes.push_back(reflection);
+    render::MeshInstance self;
+    self.mesh = own_head ? full_mesh_ : own_mesh_;
+    self.colour = {0.80f, 0.66f, 0.56f, 1.0f};
+    scene.meshes.push_back(self);
+    // The mirror's frame, in its plane.
+    const Eigen::Vector3d side =
+        Eigen::Vector3d(mirror_normal_.z(), 0.0, -mirror_normal_.x()) * 0.7;
+    const Eigen::Vector3d up(0.0, 2.1, 0.0);
+    const Eigen::Vector3d corners[4] = {mirror_centre_ - side, mirror_centre_ + side,
+                                        mirror_centre_ + side + up, mirror_centre_ - side + up};
+    for (int i = 0; i < 4; ++i) {
+      render::Line l;
+      l.a = f3(corners[i]);
+      l.b = f3(corners[(i + 1) % 4]);
+      l.colour = {0.35f, 0.3f, 0.25f, 1};
+      l.on_top = false;
+      scene.lines.push_back(l);
+    }
+    return;
+  }
   const smpl::Vertices& v = avatar_->avatar.vertices;
   const render::MeshHandle h = ensure_mesh(avatar_mesh_, v, avatar_->model->faces);
   const double floor = session_.floor().offset;
@@ -447,7 +643,7 @@ void VrApp::add_mirror(render::Scene& scene) {
   }
 }
 
-void VrApp::build_scene(render::Scene& scene) {
+void VrApp::build_scene(render::Scene& scene, bool own_head) {
   scene = render::Scene{};
   scene.background = {0.80f, 0.86f, 0.92f, 1.0f};
   scene.grid.visible = true;
@@ -517,7 +713,7 @@ void VrApp::build_scene(render::Scene& scene) {
     scene.quads.push_back(vq);
   }
   if (session_.view().phase == Phase::Steps) add_demo(scene);
-  if (session_.view().phase == Phase::Done) add_mirror(scene);
+  if (session_.view().phase == Phase::Done) add_mirror(scene, own_head);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -555,6 +751,25 @@ render::View VrApp::first_person_view(int width, int height, float pitch_degrees
   v.camera.projection =
       render::perspective(kFovYDegrees * kPi / 180.0f,
                           static_cast<float>(width) / static_cast<float>(height), 0.05f, 50.0f);
+  return v;
+}
+
+render::View VrApp::operator_view(int width, int height) const {
+  if (!body_ik_ || stats_.frames == 0) {
+    render::View v = stereo_views(width, height)[0];
+    v.viewport = {0, 0, width, height};
+    return v;
+  }
+  const IkPose& p = body_ik_->pose();
+  const Eigen::Vector3d chest = p.joints[ik_joint::kSpine3];
+  const Eigen::Vector3d eye =
+      chest + Eigen::AngleAxisd(p.body_yaw, Eigen::Vector3d::UnitY()) *
+                  Eigen::Vector3d(1.2, 0.25, 1.9);  // the user's front left, a little higher
+  render::View v;
+  v.viewport = {0, 0, width, height};
+  v.camera.eye = f3(eye);
+  v.camera.target = f3(chest - Eigen::Vector3d(0.0, 0.25, 0.0));
+  v.camera.fov_y_degrees = 55.0f;
   return v;
 }
 
@@ -617,7 +832,8 @@ Json VrApp::session_json() const {
   return j;
 }
 
-std::vector<std::string> VrApp::write_outputs() const {
+std::vector<std::string> VrApp::write_outputs() {
+  outputs_written_ = true;
   std::vector<std::string> files;
   if (options_.output_dir.empty()) return files;
   std::filesystem::create_directories(options_.output_dir);

@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <istream>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -62,6 +63,9 @@ struct PoseFrame {
   double time = 0.0;                            ///< seconds since the start of the recording
   std::array<DevicePose, kNumDevices> devices;  ///< indexed by Device
   std::vector<OperatorCommand> commands;        ///< commands issued during this frame
+  /// The interaction profile the runtime reported on this frame, when it differs from the one
+  /// in force before (live runtimes report it some frames after the start); "" = no change.
+  std::string interaction_profile;
   int line = 0;  ///< 1-based line in the file it was read from (0 if none)
 
   const DevicePose& device(Device d) const { return devices[static_cast<int>(d)]; }
@@ -72,16 +76,23 @@ struct PoseFrame {
 struct PoseLogHeader {
   int version = 1;                        ///< format version (this reader knows 1)
   std::string reference_space = "stage";  ///< OpenXR reference space the poses are in
+  /// Profile in force at the first frame; "" when the runtime had not reported one yet (frames
+  /// name it when it becomes known, PoseFrame::interaction_profile).
   std::string interaction_profile = "/interaction_profiles/htc/vive_controller";
   std::string role = "self";  ///< "self" or "operator"
-  double frame_rate = 90.0;   ///< nominal frames per second (informative)
+  double frame_rate = 90.0;   ///< the source's frames per second (live: the runtime's display rate)
   std::string source;         ///< "openxr", "simulator seed=...", ...
+  std::optional<double> weight;  ///< kg typed on the command line (--weight) of the recording
+  std::string sex;               ///< --sex of the recording ("" = not given)
 };
 
 /// A whole log in memory.
 struct PoseLog {
   PoseLogHeader header;
   std::vector<PoseFrame> frames;
+  /// Why the source ended early, when the recording says so (a `{"lost": "..."}` line after the
+  /// last frame: the runtime lost the session); "" = the log simply ends.
+  std::string lost;
 };
 
 /// Checks applied while reading, with the reason for each default.
@@ -125,6 +136,8 @@ class PoseLogWriter {
 
   /// Appends one frame. Throws PoseLogError on I/O failure.
   void write(const PoseFrame& frame);
+  /// Appends the `{"lost": reason}` line: the source was lost here (see PoseLog::lost).
+  void write_lost(const std::string& reason);
   const std::string& path() const { return path_; }
 
  private:

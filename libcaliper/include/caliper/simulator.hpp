@@ -26,6 +26,9 @@ namespace caliper {
 /// facing +Z, centred at the origin in x and z), metres; plus the typed values.
 struct SimulatedPerson {
   std::map<std::string, Eigen::Vector3d> landmarks;
+  /// Rest joints in the same frame (SMPL's 24 for SMPL-structured models; used by the
+  /// embodiment motions), empty when the model has another skeleton.
+  std::vector<Eigen::Vector3d> joints;
   double weight = 70.0;        ///< kg
   std::string sex = "female";  ///< typed choice
 };
@@ -62,6 +65,12 @@ struct SimulatorOptions {
   std::string redo_step;
   /// Put typed values (weight, sex) into the log as commands (else the app takes --weight/--sex).
   bool typed_in_log = true;
+  /// After the measurements: wave (right hand), reach up, cross arms, squat and a 90 degree
+  /// turn, moving the headset and the controllers as the person's body would (for the
+  /// embodiment; needs SimulatedPerson::joints).
+  bool motions = false;
+  /// At the end the person presses the right controller's menu button (ends the session).
+  bool end_button = true;
 };
 
 /// The simulated session.
@@ -73,6 +82,9 @@ struct SimulatedSession {
   /// Frame indices where no trigger is held and no hold is pending: places where cutting the log
   /// (a simulated crash) loses no sample.
   std::vector<size_t> quiet_frames;
+  /// First and one-past-last frame of the embodiment motions (both 0 without them); the first is
+  /// where the first posture is reached, after the hands have left the last measuring posture.
+  size_t motion_begin = 0, motion_end = 0;
 };
 
 /// Simulates the whole protocol. Throws InvalidInputError when a landmark the protocol needs is
