@@ -6,6 +6,7 @@ find_package(Threads REQUIRED)
 find_package(PkgConfig REQUIRED)
 find_package(TinyGLTF REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
+find_package(assimp 5 REQUIRED)
 
 if(CALIPER_BUILD_TESTS)
   find_package(GTest REQUIRED)
