@@ -173,14 +173,11 @@ std::unique_ptr<aiScene> build_scene(const BodyModel& model,
   }
   scene->mRootNode->addChildren(static_cast<unsigned>(roots.size()), roots.data());
 
-  // Scene metadata: the unit (read by Assimp's FBX writer into GlobalSettings) and the extras.
-  scene->mMetaData = aiMetadata::Alloc(static_cast<unsigned>(2 + options.extras.size()));
+  // Scene metadata: the unit, which Assimp's FBX writer puts into GlobalSettings. (The extras
+  // are added to the mesh's Model node afterwards: Assimp writes no other scene metadata.)
+  scene->mMetaData = aiMetadata::Alloc(2);
   scene->mMetaData->Set(0, "UnitScaleFactor", kCentimetresPerMetre);
   scene->mMetaData->Set(1, "OriginalUnitScaleFactor", kCentimetresPerMetre);
-  unsigned i = 2;
-  for (const auto& [key, value] : options.extras) {
-    scene->mMetaData->Set(i++, key, aiString(value));
-  }
   return scene;
 }
 
@@ -285,7 +282,56 @@ void write_node(std::string& out, const FbxNode& n, bool wide) {
 
 }  // namespace
 
-std::string fix_fbx_null_records(const std::string& bytes) {
+namespace {
+
+// The string values of a node's property list (only 'S' and 'L' properties are expected on the
+// nodes this is used for); stops at the first other type.
+std::vector<std::string> string_properties(const FbxNode& n) {
+  std::vector<std::string> out;
+  const std::string& h = n.head;
+  size_t p = 1 + static_cast<unsigned char>(h[0]);  // skip the name
+  for (std::uint64_t i = 0; i < n.num_properties && p < h.size(); ++i) {
+    const char type = h[p++];
+    if (type == 'L') {
+      p += 8;
+    } else if (type == 'S' || type == 'R') {
+      if (p + 4 > h.size()) break;
+      std::uint32_t len;
+      std::memcpy(&len, h.data() + p, 4);
+      p += 4;
+      if (p + len > h.size()) break;
+      out.push_back(h.substr(p, len));
+      p += len;
+    } else {
+      break;
+    }
+  }
+  return out;
+}
+
+std::string node_name(const FbxNode& n) {
+  return n.head.substr(1, static_cast<unsigned char>(n.head[0]));
+}
+
+// A `P` record: "name", "KString", "", "U", "value" (a user-defined string property).
+FbxNode string_property(const std::string& name, const std::string& value) {
+  FbxNode p;
+  p.head = std::string(1, '\x01') + "P";
+  const std::string fields[5] = {name, "KString", "", "U", value};
+  for (const auto& f : fields) {
+    p.head += 'S';
+    const auto len = static_cast<std::uint32_t>(f.size());
+    p.head.append(reinterpret_cast<const char*>(&len), 4);
+    p.head += f;
+  }
+  p.num_properties = 5;
+  p.property_bytes = p.head.size() - 2;
+  return p;
+}
+
+// Parses binary FBX, adds `extras` as user string properties of the mesh's Model node, and
+// writes it back with every null record (see fix_fbx_null_records).
+std::string finish_fbx(const std::string& bytes, const std::map<std::string, std::string>& extras) {
   static const char kMagic[] = "Kaydara FBX Binary  ";
   if (bytes.size() < 27 + 16 || bytes.compare(0, 20, kMagic) != 0) {
     throw ModelError("not a binary FBX file (no 'Kaydara FBX Binary' header)");
@@ -307,6 +353,27 @@ std::string fix_fbx_null_records(const std::string& bytes) {
   const std::string footer_id = bytes.substr(p, 16);
   const std::string end_magic = bytes.substr(bytes.size() - 16);
 
+  if (!extras.empty()) {
+    bool added = false;
+    for (auto& object : top) {
+      if (node_name(object) != "Objects") continue;
+      for (auto& model : object.children) {
+        const auto props = string_properties(model);
+        if (node_name(model) != "Model" || props.size() < 2 || props.back() != "Mesh") continue;
+        for (auto& child : model.children) {
+          if (node_name(child) != "Properties70") continue;
+          for (const auto& [key, value] : extras) {
+            child.children.push_back(string_property(key, value));
+          }
+          added = true;
+          break;
+        }
+        break;
+      }
+    }
+    if (!added) throw ModelError("Assimp's FBX output has no mesh Model with properties");
+  }
+
   std::string out = bytes.substr(0, 27);
   out.reserve(bytes.size() + bytes.size() / 8);
   for (const auto& n : top) write_node(out, n, wide);
@@ -320,6 +387,12 @@ std::string fix_fbx_null_records(const std::string& bytes) {
   out.append(120, '\0');
   out += end_magic;
   return out;
+}
+
+}  // namespace
+
+std::string fix_fbx_null_records(const std::string& bytes) {
+  return finish_fbx(bytes, {});
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -338,8 +411,9 @@ std::string export_fbx(const BodyModel& model, const Eigen::Ref<const Eigen::Vec
                      ": Assimp could not write the FBX file: " + exporter.GetErrorString());
   }
   try {
-    return fix_fbx_null_records(
-        std::string(static_cast<const char*>(blob->data), static_cast<size_t>(blob->size)));
+    return finish_fbx(
+        std::string(static_cast<const char*>(blob->data), static_cast<size_t>(blob->size)),
+        options.extras);
   } catch (const ModelError& e) {
     throw ModelError(context + ": Assimp's FBX output could not be completed: " + e.what());
   }
@@ -410,10 +484,24 @@ FbxAvatar read_fbx(const std::string& path) {
       if (key == "UnitScaleFactor") {
         if (e.mType == AI_DOUBLE) out.unit_scale_factor = *static_cast<const double*>(e.mData);
         if (e.mType == AI_FLOAT) out.unit_scale_factor = *static_cast<const float*>(e.mData);
-      } else if (e.mType == AI_AISTRING) {
-        out.metadata[key] = static_cast<const aiString*>(e.mData)->C_Str();
       }
     }
+  }
+  // The avatar's metadata: user string properties of the node holding the mesh.
+  std::vector<const aiNode*> stack = {scene->mRootNode};
+  while (!stack.empty()) {
+    const aiNode* n = stack.back();
+    stack.pop_back();
+    if (!n) continue;
+    if (n->mNumMeshes > 0 && n->mMetaData) {
+      for (unsigned i = 0; i < n->mMetaData->mNumProperties; ++i) {
+        if (n->mMetaData->mValues[i].mType == AI_AISTRING) {
+          out.metadata[n->mMetaData->mKeys[i].C_Str()] =
+              static_cast<const aiString*>(n->mMetaData->mValues[i].mData)->C_Str();
+        }
+      }
+    }
+    for (unsigned c = 0; c < n->mNumChildren; ++c) stack.push_back(n->mChildren[c]);
   }
   return out;
 }

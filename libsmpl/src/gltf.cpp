@@ -667,6 +667,22 @@ GltfAvatar read_gltf(const std::string& path) {
     }
     out.morph_targets.emplace_back(d);
   }
+  const auto& gmesh = g.meshes[static_cast<size_t>(skinned->mesh)];
+  out.morph_weights.assign(out.morph_targets.size(), 0.0);
+  out.morph_names.assign(out.morph_targets.size(), std::string());
+  for (size_t t = 0; t < out.morph_targets.size() && t < gmesh.weights.size(); ++t) {
+    out.morph_weights[t] = gmesh.weights[t];
+  }
+  if (gmesh.extras.IsObject() && gmesh.extras.Has("targetNames")) {
+    const auto& names = gmesh.extras.Get("targetNames");
+    for (size_t t = 0; names.IsArray() && t < out.morph_targets.size() &&
+                       t < static_cast<size_t>(names.ArrayLen());
+         ++t) {
+      if (names.Get(static_cast<int>(t)).IsString()) {
+        out.morph_names[t] = names.Get(static_cast<int>(t)).Get<std::string>();
+      }
+    }
+  }
   out.generator = g.asset.generator;
   if (g.asset.extras.IsObject()) {
     for (const auto& key : g.asset.extras.Keys()) {

@@ -23,9 +23,10 @@
 
 namespace smpl {
 
-/// Writes `path` (.fbx, binary FBX 7.5) atomically. options: stand_on_floor, name, extras (FBX
-/// scene metadata), pose, bone_names; shape_keys, pose_correctives, up and the VRM fields are
-/// ignored. Throws ModelError naming the file and the problem (Assimp's message included).
+/// Writes `path` (.fbx, binary FBX 7.5) atomically. options: stand_on_floor, name, extras (user
+/// string properties, "KString" with flag "U", of the mesh's Model node), pose, bone_names;
+/// shape_keys, pose_correctives, up and the VRM fields are ignored. Throws ModelError naming the
+/// file and the problem (Assimp's message included).
 void write_fbx(const std::string& path, const BodyModel& model,
                const Eigen::Ref<const Eigen::VectorXd>& betas, const ExportOptions& options = {});
 
@@ -45,7 +46,8 @@ struct FbxAvatar {
   /// translation part.
   Joints bind_joints;
   double unit_scale_factor = 1.0;  ///< GlobalSettings UnitScaleFactor (cm per unit; 100 = metres)
-  std::map<std::string, std::string> metadata;  ///< string entries of the scene metadata
+  /// String metadata of the node holding the mesh (our files: ExportOptions::extras).
+  std::map<std::string, std::string> metadata;
 };
 
 /// Reads an FBX file with Assimp. Throws ModelError naming the file (Assimp's message included)

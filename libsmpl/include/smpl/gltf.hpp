@@ -73,6 +73,8 @@ struct GltfAvatar {
   Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor> joint_weights;  ///< V x 4 WEIGHTS_0
   /// Position displacements (V x 3) of the mesh's morph targets, in order (empty when none).
   std::vector<Vertices> morph_targets;
+  std::vector<double> morph_weights;          ///< mesh.weights (default weights; 0 when absent)
+  std::vector<std::string> morph_names;       ///< mesh.extras.targetNames ("" when absent)
   std::string generator;                      ///< asset.generator
   std::map<std::string, std::string> extras;  ///< asset.extras entries that are strings
   std::vector<std::string> warnings;          ///< tinygltf's warnings on a file that still loaded.
