@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "app/editor_core.hpp"
 #include "caliper/json.hpp"
 #include "caliper/measurements.hpp"
 #include "cli_fixture.hpp"
@@ -151,6 +152,42 @@ TEST_F(Commands, EveryFormatMeasuresBackTheCreatedAvatarToAMillimetre) {
       }
     }
     EXPECT_GE(compared, 13u) << c.file;
+  }
+  ::unsetenv("CALIPER_ASSETS");
+}
+
+// The editor's export carries the same record as `caliper create`: `caliper measure` on it picks
+// the open model and sex it was made with (not the neutral default) and reproduces the editor's
+// measurements, weight included, in every format.
+TEST_F(Commands, MeasureOnAnEditorExportUsesItsModelAndSex) {
+  const std::string assets = std::string(CALIPER_SOURCE_DIR) + "/assets";
+  ::setenv("CALIPER_ASSETS", assets.c_str(), 1);
+  caliper::app::EditorCore editor;
+  ASSERT_TRUE(editor.load_model_file(assets + "/models/caliper-male.npz"));
+  ASSERT_TRUE(editor.set_value("height", 1.85));
+  ASSERT_TRUE(editor.set_value("weight", 90.3));
+  const MeasurementMap made = editor.avatar().achieved;
+  ASSERT_TRUE(made.count("weight"));
+  const auto meta = editor.export_metadata();
+  EXPECT_EQ(meta.at("open_model_sex"), "male");
+  EXPECT_EQ(meta.at("model"), "caliper-open-male");
+  EXPECT_EQ(meta.at("regressor"), "R2");
+  EXPECT_TRUE(meta.count("betas") && meta.count("measurements") && meta.count("generator"));
+  ASSERT_EQ(caliper::app::export_formats().size(), 6u);
+  for (const auto& format : caliper::app::export_formats()) {
+    const std::string file = path("editor" + format.extension);
+    ASSERT_TRUE(editor.export_avatar(file)) << editor.messages().back().text;
+    const CliRun m = run({"measure", file, "--json"});
+    ASSERT_EQ(m.code, kExitOk) << file << ": " << m.err;
+    const Json j = parse_json(m.out);
+    EXPECT_NE(j.at("model").as_string().find("caliper-male.npz"), std::string::npos) << file;
+    EXPECT_EQ(j.at("model_chosen_by").as_string(), "the avatar file") << file;
+    const Json& measured = j.at("measurements");
+    EXPECT_NEAR(measured.at("weight").as_number(), made.at("weight"), kWeightTolKg) << file;
+    for (const auto& [id, value] : made) {
+      if (id == "weight" || id == "volume" || !measured.contains(id)) continue;
+      EXPECT_NEAR(measured.at(id).as_number(), value, kInputTolM) << file << " " << id;
+    }
   }
   ::unsetenv("CALIPER_ASSETS");
 }
