@@ -100,7 +100,7 @@ TEST(Fbx, OpenModelReadsBackWith24BonesWeightsAndHeight) {
   for (Eigen::Index v = 0; v < a.weight_sums.size(); ++v) {
     ASSERT_NEAR(a.weight_sums[v], 1.0, kWeightSumTol) << "vertex " << v;
   }
-  EXPECT_DOUBLE_EQ(a.unit_scale_factor, 100.0);  // metres, recorded
+  EXPECT_DOUBLE_EQ(a.unit_scale_factor, 100.0);       // metres, recorded
   ASSERT_EQ(a.metadata.count("open_model_sex"), 1u);  // the extras, as the mesh's properties
   EXPECT_EQ(a.metadata.at("open_model_sex"), "female");
   EXPECT_EQ(a.metadata.at("model"), m.meta.name);
