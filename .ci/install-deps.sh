@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # Installs everything The Virtual Caliper needs from Debian 12 packages (run as root), plus the
-# Khronos glTF validator from the npm registry (pinned in tests/gltf/package-lock.json).
+# Khronos glTF validator and the reference VRM loader from the npm registry (pinned in
+# tests/gltf/package-lock.json and tests/vrm/package-lock.json).
 # Safe to run again: apt and npm skip what is already there.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(
   build-essential cmake ninja-build pkg-config git clang clang-format libclang-rt-14-dev
-  libeigen3-dev zlib1g-dev libtinygltf-dev nlohmann-json3-dev libstb-dev
+  libeigen3-dev zlib1g-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libassimp-dev
   libgtest-dev libgmock-dev libbenchmark-dev python3 python3-numpy python3-scipy
   python3-dev python3-pytest pybind11-dev
   libgl-dev libglfw3-dev libxrandr-dev libglm-dev libimgui-dev libosmesa6-dev libopenxr-dev libopenxr-loader1
@@ -31,5 +32,9 @@ fi
 if [ -f tests/gltf/package.json ] && [ ! -d tests/gltf/node_modules/gltf-validator ]; then
   echo "install-deps: installing the Khronos glTF validator (npm ci)"
   (cd tests/gltf && npm ci --no-audit --no-fund --loglevel=error)
+fi
+if [ -f tests/vrm/package.json ] && [ ! -d tests/vrm/node_modules/@pixiv/three-vrm ]; then
+  echo "install-deps: installing the reference VRM loader @pixiv/three-vrm (npm ci)"
+  (cd tests/vrm && npm ci --no-audit --no-fund --loglevel=error)
 fi
 echo "install-deps: all dependencies present"

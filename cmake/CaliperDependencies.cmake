@@ -6,6 +6,7 @@ find_package(Threads REQUIRED)
 find_package(PkgConfig REQUIRED)
 find_package(TinyGLTF REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
+find_package(assimp 5 REQUIRED)
 
 # Python: Debian's python3 (python3-numpy, python3-scipy, python3-pytest come from apt), never
 # whichever python3 is first on PATH (a pyenv shim on some machines). Set CALIPER_PYTHON to use

@@ -1,12 +1,19 @@
-// Mesh export: Wavefront OBJ (text) and PLY 1.0 (binary little endian), with per-vertex normals.
+// Export options shared by every format, atomic file writing, and mesh export: Wavefront OBJ
+// (text) and PLY 1.0 (binary little endian), with per-vertex normals, an axis convention and
+// the avatar's metadata in a comment.
+#include <algorithm>
+#include <atomic>
 #include <cerrno>
+#include <cmath>
+#include <cstdarg>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
-#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include <unistd.h>
 
 #include <Eigen/Geometry>
 
@@ -15,30 +22,6 @@
 namespace smpl {
 namespace {
 
-struct FileCloser {
-  void operator()(std::FILE* f) const {
-    if (f) std::fclose(f);
-  }
-};
-using File = std::unique_ptr<std::FILE, FileCloser>;
-
-File open_for_writing(const std::string& path) {
-  File f(std::fopen(path.c_str(), "wb"));
-  if (!f) {
-    throw ModelError(path + ": cannot open for writing (" + std::strerror(errno) +
-                     "); check that the folder exists and is writable");
-  }
-  return f;
-}
-
-void finish(File f, const std::string& path) {
-  const bool bad = std::ferror(f.get()) != 0;
-  std::FILE* raw = f.release();
-  if (std::fclose(raw) != 0 || bad) {
-    throw ModelError(path + ": writing failed (" + std::strerror(errno) + "); is the disk full?");
-  }
-}
-
 void check_mesh(const Vertices& vertices, const Faces& faces, const std::string& path) {
   if (faces.size() > 0 && (faces.minCoeff() < 0 || faces.maxCoeff() >= vertices.rows())) {
     throw ModelError(path + ": a face refers to vertex " + std::to_string(faces.maxCoeff()) +
@@ -46,7 +29,148 @@ void check_mesh(const Vertices& vertices, const Faces& faces, const std::string&
   }
 }
 
+bool ends_with_ci(const std::string& s, const std::string& suffix) {
+  if (s.size() < suffix.size()) return false;
+  for (size_t i = 0; i < suffix.size(); ++i) {
+    const char a = s[s.size() - suffix.size() + i];
+    if (std::tolower(static_cast<unsigned char>(a)) != suffix[i]) return false;
+  }
+  return true;
+}
+
+// printf into a std::string (each call's output is short: one line of numbers).
+__attribute__((format(printf, 2, 3))) void appendf(std::string& out, const char* format, ...) {
+  char buf[512];
+  va_list args;
+  va_start(args, format);
+  const int n = std::vsnprintf(buf, sizeof buf, format, args);
+  va_end(args);
+  if (n > 0) out.append(buf, std::min(static_cast<size_t>(n), sizeof buf - 1));
+}
+
+// Metadata comments hold one line: any line break would end the comment early.
+std::string one_line(std::string s) {
+  for (char& c : s) {
+    if (c == '\n' || c == '\r') c = ' ';
+  }
+  return s;
+}
+
 }  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Options shared by every format
+// ---------------------------------------------------------------------------------------------
+
+const std::vector<std::string>& smpl_fbx_bone_names() {
+  static const std::vector<std::string> names = {
+      "m_avg_Pelvis",  "m_avg_L_Hip",      "m_avg_R_Hip",      "m_avg_Spine1",   "m_avg_L_Knee",
+      "m_avg_R_Knee",  "m_avg_Spine2",     "m_avg_L_Ankle",    "m_avg_R_Ankle",  "m_avg_Spine3",
+      "m_avg_L_Foot",  "m_avg_R_Foot",     "m_avg_Neck",       "m_avg_L_Collar", "m_avg_R_Collar",
+      "m_avg_Head",    "m_avg_L_Shoulder", "m_avg_R_Shoulder", "m_avg_L_Elbow",  "m_avg_R_Elbow",
+      "m_avg_L_Wrist", "m_avg_R_Wrist",    "m_avg_L_Hand",     "m_avg_R_Hand"};
+  return names;
+}
+
+std::vector<std::string> bone_names(const BodyModel& model, BoneNames naming) {
+  const auto K = static_cast<size_t>(model.num_joints());
+  if (naming == BoneNames::Smpl) {
+    if (model.parents != smpl_parents() ||
+        (!model.joint_names.empty() && model.joint_names != smpl_joint_names())) {
+      throw ModelError(
+          "SMPL bone names (m_avg_Pelvis, ...) need a model with SMPL's 24 joints; "
+          "this model has " +
+          std::to_string(K) +
+          " joints with other names or parents: export with the model's own names");
+    }
+    return smpl_fbx_bone_names();
+  }
+  std::vector<std::string> names(K);
+  for (size_t k = 0; k < K; ++k) {
+    names[k] = k < model.joint_names.size() && !model.joint_names[k].empty()
+                   ? model.joint_names[k]
+                   : "joint" + std::to_string(k);
+  }
+  return names;
+}
+
+void check_pose(const BodyModel& model, const ExportOptions& options) {
+  const auto n = options.pose.size();
+  if (n == 0) return;
+  if (n != 3 * model.num_joints()) {
+    throw ModelError("the pose has " + std::to_string(n) + " numbers but the model's " +
+                     std::to_string(model.num_joints()) + " joints need " +
+                     std::to_string(3 * model.num_joints()) +
+                     " (axis-angle, joint 0 = global orientation)");
+  }
+  if (!options.pose.allFinite()) throw ModelError("the pose contains NaN or infinity");
+}
+
+Body export_rest_body(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& betas,
+                      const ExportOptions& options, const std::string& context) {
+  if (betas.size() > model.num_betas()) {
+    throw ModelError(context + ": " + std::to_string(betas.size()) +
+                     " betas given but the model has " + std::to_string(model.num_betas()));
+  }
+  Body body = shape(model, betas);
+  if (options.stand_on_floor && body.vertices.rows() > 0) {
+    const double lift = -body.vertices.col(1).minCoeff();
+    body.vertices.col(1).array() += lift;
+    body.joints.col(1).array() += lift;
+  }
+  return body;
+}
+
+Vertices to_up_axis(const Vertices& vertices, UpAxis up) {
+  if (up == UpAxis::Y) return vertices;
+  Vertices out(vertices.rows(), 3);
+  out.col(0) = vertices.col(0);
+  out.col(1) = -vertices.col(2);
+  out.col(2) = vertices.col(1);
+  return out;
+}
+
+Vertices from_up_axis(const Vertices& vertices, UpAxis up) {
+  if (up == UpAxis::Y) return vertices;
+  Vertices out(vertices.rows(), 3);
+  out.col(0) = vertices.col(0);
+  out.col(1) = vertices.col(2);
+  out.col(2) = -vertices.col(1);
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Atomic file writing
+// ---------------------------------------------------------------------------------------------
+
+void write_file_atomically(const std::string& path, const std::string& bytes) {
+  static std::atomic<unsigned> counter{0};
+  const std::string tmp =
+      path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter.fetch_add(1));
+  std::FILE* f = std::fopen(tmp.c_str(), "wb");
+  if (!f) {
+    throw ModelError(path + ": cannot open for writing (" + std::strerror(errno) +
+                     "); check that the folder exists and is writable");
+  }
+  const size_t written = bytes.empty() ? 0 : std::fwrite(bytes.data(), 1, bytes.size(), f);
+  int err = written == bytes.size() ? 0 : errno;
+  if (std::fflush(f) != 0 && err == 0) err = errno;
+  if (std::fclose(f) != 0 && err == 0) err = errno;
+  if (written != bytes.size() || err != 0) {
+    std::remove(tmp.c_str());
+    throw ModelError(path + ": writing failed (" + std::strerror(err ? err : EIO) +
+                     "); is the disk full? The previous file, if any, is unchanged");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    err = errno;
+    std::remove(tmp.c_str());
+    throw ModelError(path + ": cannot replace the file (" + std::strerror(err) + ")");
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// OBJ and PLY
+// ---------------------------------------------------------------------------------------------
 
 Vertices vertex_normals(const Vertices& vertices, const Faces& faces) {
   Vertices n = Vertices::Zero(vertices.rows(), 3);
@@ -68,41 +192,51 @@ Vertices vertex_normals(const Vertices& vertices, const Faces& faces) {
   return n;
 }
 
-void write_obj(const std::string& path, const Vertices& vertices, const Faces& faces) {
-  check_mesh(vertices, faces, path);
+void write_obj(const std::string& path, const Vertices& vertices_y_up, const Faces& faces,
+               UpAxis up, const std::string& metadata) {
+  check_mesh(vertices_y_up, faces, path);
+  const Vertices vertices = to_up_axis(vertices_y_up, up);
   const Vertices normals = vertex_normals(vertices, faces);
-  File f = open_for_writing(path);
-  std::fprintf(f.get(), "# The Virtual Caliper mesh export: %lld vertices, %lld faces, metres\n",
-               static_cast<long long>(vertices.rows()), static_cast<long long>(faces.rows()));
+  std::string out;
+  out.reserve(static_cast<size_t>(vertices.rows() * 80 + faces.rows() * 40) + 256);
+  appendf(out, "# The Virtual Caliper mesh export: %lld vertices, %lld faces, metres\n",
+          static_cast<long long>(vertices.rows()), static_cast<long long>(faces.rows()));
+  out += up == UpAxis::Z ? "# up: z (+Z up, the body faces -Y)\n"
+                         : "# up: y (+Y up, the body faces +Z)\n";
+  if (!metadata.empty()) out += "# caliper-metadata " + one_line(metadata) + "\n";
   for (Eigen::Index v = 0; v < vertices.rows(); ++v) {
-    std::fprintf(f.get(), "v %.9g %.9g %.9g\n", vertices(v, 0), vertices(v, 1), vertices(v, 2));
+    appendf(out, "v %.9g %.9g %.9g\n", vertices(v, 0), vertices(v, 1), vertices(v, 2));
   }
   for (Eigen::Index v = 0; v < normals.rows(); ++v) {
-    std::fprintf(f.get(), "vn %.6f %.6f %.6f\n", normals(v, 0), normals(v, 1), normals(v, 2));
+    appendf(out, "vn %.6f %.6f %.6f\n", normals(v, 0), normals(v, 1), normals(v, 2));
   }
   for (Eigen::Index i = 0; i < faces.rows(); ++i) {
     const int a = faces(i, 0) + 1, b = faces(i, 1) + 1, c = faces(i, 2) + 1;
-    std::fprintf(f.get(), "f %d//%d %d//%d %d//%d\n", a, a, b, b, c, c);
+    appendf(out, "f %d//%d %d//%d %d//%d\n", a, a, b, b, c, c);
   }
-  finish(std::move(f), path);
+  write_file_atomically(path, out);
 }
 
-void write_ply(const std::string& path, const Vertices& vertices, const Faces& faces) {
-  check_mesh(vertices, faces, path);
+void write_ply(const std::string& path, const Vertices& vertices_y_up, const Faces& faces,
+               UpAxis up, const std::string& metadata) {
+  check_mesh(vertices_y_up, faces, path);
+  const Vertices vertices = to_up_axis(vertices_y_up, up);
   const Vertices normals = vertex_normals(vertices, faces);
-  File f = open_for_writing(path);
-  std::fprintf(f.get(),
-               "ply\nformat binary_little_endian 1.0\ncomment The Virtual Caliper mesh export, "
-               "metres\nelement vertex %lld\nproperty float x\nproperty float y\nproperty float "
-               "z\nproperty float nx\nproperty float ny\nproperty float nz\nelement face "
-               "%lld\nproperty list uchar int vertex_indices\nend_header\n",
-               static_cast<long long>(vertices.rows()), static_cast<long long>(faces.rows()));
+  std::string buf =
+      "ply\nformat binary_little_endian 1.0\ncomment The Virtual Caliper mesh export, "
+      "metres\n";
+  buf += up == UpAxis::Z ? "comment up: z (+Z up, the body faces -Y)\n"
+                         : "comment up: y (+Y up, the body faces +Z)\n";
+  if (!metadata.empty()) buf += "comment caliper-metadata " + one_line(metadata) + "\n";
+  appendf(buf,
+          "element vertex %lld\nproperty float x\nproperty float y\nproperty float "
+          "z\nproperty float nx\nproperty float ny\nproperty float nz\nelement face "
+          "%lld\nproperty list uchar int vertex_indices\nend_header\n",
+          static_cast<long long>(vertices.rows()), static_cast<long long>(faces.rows()));
   static_assert(sizeof(float) == 4, "PLY float is 4 bytes");
-  std::vector<unsigned char> buf;
-  buf.reserve(static_cast<size_t>(vertices.rows() * 24 + faces.rows() * 13));
+  buf.reserve(buf.size() + static_cast<size_t>(vertices.rows() * 24 + faces.rows() * 13));
   auto put = [&buf](const void* p, size_t n) {
-    const auto* c = static_cast<const unsigned char*>(p);
-    buf.insert(buf.end(), c, c + n);  // x86 and ARM Linux are little endian, as PLY asks here
+    buf.append(static_cast<const char*>(p), n);  // x86 and ARM Linux are little endian, as PLY
   };
   for (Eigen::Index v = 0; v < vertices.rows(); ++v) {
     const float xyz[6] = {static_cast<float>(vertices(v, 0)), static_cast<float>(vertices(v, 1)),
@@ -116,8 +250,61 @@ void write_ply(const std::string& path, const Vertices& vertices, const Faces& f
     put(&three, 1);
     put(ids, sizeof ids);
   }
-  std::fwrite(buf.data(), 1, buf.size(), f.get());
-  finish(std::move(f), path);
+  write_file_atomically(path, buf);
+}
+
+void write_mesh_avatar(const std::string& path, const BodyModel& model,
+                       const Eigen::Ref<const Eigen::VectorXd>& betas,
+                       const ExportOptions& options) {
+  const bool obj = ends_with_ci(path, ".obj");
+  if (!obj && !ends_with_ci(path, ".ply")) {
+    throw ModelError(path + ": unknown mesh file extension; use .obj or .ply");
+  }
+  check_pose(model, options);
+  Vertices v;
+  if (options.pose.size() == 0) {
+    v = export_rest_body(model, betas, options, path).vertices;
+  } else {
+    if (betas.size() > model.num_betas()) {
+      throw ModelError(path + ": " + std::to_string(betas.size()) +
+                       " betas given but the model has " + std::to_string(model.num_betas()));
+    }
+    // The posed mesh, lifted by the rest pose's floor offset (a pose keeps its root in place).
+    const double lift = options.stand_on_floor && model.num_vertices() > 0
+                            ? -shape(model, betas).vertices.col(1).minCoeff()
+                            : 0.0;
+    v = evaluate(model, betas, options.pose).vertices;
+    v.col(1).array() += lift;
+  }
+  std::string metadata;
+  if (!options.extras.empty()) {
+    // A flat JSON object of strings, escaped by hand (libsmpl links no JSON library).
+    metadata = "{";
+    bool first = true;
+    for (const auto& [key, value] : options.extras) {
+      metadata += first ? "\"" : ", \"";
+      first = false;
+      for (const std::string* s : {&key, &value}) {
+        for (const char c : *s) {
+          if (c == '"' || c == '\\') {
+            metadata += '\\';
+            metadata += c;
+          } else if (static_cast<unsigned char>(c) < 0x20) {
+            appendf(metadata, "\\u%04x", static_cast<unsigned>(c));
+          } else {
+            metadata += c;
+          }
+        }
+        metadata += s == &key ? "\": \"" : "\"";
+      }
+    }
+    metadata += "}";
+  }
+  if (obj) {
+    write_obj(path, v, model.faces, options.up, metadata);
+  } else {
+    write_ply(path, v, model.faces, options.up, metadata);
+  }
 }
 
 }  // namespace smpl

@@ -1,11 +1,12 @@
 // glTF 2.0 export and import of a skinned SMPL-family avatar (Khronos glTF 2.0 specification,
-// sections 3.7 "Geometry" (meshes, morph targets, skins) and 4.4 "GLB file format").
+// sections 3.7 "Geometry" (meshes, morph targets, skins) and 4.4 "GLB file format"), and VRM 1.0
+// export (VRM Consortium, VRMC_vrm 1.0: humanoid.md, meta.md, firstPerson.md, tpose.md).
 // This is the only translation unit of the project that includes tiny_gltf.h; Debian's
 // libtinygltf.so is linked (built with its default stb image support, which the header's
 // declarations match when no TINYGLTF_NO_* macro is defined here).
 //
 // Sections: 1. buffer building helpers  2. avatar -> tinygltf::Model  3. write_gltf / glb_bytes
-//           4. accessor reading  5. read_gltf
+//           4. VRM  5. accessor reading  6. read_gltf
 #include "smpl/gltf.hpp"
 
 #include <algorithm>
@@ -21,6 +22,8 @@
 
 #include "smpl/evaluate.hpp"
 #include "smpl/export.hpp"
+
+#include <Eigen/Geometry>
 
 namespace smpl {
 namespace {
@@ -126,22 +129,30 @@ void top_influences(const SparseMatrix& weights, std::vector<std::uint16_t>& joi
 // 2. Avatar -> tinygltf::Model
 // ---------------------------------------------------------------------------------------------
 
+// Column-major 4 x 4 quaternion of a rotation matrix, as glTF's node.rotation (x, y, z, w).
+std::vector<double> gltf_quaternion(const Eigen::Matrix3d& r) {
+  const Eigen::Quaterniond q(r);
+  return {q.x(), q.y(), q.z(), q.w()};
+}
+
 tinygltf::Model build_model(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& betas,
                             const GltfOptions& options, const std::string& context) {
   if (model.num_joints() > 65535) {
     throw ModelError(context + ": " + std::to_string(model.num_joints()) +
                      " joints do not fit glTF's unsigned short JOINTS_0");
   }
-  if (betas.size() > model.num_betas()) {
-    throw ModelError(context + ": " + std::to_string(betas.size()) +
-                     " betas given but the model has " + std::to_string(model.num_betas()));
+  if (options.shape_keys < 0 || options.shape_keys > model.num_betas()) {
+    throw ModelError(context + ": " + std::to_string(options.shape_keys) +
+                     " shape keys asked for but the model has " +
+                     std::to_string(model.num_betas()) + " shape components");
   }
-  Body body = shape(model, betas);
-  if (options.stand_on_floor && body.vertices.rows() > 0) {
-    const double lift = -body.vertices.col(1).minCoeff();
-    body.vertices.col(1).array() += lift;
-    body.joints.col(1).array() += lift;
+  try {
+    check_pose(model, options);
+  } catch (const ModelError& e) {
+    throw ModelError(context + ": " + e.what());
   }
+  const std::vector<std::string> names = bone_names(model, options.bone_names);
+  Body body = export_rest_body(model, betas, options, context);
   const auto V = static_cast<size_t>(body.vertices.rows());
   const int K = model.num_joints();
 
@@ -157,8 +168,15 @@ tinygltf::Model build_model(const BodyModel& model, const Eigen::Ref<const Eigen
   g.buffers[0].data.reserve(V * 48 + static_cast<size_t>(model.num_faces()) * 12 +
                             static_cast<size_t>(K) * 64 + 64);
 
-  // Geometry.
-  const int position = add_vec3(g, to_float(body.vertices), TINYGLTF_TARGET_ARRAY_BUFFER, true);
+  // Geometry. With shape keys, POSITION is the body without its first N components; the targets'
+  // default weights (the avatar's betas) add them back.
+  const int N = options.shape_keys;
+  Vertices base = body.vertices;
+  for (int b = 0; b < N && b < betas.size(); ++b) {
+    base -= betas[b] *
+            Eigen::Map<const Vertices>(model.shapedirs.col(b).data(), model.num_vertices(), 3);
+  }
+  const int position = add_vec3(g, to_float(base), TINYGLTF_TARGET_ARRAY_BUFFER, true);
   const int normal = add_vec3(g, to_float(vertex_normals(body.vertices, model.faces)),
                               TINYGLTF_TARGET_ARRAY_BUFFER, false);
   GltfSkinWeights own;
@@ -208,28 +226,43 @@ tinygltf::Model build_model(const BodyModel& model, const Eigen::Ref<const Eigen
 
   tinygltf::Mesh mesh;
   mesh.name = options.name;
+  tinygltf::Value::Array target_names;
+  std::vector<float> delta(3 * V);
+  for (int b = 0; b < N; ++b) {
+    for (size_t i = 0; i < 3 * V; ++i) {
+      delta[i] = static_cast<float>(model.shapedirs(static_cast<Eigen::Index>(i), b));
+    }
+    prim.targets.push_back({{"POSITION", add_vec3(g, delta, TINYGLTF_TARGET_ARRAY_BUFFER, true)}});
+    mesh.weights.push_back(b < betas.size() ? betas[b] : 0.0);
+    char name[32];
+    std::snprintf(name, sizeof name, "beta_%02d", b);
+    target_names.emplace_back(std::string(name));
+  }
   if (options.pose_correctives && model.has_pose_blend_shapes()) {
     // One morph target per pose feature: the displacement of every vertex (posedirs column p
     // reshaped to V x 3). The target weight of feature 9 (k - 1) + 3 r + c is (R_k - I)(r, c),
     // which may be negative.
-    tinygltf::Value::Array names;
-    std::vector<float> delta(3 * V);
     for (Eigen::Index p = 0; p < model.posedirs.cols(); ++p) {
       for (size_t i = 0; i < 3 * V; ++i) {
         delta[i] = static_cast<float>(model.posedirs(static_cast<Eigen::Index>(i), p));
       }
       prim.targets.push_back(
           {{"POSITION", add_vec3(g, delta, TINYGLTF_TARGET_ARRAY_BUFFER, true)}});
-      mesh.weights.push_back(0.0);
       const int k = static_cast<int>(p / 9) + 1;
-      const std::string joint = static_cast<size_t>(k) < model.joint_names.size()
-                                    ? model.joint_names[static_cast<size_t>(k)]
-                                    : "joint" + std::to_string(k);
-      names.emplace_back("pose_" + joint + "_" + std::to_string((p % 9) / 3) +
-                         std::to_string(p % 3));
+      const int r = static_cast<int>((p % 9) / 3), c = static_cast<int>(p % 3);
+      double w = 0.0;
+      if (options.pose.size() > 0) {
+        const Eigen::Matrix3d R = rodrigues(options.pose.segment<3>(3 * k));
+        w = R(r, c) - (r == c ? 1.0 : 0.0);
+      }
+      mesh.weights.push_back(w);
+      target_names.emplace_back("pose_" + names[static_cast<size_t>(k)] + "_" + std::to_string(r) +
+                                std::to_string(c));
     }
+  }
+  if (!target_names.empty()) {
     tinygltf::Value::Object mesh_extras;
-    mesh_extras["targetNames"] = tinygltf::Value(names);
+    mesh_extras["targetNames"] = tinygltf::Value(target_names);
     mesh.extras = tinygltf::Value(mesh_extras);
   }
   mesh.primitives.push_back(std::move(prim));
@@ -254,12 +287,15 @@ tinygltf::Model build_model(const BodyModel& model, const Eigen::Ref<const Eigen
   for (int k = 0; k < K; ++k) {
     const auto ks = static_cast<size_t>(k);
     tinygltf::Node joint;
-    joint.name =
-        ks < model.joint_names.size() ? model.joint_names[ks] : "joint" + std::to_string(k);
+    joint.name = names[ks];
     const int p = model.parents[ks];
     Eigen::Vector3d t = body.joints.row(k).transpose();
     if (p >= 0) t -= body.joints.row(p).transpose();
     joint.translation = {t.x(), t.y(), t.z()};
+    if (options.pose.size() > 0) {
+      const Eigen::Vector3d aa = options.pose.segment<3>(3 * k);
+      if (aa.squaredNorm() > 0.0) joint.rotation = gltf_quaternion(rodrigues(aa));
+    }
     g.nodes.push_back(std::move(joint));
     if (p >= 0) g.nodes[static_cast<size_t>(p + 1)].children.push_back(k + 1);
     skin_def.joints.push_back(k + 1);
@@ -336,21 +372,152 @@ void write_gltf(const std::string& path, const BodyModel& model,
   if (!binary && !ends_with(path, ".gltf")) {
     throw ModelError(path + ": unknown glTF file extension; use .glb (binary) or .gltf (JSON)");
   }
-  const std::string bytes = serialise(build_model(model, betas, options, path), binary, path);
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f) {
-    throw ModelError(path + ": cannot open for writing (" + std::strerror(errno) +
-                     "); check that the folder exists and is writable");
-  }
-  const size_t written = std::fwrite(bytes.data(), 1, bytes.size(), f);
-  const int err = errno;
-  if (std::fclose(f) != 0 || written != bytes.size()) {
-    throw ModelError(path + ": writing failed (" + std::strerror(err) + "); is the disk full?");
-  }
+  write_file_atomically(path, serialise(build_model(model, betas, options, path), binary, path));
 }
 
 // ---------------------------------------------------------------------------------------------
-// 4. Accessor reading
+// 4. VRM 1.0 (VRMC_vrm): humanoid bone map, meta, first person
+// ---------------------------------------------------------------------------------------------
+
+const std::map<std::string, std::string>& vrm_humanoid_bones() {
+  static const std::map<std::string, std::string> bones = {
+      {"pelvis", "hips"},
+      {"spine1", "spine"},
+      {"spine2", "chest"},
+      {"spine3", "upperChest"},
+      {"neck", "neck"},
+      {"head", "head"},
+      {"left_collar", "leftShoulder"},
+      {"left_shoulder", "leftUpperArm"},
+      {"left_elbow", "leftLowerArm"},
+      {"left_wrist", "leftHand"},
+      {"right_collar", "rightShoulder"},
+      {"right_shoulder", "rightUpperArm"},
+      {"right_elbow", "rightLowerArm"},
+      {"right_wrist", "rightHand"},
+      {"left_hip", "leftUpperLeg"},
+      {"left_knee", "leftLowerLeg"},
+      {"left_ankle", "leftFoot"},
+      {"left_foot", "leftToes"},
+      {"right_hip", "rightUpperLeg"},
+      {"right_knee", "rightLowerLeg"},
+      {"right_ankle", "rightFoot"},
+      {"right_foot", "rightToes"},
+  };
+  return bones;
+}
+
+namespace {
+
+// The VRM humanoid bones that must be present (VRMC_vrm-1.0/humanoid.md).
+const char* const kRequiredVrmBones[] = {
+    "hips",         "spine",         "head",          "leftUpperLeg",  "leftLowerLeg",
+    "leftFoot",     "rightUpperLeg", "rightLowerLeg", "rightFoot",     "leftUpperArm",
+    "leftLowerArm", "leftHand",      "rightUpperArm", "rightLowerArm", "rightHand"};
+// meta.licenseUrl must be the VRM Public Licence 1.0 (VRMC_vrm-1.0/meta.md).
+const char* const kVrmLicenceUrl = "https://vrm.dev/licenses/1.0/";
+const char* const kMitUrl = "https://opensource.org/license/mit/";
+
+tinygltf::Value str(const std::string& s) {
+  return tinygltf::Value(s);
+}
+
+tinygltf::Model build_vrm(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& betas,
+                          const ExportOptions& options, const std::string& context) {
+  if (options.pose.size() > 0) {
+    throw ModelError(context +
+                     ": a VRM's rest must be the T-pose, so a pose cannot be exported to .vrm; "
+                     "leave out the pose (VRM applications pose the avatar themselves) or export "
+                     ".glb/.fbx");
+  }
+  // The body model's licence: the caller's statement first, else the model's own metadata.
+  std::string licence = options.licence;
+  if (licence.empty()) {
+    const auto it = model.meta.extra.find("licence");
+    if (it != model.meta.extra.end()) licence = it->second;
+  }
+  if (licence.empty()) {
+    throw ModelError(
+        context + ": the body model '" + model.meta.name +
+        "' states no licence, and a VRM must carry the licence of what it is made from. "
+        "SMPL-family "
+        "files are licensed by their owners (e.g. for non-commercial research only): state the "
+        "licence that applies to you (caliper: --licence TEXT_OR_URL), or export .glb/.fbx");
+  }
+  const bool mit = licence.rfind("MIT", 0) == 0;
+  const std::string licence_url = mit ? kMitUrl : licence;
+
+  tinygltf::Model g = build_model(model, betas, options, context);
+  // Humanoid: node 1 + k is joint k (build_model's layout); map by the model's joint names.
+  tinygltf::Value::Object human_bones;
+  for (int k = 0; k < model.num_joints(); ++k) {
+    const auto ks = static_cast<size_t>(k);
+    if (ks >= model.joint_names.size()) break;
+    const auto it = vrm_humanoid_bones().find(model.joint_names[ks]);
+    if (it == vrm_humanoid_bones().end()) continue;
+    tinygltf::Value::Object bone;
+    bone["node"] = tinygltf::Value(k + 1);
+    human_bones[it->second] = tinygltf::Value(bone);
+  }
+  std::string missing;
+  for (const char* b : kRequiredVrmBones) {
+    if (!human_bones.count(b)) missing += (missing.empty() ? "" : ", ") + std::string(b);
+  }
+  if (!missing.empty()) {
+    throw ModelError(context + ": the model has no joints for the VRM humanoid bones " + missing +
+                     " (VRM needs SMPL's joint names: pelvis, spine1, head, left_hip, ...)");
+  }
+  tinygltf::Value::Object humanoid;
+  humanoid["humanBones"] = tinygltf::Value(human_bones);
+
+  tinygltf::Value::Object meta;
+  meta["name"] = str(options.name.empty() ? "avatar" : options.name);
+  meta["version"] = str("1");
+  meta["authors"] = tinygltf::Value(
+      tinygltf::Value::Array{str(options.author.empty() ? "unknown" : options.author)});
+  meta["licenseUrl"] = str(kVrmLicenceUrl);
+  meta["otherLicenseUrl"] = str(licence_url);
+  meta["thirdPartyLicenses"] =
+      str("Body model: " + (model.meta.name.empty() ? std::string("(unnamed)") : model.meta.name) +
+          ". Licence: " + licence + ". Made with " + kGenerator + ".");
+  meta["references"] = tinygltf::Value(tinygltf::Value::Array{
+      str("Pujades et al., The Virtual Caliper: Rapid Creation of Metrically Accurate Avatars "
+          "from 3D Measurements, IEEE TVCG 2019")});
+
+  tinygltf::Value::Object annotation;
+  annotation["node"] = tinygltf::Value(0);  // the skinned mesh (build_model's node 0)
+  annotation["type"] = str("auto");         // head-weighted triangles: third person only
+  tinygltf::Value::Object first_person;
+  first_person["meshAnnotations"] =
+      tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(annotation)});
+
+  tinygltf::Value::Object vrm;
+  vrm["specVersion"] = str("1.0");
+  vrm["humanoid"] = tinygltf::Value(humanoid);
+  vrm["meta"] = tinygltf::Value(meta);
+  vrm["firstPerson"] = tinygltf::Value(first_person);
+  g.extensionsUsed.push_back("VRMC_vrm");
+  g.extensions["VRMC_vrm"] = tinygltf::Value(vrm);
+  return g;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> vrm_bytes(const BodyModel& model,
+                                    const Eigen::Ref<const Eigen::VectorXd>& betas,
+                                    const ExportOptions& options) {
+  const std::string s = serialise(build_vrm(model, betas, options, "vrm_bytes"), true, "vrm_bytes");
+  return std::vector<std::uint8_t>(s.begin(), s.end());
+}
+
+void write_vrm(const std::string& path, const BodyModel& model,
+               const Eigen::Ref<const Eigen::VectorXd>& betas, const ExportOptions& options) {
+  if (!ends_with(path, ".vrm")) throw ModelError(path + ": a VRM file name must end in .vrm");
+  write_file_atomically(path, serialise(build_vrm(model, betas, options, path), true, path));
+}
+
+// ---------------------------------------------------------------------------------------------
+// 5. Accessor reading
 // ---------------------------------------------------------------------------------------------
 namespace {
 
@@ -456,15 +623,16 @@ Eigen::Matrix4d local_matrix(const tinygltf::Node& n) {
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
-// 5. read_gltf
+// 6. read_gltf
 // ---------------------------------------------------------------------------------------------
 
 GltfAvatar read_gltf(const std::string& path) {
   tinygltf::Model g;
   tinygltf::TinyGLTF loader;
   std::string err, warn;
-  const bool ok = ends_with(path, ".glb") ? loader.LoadBinaryFromFile(&g, &err, &warn, path)
-                                          : loader.LoadASCIIFromFile(&g, &err, &warn, path);
+  const bool ok = ends_with(path, ".glb") || ends_with(path, ".vrm")
+                      ? loader.LoadBinaryFromFile(&g, &err, &warn, path)
+                      : loader.LoadASCIIFromFile(&g, &err, &warn, path);
   if (!ok) {
     throw ModelError(path + ": not a readable glTF file: " + (err.empty() ? "unknown error" : err) +
                      (warn.empty() ? "" : " (tinygltf warnings: " + warn + ")"));
@@ -515,6 +683,22 @@ GltfAvatar read_gltf(const std::string& path) {
                        " does not have one VEC3 per vertex");
     }
     out.morph_targets.emplace_back(d);
+  }
+  const auto& gmesh = g.meshes[static_cast<size_t>(skinned->mesh)];
+  out.morph_weights.assign(out.morph_targets.size(), 0.0);
+  out.morph_names.assign(out.morph_targets.size(), std::string());
+  for (size_t t = 0; t < out.morph_targets.size() && t < gmesh.weights.size(); ++t) {
+    out.morph_weights[t] = gmesh.weights[t];
+  }
+  if (gmesh.extras.IsObject() && gmesh.extras.Has("targetNames")) {
+    const auto& names = gmesh.extras.Get("targetNames");
+    for (size_t t = 0; names.IsArray() && t < out.morph_targets.size() &&
+                       t < static_cast<size_t>(names.ArrayLen());
+         ++t) {
+      if (names.Get(static_cast<int>(t)).IsString()) {
+        out.morph_names[t] = names.Get(static_cast<int>(t)).Get<std::string>();
+      }
+    }
   }
   out.generator = g.asset.generator;
   if (g.asset.extras.IsObject()) {

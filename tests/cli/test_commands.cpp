@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "app/editor_core.hpp"
 #include "caliper/json.hpp"
 #include "caliper/measurements.hpp"
 #include "cli_fixture.hpp"
@@ -15,6 +16,7 @@
 #include "render_bridge.hpp"
 #include "smpl/gltf.hpp"
 #include "smpl/io.hpp"
+#include "smpl/npz.hpp"
 
 namespace caliper::cli {
 namespace {
@@ -24,6 +26,9 @@ namespace {
 constexpr double kInputTolM = 1e-3;
 // Files store float32 vertices: 1e-6 relative of ~1 m.
 constexpr double kFloatTolM = 1e-5;
+// Weight and volume of the same mesh read back from float32 files: 1e-6 relative of 0.08 m3.
+constexpr double kWeightTolKg = 0.01;
+constexpr double kVolumeTolM3 = 1e-5;
 
 struct CliRun {
   int code = 0;
@@ -99,6 +104,154 @@ TEST_F(Commands, CreateWritesObjAndPlyThatMeasureBack) {
     EXPECT_NEAR(j.at("measurements").at("height").as_number(), 1.70, kInputTolM) << ext;
     EXPECT_NEAR(read_mesh(out).vertices.col(1).minCoeff(), 0.0, kFloatTolM) << ext;
   }
+}
+
+// Every format that carries the mesh, made from the open male model and measured back without
+// naming the model: the file's own record picks it, and every measurement is reproduced.
+TEST_F(Commands, EveryFormatMeasuresBackTheCreatedAvatarToAMillimetre) {
+  ::setenv("CALIPER_ASSETS", (std::string(CALIPER_SOURCE_DIR) + "/assets").c_str(), 1);
+  struct Case {
+    const char* file;
+    std::vector<std::string> extra;
+  };
+  const std::vector<Case> cases = {{"a.glb", {}},
+                                   {"a.gltf", {}},
+                                   {"a.vrm", {}},
+                                   {"a.fbx", {}},
+                                   {"a.obj", {}},
+                                   {"a.ply", {}},
+                                   {"z.obj", {"--up", "z"}},
+                                   {"z.ply", {"--up", "z"}},
+                                   {"k.glb", {"--shape-keys", "10"}},
+                                   {"s.fbx", {"--bone-names", "smpl"}}};
+  for (const auto& c : cases) {
+    std::vector<std::string> args = {"create",   "--sex", "male",       "--height", "181cm",
+                                     "--weight", "84kg",  "--arm-span", "186cm",    "--inseam",
+                                     "84cm",     "--out", path(c.file), "--json"};
+    args.insert(args.end(), c.extra.begin(), c.extra.end());
+    const CliRun made = run(args);
+    ASSERT_EQ(made.code, kExitOk) << c.file << ": " << made.err;
+    const Json achieved = parse_json(made.out).at("achieved");
+    const CliRun m = run({"measure", path(c.file), "--json"});
+    ASSERT_EQ(m.code, kExitOk) << c.file << ": " << m.err;
+    const Json j = parse_json(m.out);
+    EXPECT_NE(j.at("model").as_string().find("caliper-male.npz"), std::string::npos) << c.file;
+    EXPECT_EQ(j.at("model_chosen_by").as_string(), "the avatar file") << c.file;
+    const Json& measured = j.at("measurements");
+    size_t compared = 0;
+    for (const auto& [id, value] : achieved.as_object()) {
+      const Json* got = measured.find(id);
+      if (!got || !value.is_number()) continue;
+      ++compared;
+      if (id == "weight") {
+        EXPECT_NEAR(got->as_number(), value.as_number(), kWeightTolKg) << c.file << " " << id;
+      } else if (id == "volume") {
+        EXPECT_NEAR(got->as_number(), value.as_number(), kVolumeTolM3) << c.file << " " << id;
+      } else {
+        EXPECT_NEAR(got->as_number(), value.as_number(), kInputTolM) << c.file << " " << id;
+      }
+    }
+    EXPECT_GE(compared, 13u) << c.file;
+  }
+  ::unsetenv("CALIPER_ASSETS");
+}
+
+// The editor's export carries the same record as `caliper create`: `caliper measure` on it picks
+// the open model and sex it was made with (not the neutral default) and reproduces the editor's
+// measurements, weight included, in every format.
+TEST_F(Commands, MeasureOnAnEditorExportUsesItsModelAndSex) {
+  const std::string assets = std::string(CALIPER_SOURCE_DIR) + "/assets";
+  ::setenv("CALIPER_ASSETS", assets.c_str(), 1);
+  caliper::app::EditorCore editor;
+  ASSERT_TRUE(editor.load_model_file(assets + "/models/caliper-male.npz"));
+  ASSERT_TRUE(editor.set_value("height", 1.85));
+  ASSERT_TRUE(editor.set_value("weight", 90.3));
+  const MeasurementMap made = editor.avatar().achieved;
+  ASSERT_TRUE(made.count("weight"));
+  const auto meta = editor.export_metadata();
+  EXPECT_EQ(meta.at("open_model_sex"), "male");
+  EXPECT_EQ(meta.at("model"), "caliper-open-male");
+  EXPECT_EQ(meta.at("regressor"), "R2");
+  EXPECT_TRUE(meta.count("betas") && meta.count("measurements") && meta.count("generator"));
+  ASSERT_EQ(caliper::app::export_formats().size(), 6u);
+  for (const auto& format : caliper::app::export_formats()) {
+    const std::string file = path("editor" + format.extension);
+    ASSERT_TRUE(editor.export_avatar(file)) << editor.messages().back().text;
+    const CliRun m = run({"measure", file, "--json"});
+    ASSERT_EQ(m.code, kExitOk) << file << ": " << m.err;
+    const Json j = parse_json(m.out);
+    EXPECT_NE(j.at("model").as_string().find("caliper-male.npz"), std::string::npos) << file;
+    EXPECT_EQ(j.at("model_chosen_by").as_string(), "the avatar file") << file;
+    const Json& measured = j.at("measurements");
+    EXPECT_NEAR(measured.at("weight").as_number(), made.at("weight"), kWeightTolKg) << file;
+    for (const auto& [id, value] : made) {
+      if (id == "weight" || id == "volume" || !measured.contains(id)) continue;
+      EXPECT_NEAR(measured.at(id).as_number(), value, kInputTolM) << file << " " << id;
+    }
+  }
+  ::unsetenv("CALIPER_ASSETS");
+}
+
+TEST_F(Commands, ExportOptionsAreCheckedWithClearMessages) {
+  const std::vector<std::string> base = {"create",   "--model", model_,    "--height", "170cm",
+                                         "--weight", "66kg",    "--force", "-q"};
+  auto with = [&](std::vector<std::string> more) {
+    std::vector<std::string> a = base;
+    a.insert(a.end(), more.begin(), more.end());
+    return run(a);
+  };
+  CliRun r = with({"--out", path("a.glb"), "--up", "z"});
+  EXPECT_EQ(r.code, kExitUsage);
+  EXPECT_TRUE(contains(r.err, "--up applies to .obj and .ply")) << r.err;
+  r = with({"--out", path("a.obj"), "--shape-keys", "3"});
+  EXPECT_EQ(r.code, kExitUsage);
+  EXPECT_TRUE(contains(r.err, "--shape-keys")) << r.err;
+  r = with({"--out", path("a.glb"), "--shape-keys", "11"});
+  EXPECT_EQ(r.code, kExitUsage);
+  EXPECT_TRUE(contains(r.err, "from 0 to 10")) << r.err;
+  r = with({"--out", path("a.glb"), "--bone-names", "unity"});
+  EXPECT_EQ(r.code, kExitUsage);
+  EXPECT_TRUE(contains(r.err, "expected smpl")) << r.err;
+  r = with({"--shape-keys", "3"});
+  EXPECT_EQ(r.code, kExitUsage);
+  EXPECT_TRUE(contains(r.err, "needs --out")) << r.err;
+  // A user's model file states no licence: VRM export is refused until --licence says it.
+  r = with({"--out", path("a.vrm")});
+  EXPECT_EQ(r.code, kExitRuntime);
+  EXPECT_TRUE(contains(r.err, "--licence")) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(path("a.vrm")));
+  r = with({"--out", path("a.vrm"), "--licence", "https://example.org/my-licence"});
+  EXPECT_EQ(r.code, kExitOk) << r.err;
+  // Pose files: JSON (flat, triples, {"pose": ...}) and .npy; wrong sizes named.
+  {
+    std::ofstream f(path("flat.json"));
+    f << "[";
+    for (int i = 0; i < 72; ++i) f << (i ? ", " : "") << (i == 50 ? -0.9 : 0.0);
+    f << "]";
+  }
+  {
+    std::ofstream f(path("obj.json"));
+    f << "{\"pose\": [";
+    for (int i = 0; i < 24; ++i) f << (i ? ", " : "") << "[0, 0, " << (i == 17 ? 0.9 : 0.0) << "]";
+    f << "]}";
+  }
+  std::ofstream(path("short.json")) << "[0, 0, 0]";
+  smpl::write_npy(path("pose.npy"), smpl::make_npy(Eigen::MatrixXd::Zero(24, 3).eval()));
+  EXPECT_EQ(with({"--out", path("p.glb"), "--pose", path("flat.json")}).code, kExitOk);
+  EXPECT_EQ(with({"--out", path("p.fbx"), "--pose", path("obj.json")}).code, kExitOk);
+  EXPECT_EQ(with({"--out", path("p.obj"), "--pose", path("pose.npy")}).code, kExitOk);
+  r = with({"--out", path("p.glb"), "--pose", path("short.json")});
+  EXPECT_EQ(r.code, kExitRuntime);
+  EXPECT_TRUE(contains(r.err, "has 3 numbers; the model's 24 joints need 72")) << r.err;
+  r = with({"--out", path("p.vrm"), "--pose", path("flat.json")});
+  EXPECT_EQ(r.code, kExitUsage);
+  EXPECT_TRUE(contains(r.err, "T-pose")) << r.err;
+  // The A-pose glTF: left shoulder (joint 16) rotated -0.9 rad about z.
+  EXPECT_EQ(with({"--out", path("a.glb")}).code, kExitOk);
+  const smpl::GltfAvatar posed = smpl::read_gltf(path("p.glb"));
+  const smpl::GltfAvatar rest = smpl::read_gltf(path("a.glb"));
+  EXPECT_GT((posed.joints.row(20) - rest.joints.row(20)).norm(), 0.05);  // the wrist moved
+  EXPECT_NEAR((posed.joints.row(1) - rest.joints.row(1)).norm(), 0.0, kFloatTolM);
 }
 
 TEST_F(Commands, CreateRecordsItsModelAndMeasureRefusesAnUnknownOpenModel) {

@@ -10,6 +10,7 @@
 
 #include "app/editor_core.hpp"
 #include "app/units.hpp"
+#include "caliper/json.hpp"
 #include "caliper_test/random_model.hpp"
 
 namespace ca = caliper::app;
@@ -343,4 +344,39 @@ TEST(EditorCore, ExportsObjWithEveryVertex) {
   while (std::getline(f, line)) vertices += line.rfind("v ", 0) == 0;
   EXPECT_EQ(vertices, entry().model->num_vertices());
   EXPECT_FALSE(c.export_mesh(temp_path("avatar.xyz")));
+  EXPECT_NE(c.messages().back().text.find(".glb, .gltf, .vrm, .fbx, .obj, .ply"), std::string::npos)
+      << c.messages().back().text;
+}
+
+TEST(EditorCore, ExportsEveryFormatWithTheCreateMetadata) {
+  ca::EditorCore c = make_core();
+  ASSERT_TRUE(c.set_value("height", 1.70));
+  const auto meta = c.export_metadata();
+  for (const char* key : {"generator", "regressor", "betas", "measurements", "model"}) {
+    EXPECT_EQ(meta.count(key), 1u) << key;
+  }
+  EXPECT_EQ(meta.at("model"), "random-test");
+  EXPECT_EQ(meta.count("open_model_sex"), 0u) << "not an open model";
+  const caliper::Json measurements = caliper::parse_json(meta.at("measurements"));
+  EXPECT_DOUBLE_EQ(measurements.at("height").as_number(), c.avatar().achieved.at("height"));
+  EXPECT_EQ(caliper::parse_json(meta.at("betas")).size(),
+            static_cast<size_t>(c.avatar().betas.size()));
+  std::vector<std::string> extensions;
+  for (const auto& f : ca::export_formats()) extensions.push_back(f.extension);
+  EXPECT_EQ(extensions,
+            (std::vector<std::string>{".glb", ".gltf", ".vrm", ".fbx", ".obj", ".ply"}));
+  for (const auto& ext : extensions) {
+    const std::string path = temp_path("every" + ext);
+    std::remove(path.c_str());
+    smpl::ExportOptions o;
+    if (ext == ".vrm") {
+      // The test model states no licence: refused with a message, then exported once stated.
+      EXPECT_FALSE(c.export_avatar(path, o));
+      EXPECT_NE(c.messages().back().text.find("licence"), std::string::npos);
+      o.licence = "MIT";
+    }
+    EXPECT_TRUE(c.export_avatar(path, o)) << ext << ": " << c.messages().back().text;
+    std::ifstream f(path, std::ios::binary);
+    EXPECT_TRUE(f.good()) << path;
+  }
 }

@@ -91,7 +91,8 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
       {"mapping", "", "FILE", "real-to-virtual mapping (.json or paired .csv)", false},
       {"out", "o", "FILE", "results CSV (default: standard output)", false},
       {"out-dir", "", "DIR", "write one avatar per person into DIR", false},
-      {"format", "", "EXT", "avatar format in --out-dir: glb (default), gltf, obj, ply", false},
+      {"format", "", "EXT", "avatar format in --out-dir: glb (default), gltf, vrm, fbx, obj, ply",
+       false},
       {"jobs", "j", "N", "parallel jobs (default: the number of cores)", false},
       {"limit", "", "N", "process only the first N people", false},
       {"circumferences", "", "", "also measure circumferences (slices the mesh; slower)", false},
@@ -121,8 +122,8 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
   int jobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   if (auto j = a.get("jobs")) jobs = parse_int(*j, "jobs", 1, 256);
   const std::string format = a.get_or("format", "glb");
-  if (format != "glb" && format != "gltf" && format != "obj" && format != "ply")
-    throw UsageError("--format " + format + ": expected glb, gltf, obj or ply");
+  if (!is_avatar_extension("avatar." + format))
+    throw UsageError("--format " + format + ": expected glb, gltf, vrm, fbx, obj or ply");
   if (a.get("regressors") && !a.get("model"))
     throw UsageError("--regressors needs --model (saved regressors belong to one model)");
 

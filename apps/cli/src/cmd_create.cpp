@@ -8,6 +8,7 @@
 #include "caliper/errors.hpp"
 #include "command_common.hpp"
 #include "commands.hpp"
+#include "export_options.hpp"
 #include "inputs.hpp"
 #include "mesh_io.hpp"
 #include "render_bridge.hpp"
@@ -145,7 +146,7 @@ int cmd_create(const std::vector<std::string>& args, Io& io) {
        false},
       {"mapping", "", "FILE", "real-to-virtual mapping (.json from training, or paired .csv)",
        false},
-      {"out", "o", "FILE", "write the avatar: .glb (default format), .gltf, .obj or .ply", false},
+      {"out", "o", "FILE", "write the avatar: .glb, .gltf, .vrm, .fbx, .obj or .ply", false},
       {"png", "", "FILE", "render the avatar to a PNG (three-quarter view)", false},
       {"json", "", "", "print a machine-readable JSON report instead of the text report", false},
       {"exact-inputs", "", "",
@@ -154,6 +155,7 @@ int cmd_create(const std::vector<std::string>& args, Io& io) {
       {"quiet", "q", "", "print nothing but errors and warnings", false},
   };
   specs.insert(specs.end(), more.begin(), more.end());
+  specs.insert(specs.end(), export_option_specs().begin(), export_option_specs().end());
   const ParsedArgs a = parse_args(args, specs);
   if (a.flags.count("help")) {
     io.out << "usage: caliper create --height LENGTH [--weight MASS] [more measurements] "
@@ -164,8 +166,13 @@ int cmd_create(const std::vector<std::string>& args, Io& io) {
            << "\ndefault regressor: exactly the inputs of R2 (height, weight), R4 (+ arm span, "
               "inseam)\nor R5 (+ hip width) -> that regressor; all six inputs or any other "
               "subset ->\nnoise-aware (R6 reproduces every input but amplifies measurement "
-              "noise).\n\nexample:\n  caliper create --sex female --height 168cm --weight 62kg "
-              "--out avatar.glb --png avatar.png\n";
+              "noise).\n\nformats (by the --out extension): .glb/.gltf (rigged glTF 2.0), .vrm "
+              "(VRM 1.0),\n.fbx (rigged, metres), .obj/.ply (mesh); every file records the "
+              "model, sex, betas\nand measurements, which `caliper measure` reads back.\n\n"
+              "examples:\n  caliper create --sex female --height 168cm --weight 62kg "
+              "--out avatar.glb --png avatar.png\n  caliper create --sex male --height 181cm "
+              "--weight 84kg --out me.glb --shape-keys 10\n  caliper create --sex male --height "
+              "181cm --weight 84kg --out me.fbx --bone-names smpl --pose apose.json\n";
     return kExitOk;
   }
   if (!a.positional.empty())
@@ -179,7 +186,12 @@ int cmd_create(const std::vector<std::string>& args, Io& io) {
                                                    : default_regressor(inputs);
   require_inputs(regressor, inputs);
   if (auto out = a.get("out"); out && !is_avatar_extension(*out))
-    throw UsageError("--out " + *out + ": use a .glb, .gltf, .obj or .ply file name");
+    throw UsageError("--out " + *out + ": use a " + avatar_extensions_text() + " file name");
+  if (!a.get("out")) {
+    for (const auto& spec : export_option_specs()) {
+      if (a.has(spec.name)) throw UsageError("--" + spec.name + " needs --out FILE");
+    }
+  }
   if (auto png = a.get("png"); png && extension_of(*png) != ".png")
     throw UsageError("--png " + *png + ": the file name must end in .png");
   std::vector<std::string> warnings = check_inputs(inputs, a.flags.count("force") > 0);
@@ -190,6 +202,9 @@ int cmd_create(const std::vector<std::string>& args, Io& io) {
     io.err << "caliper: warning: the model's gender is " << bundle->model.meta.gender << "\n";
   std::optional<MeasurementMapping> mapping;
   if (auto m = a.get("mapping")) mapping = load_mapping(*m);
+  // Export options are checked before the avatar is made, so a bad option costs no work.
+  smpl::ExportOptions export_options;
+  if (auto out = a.get("out")) export_options = read_export_options(a, *out, bundle->model);
 
   const auto t_create = std::chrono::steady_clock::now();
   const Avatar avatar = make_avatar(*bundle, regressor, inputs, mapping ? &*mapping : nullptr, true,
@@ -208,7 +223,7 @@ int cmd_create(const std::vector<std::string>& args, Io& io) {
   const auto t_write = std::chrono::steady_clock::now();
   std::vector<std::string> written;
   if (auto out = a.get("out")) {
-    std::map<std::string, std::string> extras;
+    std::map<std::string, std::string>& extras = export_options.extras;
     extras["generator"] = version_string();
     extras["regressor"] = regressor;
     extras["betas"] = betas_json(avatar.betas).dump();
@@ -217,7 +232,12 @@ int cmd_create(const std::vector<std::string>& args, Io& io) {
     // without being told: the model's name, and for an open default model its sex.
     extras["model"] = bundle->model.meta.name;
     if (!a.get("model")) extras["open_model_sex"] = sex;
-    write_avatar(*out, bundle->model, avatar.betas, avatar.vertices, extras);
+    if (export_options.pose.size() > 0)
+      extras["pose"] =
+          Json(std::vector<double>(export_options.pose.data(),
+                                   export_options.pose.data() + export_options.pose.size()))
+              .dump();
+    write_avatar(*out, bundle->model, avatar.betas, export_options);
     written.push_back(*out);
   }
   const double write_s = seconds_since(t_write);

@@ -26,12 +26,14 @@ int cmd_measure(const std::vector<std::string>& args, Io& io) {
   };
   const ParsedArgs a = parse_args(args, specs);
   if (a.flags.count("help")) {
-    io.out << "usage: caliper measure AVATAR.glb|.gltf|.obj|.ply [--model FILE | --sex SEX]\n"
+    io.out << "usage: caliper measure AVATAR.glb|.gltf|.vrm|.fbx|.obj|.ply [--model FILE | --sex "
+              "SEX]\n"
               "       caliper measure [--model FILE | --sex SEX] --betas b1,b2,...\n\n"
               "Measures a rest-pose avatar (the 13 measurements of the paper, circumferences,\n"
               "volume and weight from volume). An avatar file needs a model of the same\n"
-              "topology for its landmarks; a .glb/.gltf written by `caliper create` names its\n"
-              "open model, which is used unless --model or --sex is given.\n\n"
+              "topology for its landmarks; a file written by `caliper create` or the editor\n"
+              "(any format) names its open model, which is used unless --model or --sex is\n"
+              "given.\n\n"
            << format_options(specs)
            << "\nexample:\n  caliper measure avatar.glb --sex female --json\n";
     return kExitOk;
@@ -70,6 +72,7 @@ int cmd_measure(const std::vector<std::string>& args, Io& io) {
   Eigen::VectorXd betas;
   if (mesh) {
     source = a.positional[0];
+    put_in_model_order(*mesh, model.faces, source);
     if (mesh->vertices.rows() != model.num_vertices()) {
       throw RuntimeError(source + ": the avatar has " + std::to_string(mesh->vertices.rows()) +
                          " vertices but the model " + model_path + " has " +

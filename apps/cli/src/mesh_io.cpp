@@ -1,18 +1,50 @@
 #include "mesh_io.hpp"
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <vector>
 
+#include "caliper/json.hpp"
 #include "cli_support.hpp"
+#include "smpl/avatar_export.hpp"
 #include "smpl/export.hpp"
+#include "smpl/fbx.hpp"
 #include "smpl/gltf.hpp"
 
 namespace caliper::cli {
 
 namespace {
+
+// An OBJ `#` or PLY `comment` line written by smpl::write_obj/write_ply: "up: z ..." gives the
+// axis convention, "caliper-metadata {json}" the avatar's metadata. Other comments are ignored.
+void read_comment(const std::string& text, const std::string& path, smpl::UpAxis& up,
+                  std::map<std::string, std::string>& extras) {
+  std::istringstream s(text);
+  std::string tag;
+  s >> tag;
+  if (tag == "up:") {
+    std::string axis;
+    s >> axis;
+    if (axis == "z") up = smpl::UpAxis::Z;
+    if (axis == "y") up = smpl::UpAxis::Y;
+  } else if (tag == "caliper-metadata") {
+    std::string json;
+    std::getline(s, json);
+    try {
+      const Json j = parse_json(json);
+      for (const auto& [key, value] : j.as_object()) {
+        if (value.is_string()) extras[key] = value.as_string();
+      }
+    } catch (const std::exception& e) {
+      throw RuntimeError(path + ": its caliper-metadata comment is not valid JSON (" + e.what() +
+                         ")");
+    }
+  }
+}
 
 MeshFile read_obj(const std::string& path) {
   std::ifstream in(path);
@@ -21,8 +53,14 @@ MeshFile read_obj(const std::string& path) {
   std::vector<std::int32_t> f;
   std::string line;
   int line_no = 0;
+  MeshFile m;
+  smpl::UpAxis up = smpl::UpAxis::Y;
   while (std::getline(in, line)) {
     ++line_no;
+    if (line.rfind("#", 0) == 0) {
+      read_comment(line.substr(1), path, up, m.extras);
+      continue;
+    }
     std::istringstream s(line);
     std::string tag;
     s >> tag;
@@ -49,8 +87,8 @@ MeshFile read_obj(const std::string& path) {
                            static_cast<std::int32_t>(idx[k + 1])});
     }
   }
-  MeshFile m;
-  m.vertices = Eigen::Map<smpl::Vertices>(v.data(), static_cast<Eigen::Index>(v.size() / 3), 3);
+  m.vertices = smpl::from_up_axis(
+      Eigen::Map<smpl::Vertices>(v.data(), static_cast<Eigen::Index>(v.size() / 3), 3), up);
   m.faces = Eigen::Map<smpl::Faces>(f.data(), static_cast<Eigen::Index>(f.size() / 3), 3);
   return m;
 }
@@ -123,11 +161,15 @@ MeshFile read_ply(const std::string& path) {
   };
   std::vector<Element> elements;
   std::string line;
+  MeshFile m;
+  smpl::UpAxis up = smpl::UpAxis::Y;
   while (std::getline(header, line)) {
     std::istringstream s(line);
     std::string tag;
     s >> tag;
-    if (tag == "format") {
+    if (tag == "comment") {
+      read_comment(line.substr(std::min(line.size(), size_t{8})), path, up, m.extras);
+    } else if (tag == "format") {
       s >> format;
     } else if (tag == "element") {
       Element e;
@@ -152,7 +194,6 @@ MeshFile read_ply(const std::string& path) {
   if (!ascii && format != "binary_little_endian")
     throw RuntimeError(path + ": PLY format '" + format +
                        "' is not supported (use ascii or binary_little_endian)");
-  MeshFile m;
   std::vector<double> v;
   std::vector<std::int32_t> f;
   size_t pos = body;
@@ -194,7 +235,8 @@ MeshFile read_ply(const std::string& path) {
       if (e.name == "vertex") v.insert(v.end(), xyz, xyz + 3);
     }
   }
-  m.vertices = Eigen::Map<smpl::Vertices>(v.data(), static_cast<Eigen::Index>(v.size() / 3), 3);
+  m.vertices = smpl::from_up_axis(
+      Eigen::Map<smpl::Vertices>(v.data(), static_cast<Eigen::Index>(v.size() / 3), 3), up);
   m.faces = Eigen::Map<smpl::Faces>(f.data(), static_cast<Eigen::Index>(f.size() / 3), 3);
   return m;
 }
@@ -205,18 +247,31 @@ MeshFile read_mesh(const std::string& path) {
   if (!file_exists(path)) throw RuntimeError(path + ": file not found");
   const std::string ext = extension_of(path);
   MeshFile m;
-  if (ext == ".glb" || ext == ".gltf") {
+  if (ext == ".glb" || ext == ".gltf" || ext == ".vrm") {
     smpl::GltfAvatar a = smpl::read_gltf(path);
+    // Shape keys (beta_NN targets) at their default weights are part of the avatar as made;
+    // other targets (pose correctives) are not part of the rest shape.
+    for (size_t t = 0; t < a.morph_targets.size(); ++t) {
+      if (a.morph_names[t].rfind("beta_", 0) == 0) {
+        a.vertices += a.morph_weights[t] * a.morph_targets[t];
+      }
+    }
     m.vertices = std::move(a.vertices);
     m.faces = std::move(a.faces);
     m.extras = std::move(a.extras);
+  } else if (ext == ".fbx") {
+    smpl::FbxAvatar a = smpl::read_fbx(path);
+    m.vertices = std::move(a.vertices);
+    m.faces = std::move(a.faces);
+    m.extras = std::move(a.metadata);
+    m.order_from_faces = true;
   } else if (ext == ".obj") {
     m = read_obj(path);
   } else if (ext == ".ply") {
     m = read_ply(path);
   } else {
-    throw RuntimeError(path + ": unknown mesh extension '" + ext +
-                       "' (expected .glb, .gltf, .obj or .ply)");
+    throw RuntimeError(path + ": unknown mesh extension '" + ext + "' (expected " +
+                       avatar_extensions_text() + ")");
   }
   if (m.vertices.rows() == 0) throw RuntimeError(path + ": the mesh has no vertices");
   for (Eigen::Index i = 0; i < m.faces.size(); ++i) {
@@ -228,34 +283,62 @@ MeshFile read_mesh(const std::string& path) {
   return m;
 }
 
+void put_in_model_order(MeshFile& mesh, const smpl::Faces& faces, const std::string& path) {
+  if (!mesh.order_from_faces || mesh.faces == faces) return;
+  if (mesh.faces.rows() != faces.rows()) {
+    throw RuntimeError(path + ": the avatar has " + std::to_string(mesh.faces.rows()) +
+                       " triangles but the model has " + std::to_string(faces.rows()) +
+                       "; measure with the model it was made from (--model FILE or --sex)");
+  }
+  const Eigen::Index V = faces.size() > 0 ? faces.maxCoeff() + 1 : 0;
+  smpl::Vertices v = smpl::Vertices::Constant(V, 3, std::numeric_limits<double>::quiet_NaN());
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+    for (int i = 0; i < 3; ++i) {
+      const Eigen::RowVector3d p = mesh.vertices.row(mesh.faces(f, i));
+      auto row = v.row(faces(f, i));
+      if (!std::isnan(row(0)) && (row - p).norm() > 0.0) {
+        throw RuntimeError(path + ": its triangles do not match the model's (model vertex " +
+                           std::to_string(faces(f, i)) +
+                           " would be in two places); measure with the model it was made from");
+      }
+      row = p;
+    }
+  }
+  mesh.vertices = std::move(v);
+  mesh.faces = faces;
+  mesh.order_from_faces = false;
+}
+
 bool is_avatar_extension(const std::string& path) {
-  const std::string ext = extension_of(path);
-  return ext == ".glb" || ext == ".gltf" || ext == ".obj" || ext == ".ply";
+  return smpl::export_format_of(path) != nullptr;
+}
+
+std::string avatar_extensions_text() {
+  const auto& formats = smpl::export_formats();
+  std::string text;
+  for (size_t i = 0; i < formats.size(); ++i) {
+    text += (i == 0 ? "" : i + 1 == formats.size() ? " or " : ", ") + formats[i].extension;
+  }
+  return text;
 }
 
 void write_avatar(const std::string& path, const smpl::BodyModel& model,
-                  const Eigen::VectorXd& betas, const smpl::Vertices& rest_vertices,
+                  const Eigen::VectorXd& betas, const smpl::ExportOptions& options) {
+  if (!is_avatar_extension(path)) {
+    throw UsageError(path + ": unknown avatar extension '" + extension_of(path) + "' (use " +
+                     avatar_extensions_text() + ")");
+  }
+  smpl::export_avatar(path, model, betas, options);
+}
+
+void write_avatar(const std::string& path, const smpl::BodyModel& model,
+                  const Eigen::VectorXd& betas, const smpl::Vertices& /*rest_vertices*/,
                   const std::map<std::string, std::string>& extras,
                   const smpl::GltfSkinWeights* skin_weights) {
-  const std::string ext = extension_of(path);
-  if (ext == ".glb" || ext == ".gltf") {
-    smpl::GltfOptions o;
-    o.extras = extras;
-    o.skin_weights = skin_weights;
-    smpl::write_gltf(path, model, betas, o);
-    return;
-  }
-  if (ext != ".obj" && ext != ".ply") {
-    throw UsageError(path + ": unknown avatar extension '" + ext +
-                     "' (use .glb, .gltf, .obj or .ply)");
-  }
-  smpl::Vertices v = rest_vertices;
-  if (v.rows() > 0) v.col(1).array() -= v.col(1).minCoeff();  // stand on the floor
-  if (ext == ".obj") {
-    smpl::write_obj(path, v, model.faces);
-  } else {
-    smpl::write_ply(path, v, model.faces);
-  }
+  smpl::ExportOptions o;
+  o.extras = extras;
+  o.skin_weights = skin_weights;
+  write_avatar(path, model, betas, o);
 }
 
 }  // namespace caliper::cli

@@ -1,8 +1,11 @@
 /// \file mesh_io.hpp
-/// Avatar files for the `caliper` command: writing an avatar by the output's extension (.glb and
-/// .gltf through smpl::gltf, .obj and .ply through smpl/export.hpp) and reading a rest-pose
-/// avatar mesh back (.glb/.gltf through smpl::read_gltf; Wavefront OBJ `v`/`f` lines; PLY ascii
-/// or binary little-endian with float or double x, y, z and a face index list).
+/// Avatar files for the `caliper` command: writing an avatar by the output's extension
+/// (smpl::export_avatar: .glb, .gltf, .vrm, .fbx, .obj, .ply) and reading a rest-pose avatar mesh
+/// back (.glb/.gltf/.vrm through smpl::read_gltf, with beta_NN shape keys at their default
+/// weights; .fbx through smpl::read_fbx; Wavefront OBJ
+/// `v`/`f` lines; PLY ascii or binary little-endian with float or double x, y, z and a face index
+/// list; OBJ/PLY written with `up: z` are turned back to +Y up, and their `caliper-metadata`
+/// comment is read like a glTF's asset.extras).
 #pragma once
 
 #include <map>
@@ -12,6 +15,7 @@
 
 #include "smpl/body_model.hpp"
 #include "smpl/gltf.hpp"
+#include "smpl/export.hpp"
 
 namespace caliper::cli {
 
@@ -19,16 +23,33 @@ namespace caliper::cli {
 struct MeshFile {
   smpl::Vertices vertices;
   smpl::Faces faces;
-  std::map<std::string, std::string> extras;  ///< .glb/.gltf asset.extras strings (else empty)
+  /// The avatar's metadata: .glb/.gltf/.vrm asset.extras strings, FBX scene metadata strings,
+  /// OBJ/PLY `caliper-metadata` comment (else empty).
+  std::map<std::string, std::string> extras;
+  /// True when the vertex order is the file's own and may differ from the model's (FBX through
+  /// Assimp): put_in_model_order() maps it back through the faces.
+  bool order_from_faces = false;
 };
 
 /// Reads .glb, .gltf, .obj or .ply (by extension). Throws RuntimeError naming the file and the
 /// problem (unknown extension, unreadable, malformed line, unsupported PLY property).
 MeshFile read_mesh(const std::string& path);
 
-/// Writes the avatar of `model` with `betas` standing on the floor (min y = 0): .glb / .gltf
-/// (rigged, with `extras` in asset.extras), .obj or .ply (the rest-pose mesh). Throws
-/// UsageError for another extension; smpl::ModelError for write failures. `skin_weights`:
+/// Puts `mesh`'s vertices in the order of a model with `faces` when the file kept the triangles'
+/// order but not the vertices' (mesh.order_from_faces): vertex faces(f, i) of the model is
+/// vertex mesh.faces(f, i) of the file. Throws RuntimeError naming `path` when the triangle
+/// counts differ or a model vertex would get two different positions.
+void put_in_model_order(MeshFile& mesh, const smpl::Faces& faces, const std::string& path);
+
+/// Writes the avatar of `model` with `betas` standing on the floor (min y = 0) in the format of
+/// the extension (smpl::export_avatar) with `options` (options.extras: the avatar's metadata).
+/// Throws UsageError for an unknown extension; smpl::ModelError for what a format refuses and
+/// write failures.
+void write_avatar(const std::string& path, const smpl::BodyModel& model,
+                  const Eigen::VectorXd& betas, const smpl::ExportOptions& options);
+
+/// The same with default options and `extras` as metadata (the rest pose's vertices come from
+/// the model; `rest_vertices` is accepted for callers that have them and is not needed). `skin_weights`:
 /// smpl::gltf_skin_weights(model) computed once for many avatars of `model`, or null.
 void write_avatar(const std::string& path, const smpl::BodyModel& model,
                   const Eigen::VectorXd& betas, const smpl::Vertices& rest_vertices,
@@ -37,5 +58,9 @@ void write_avatar(const std::string& path, const smpl::BodyModel& model,
 
 /// True when `path` has an extension write_avatar() accepts.
 bool is_avatar_extension(const std::string& path);
+
+/// "--out FILE: use a .glb, .gltf, .vrm, .fbx, .obj or .ply file name" style list of the
+/// extensions write_avatar() accepts: ".glb, .gltf, .vrm, .fbx, .obj or .ply".
+std::string avatar_extensions_text();
 
 }  // namespace caliper::cli

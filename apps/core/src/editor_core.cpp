@@ -13,11 +13,8 @@
 #include "caliper/errors.hpp"
 #include "caliper/journal.hpp"
 #include "caliper/json.hpp"
-#include "smpl/export.hpp"
+#include "smpl/avatar_export.hpp"
 #include "smpl/io.hpp"
-#ifdef CALIPER_APP_HAVE_GLTF
-#include "smpl/gltf.hpp"
-#endif
 
 namespace caliper::app {
 
@@ -698,27 +695,41 @@ bool EditorCore::open_session(const std::string& path) {
   }
 }
 
-bool EditorCore::export_mesh(const std::string& path) {
+const std::vector<smpl::ExportFormat>& export_formats() {
+  return smpl::export_formats();
+}
+
+std::map<std::string, std::string> EditorCore::export_metadata() const {
+  std::map<std::string, std::string> extras;
+  if (!has_model()) return extras;
+  const smpl::BodyModel& m = *model().model;
+  extras["generator"] = std::string("caliper-editor ") + CALIPER_APP_VERSION;
+  extras["regressor"] = to_string(doc_.regressor);
+  extras["betas"] =
+      Json(std::vector<double>(avatar_.betas.data(), avatar_.betas.data() + avatar_.betas.size()))
+          .dump();
+  Json measurements = Json::object();
+  for (const auto& [id, value] : avatar_.achieved) measurements.set(id, value);
+  extras["measurements"] = measurements.dump();
+  extras["model"] = m.meta.name;
+  // An open default model (made by caliper-modelgen) is named by its sex, as `caliper create`
+  // does, so that `caliper measure` picks it (and its weight formula) without being told.
+  const std::string& g = m.meta.gender;
+  if (m.meta.source.rfind("caliper-modelgen", 0) == 0 &&
+      (g == "female" || g == "male" || g == "neutral")) {
+    extras["open_model_sex"] = g;
+  }
+  return extras;
+}
+
+bool EditorCore::export_avatar(const std::string& path, smpl::ExportOptions options) {
   if (!has_model()) {
     post(Message::Level::Error, "nothing to export: open a model first");
     return false;
   }
-  const std::string ext = lower(path.substr(
-      path.find_last_of('.') == std::string::npos ? path.size() : path.find_last_of('.')));
   try {
-    if (ext == ".obj") {
-      smpl::write_obj(path, avatar_.vertices, model().model->faces);
-    } else if (ext == ".ply") {
-      smpl::write_ply(path, avatar_.vertices, model().model->faces);
-    } else if (ext == ".glb" || ext == ".gltf") {
-#ifdef CALIPER_APP_HAVE_GLTF
-      smpl::write_gltf(path, *model().model, avatar_.betas);
-#else
-      throw InvalidInputError("this build has no glTF export");
-#endif
-    } else {
-      throw InvalidInputError("unknown extension '" + ext + "' (use .obj, .ply, .glb or .gltf)");
-    }
+    options.extras = export_metadata();
+    smpl::export_avatar(path, *model().model, avatar_.betas, options);
     post(Message::Level::Info, "exported " + path);
     return true;
   } catch (const std::exception& e) {

@@ -1,20 +1,109 @@
 /// \file export.hpp
-/// Mesh export: OBJ and PLY (any mesh). glTF 2.0 export lives in gltf.hpp (target smpl::gltf).
+/// Avatar export options shared by every format, and mesh export: OBJ and PLY (any mesh).
+/// glTF 2.0 and VRM 1.0 export live in gltf.hpp (target smpl::gltf), FBX in fbx.hpp (target
+/// smpl::fbx); smpl/avatar_export.hpp (target smpl::export) picks the writer by file extension.
 #pragma once
 
+#include <map>
 #include <string>
 
+#include <Eigen/Core>
+
 #include "smpl/body_model.hpp"
+#include "smpl/evaluate.hpp"
 
 namespace smpl {
 
-/// Writes a Wavefront OBJ (v, vn, f lines; 1-based indices). Throws ModelError on I/O failure.
-void write_obj(const std::string& path, const Vertices& vertices, const Faces& faces);
+/// Which axis is "up" in a file. The libraries work in +Y up, facing +Z (glTF's frame); `Z`
+/// rotates the mesh by +90 degrees about X, (x, y, z) -> (x, -z, y): +Z up, facing -Y (Blender's
+/// frame, and what PLY tools without an axis setting expect).
+enum class UpAxis { Y, Z };
 
-/// Writes a binary little-endian PLY (float xyz, int32 triangles). Throws ModelError on failure.
-void write_ply(const std::string& path, const Vertices& vertices, const Faces& faces);
+/// Names of the joints (bones) in rigged formats.
+enum class BoneNames {
+  Model,  ///< the model's own joint names (open models and SMPL files: "pelvis", "left_hip", ...)
+  Smpl,   ///< SMPL's Unity and FBX names, "m_avg_Pelvis", "m_avg_L_Hip", ... (24-joint models only)
+};
+
+/// One set of options for every export format. Members a format cannot honour are either
+/// ignored (documented per member) or refused with a ModelError naming the option.
+struct GltfSkinWeights;  // smpl/gltf.hpp
+
+struct ExportOptions {
+  bool stand_on_floor = true;   ///< translate so that the rest mesh's min y is 0 (all formats).
+  std::string name = "avatar";  ///< mesh, scene and (VRM) model name.
+  /// Key/values stored with the avatar (model, sex, betas, measurements): glTF/VRM asset.extras,
+  /// FBX scene metadata, OBJ/PLY one `caliper-metadata {json}` comment. Never personal data
+  /// beyond what the caller passes.
+  std::map<std::string, std::string> extras;
+  /// SMPL axis-angle pose (3K values, joint 0 = global orientation) or empty for the rest pose.
+  /// OBJ/PLY: the posed mesh is written; glTF: the joints are rotated, the bind pose stays the
+  /// rest pose (the skin's inverse bind matrices); FBX: mesh and skeleton are posed and bound in
+  /// that pose; VRM refuses a pose (its rest must be the T-pose). The posed body keeps the rest
+  /// pose's floor offset.
+  Eigen::VectorXd pose;
+  BoneNames bone_names = BoneNames::Model;  ///< glTF, VRM, FBX joint names.
+  /// glTF/VRM: morph targets (named beta_00, beta_01, ...) for the first `shape_keys` shape
+  /// components, their default weights the avatar's betas, so that the file shows the avatar as
+  /// made and a viewer's sliders reshape it. 0 = none; more than the model has is an error.
+  int shape_keys = 0;
+  bool pose_correctives = false;  ///< glTF: posedirs as morph targets (9 (K - 1) targets).
+  UpAxis up = UpAxis::Y;          ///< OBJ and PLY only (glTF, VRM, FBX have their own frames).
+  /// VRM: licence of the body model, written to VRMC_vrm.meta.otherLicenseUrl. Empty: the
+  /// model's own `licence` metadata (the open models: MIT); a model without one (e.g. a user's
+  /// SMPL file) is refused with a message asking for it.
+  std::string licence;
+  std::string author = "The Virtual Caliper user";  ///< VRM meta.authors[0].
+  /// glTF/VRM: precomputed gltf_skin_weights() of the same model (not owned; must outlive the
+  /// call), or null to compute them; other formats ignore it. Wrong sizes throw
+  /// std::invalid_argument.
+  const GltfSkinWeights* skin_weights = nullptr;
+};
+
+/// Bone names of `model` under `naming`. Throws ModelError when `naming` is Smpl and the model
+/// does not have SMPL's 24 joints (names and parents).
+std::vector<std::string> bone_names(const BodyModel& model, BoneNames naming);
+
+/// SMPL's Unity/FBX bone names ("m_avg_Pelvis", ...), in SMPL's joint order.
+const std::vector<std::string>& smpl_fbx_bone_names();
+
+/// Checks `options.pose` against the model (empty or 3K finite values); throws ModelError.
+void check_pose(const BodyModel& model, const ExportOptions& options);
+
+/// The exported rest-pose body: shape(model, betas) lifted onto the floor when
+/// options.stand_on_floor. Throws ModelError for too many betas.
+Body export_rest_body(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& betas,
+                      const ExportOptions& options, const std::string& context);
+
+/// Writes a Wavefront OBJ (v, vn, f lines; 1-based indices; `# up: z` when up is Z) atomically
+/// (temporary file in the same folder, then rename). `metadata` (JSON text, one line) goes into a
+/// `# caliper-metadata` comment when not empty. Throws ModelError on I/O failure, leaving an
+/// existing file untouched.
+void write_obj(const std::string& path, const Vertices& vertices, const Faces& faces,
+               UpAxis up = UpAxis::Y, const std::string& metadata = {});
+
+/// Writes a binary little-endian PLY (float xyz and normals, int32 triangles; `comment up: z`
+/// when up is Z, `comment caliper-metadata ...` with `metadata`) atomically. Throws ModelError.
+void write_ply(const std::string& path, const Vertices& vertices, const Faces& faces,
+               UpAxis up = UpAxis::Y, const std::string& metadata = {});
+
+/// Writes the avatar of `model` with `betas` (posed with options.pose, on the floor, options.up)
+/// as OBJ or PLY by the extension of `path`, with options.extras as metadata. Throws ModelError.
+void write_mesh_avatar(const std::string& path, const BodyModel& model,
+                       const Eigen::Ref<const Eigen::VectorXd>& betas,
+                       const ExportOptions& options = {});
+
+/// `vertices` mapped from the libraries' frame (+Y up) to `up`: identity for Y, (x, -z, y) for Z.
+Vertices to_up_axis(const Vertices& vertices, UpAxis up);
+/// The inverse of to_up_axis().
+Vertices from_up_axis(const Vertices& vertices, UpAxis up);
 
 /// Per-vertex unit normals (area-weighted face normals), V x 3.
 Vertices vertex_normals(const Vertices& vertices, const Faces& faces);
+
+/// Writes `bytes` to `path` atomically: a temporary file in the same folder, flushed and closed,
+/// then renamed over `path`. On any failure the temporary file is removed, an existing `path` is
+/// left as it was, and ModelError names the file and the reason.
+void write_file_atomically(const std::string& path, const std::string& bytes);
 
 }  // namespace smpl

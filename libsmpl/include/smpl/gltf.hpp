@@ -1,8 +1,10 @@
 /// \file gltf.hpp
 /// glTF 2.0 export of a rigged, skinned avatar (Khronos glTF 2.0 specification): one skinned mesh
 /// (POSITION, NORMAL, JOINTS_0, WEIGHTS_0 with at most 4 renormalised influences), the joint
-/// hierarchy with joint names, inverse bind matrices, the shape baked in, optional pose-corrective
-/// morph targets. Only this target includes tiny_gltf.h.
+/// hierarchy with joint names, inverse bind matrices, the shape baked in, optional shape-key and
+/// pose-corrective morph targets, an optional pose on the joints; and VRM 1.0 (glTF 2.0 with the
+/// VRMC_vrm extension: humanoid bone map, meta, first-person settings). Only this target includes
+/// tiny_gltf.h.
 #pragma once
 
 #include <cstdint>
@@ -13,6 +15,7 @@
 #include <Eigen/Core>
 
 #include "smpl/body_model.hpp"
+#include "smpl/export.hpp"
 
 namespace smpl {
 
@@ -28,28 +31,43 @@ struct GltfSkinWeights {
 /// GltfOptions::skin_weights to write many avatars of one model faster (same bytes).
 GltfSkinWeights gltf_skin_weights(const BodyModel& model);
 
-struct GltfOptions {
-  bool stand_on_floor = true;     ///< translate so that the mesh's min y is 0.
-  bool pose_correctives = false;  ///< add posedirs as morph targets (P targets).
-  std::string name = "avatar";    ///< mesh and scene name.
-  /// Extra key/values written to asset.extras (e.g. measurements, betas); never personal data
-  /// beyond what the caller passes.
-  std::map<std::string, std::string> extras;
-  /// Precomputed gltf_skin_weights() of the same model (not owned; must outlive the call), or
-  /// null to compute them. Wrong sizes throw std::invalid_argument.
-  const GltfSkinWeights* skin_weights = nullptr;
-};
+/// glTF export takes the options every format shares (smpl/export.hpp).
+using GltfOptions = ExportOptions;
 
 /// Exports the avatar of `model` with `betas` baked in (rest T-pose). The file holds one skinned
 /// mesh: POSITION and NORMAL (float), JOINTS_0 (unsigned short) and WEIGHTS_0 (float, the 4
 /// largest skinning weights of each vertex renormalised to sum 1), uint32 indices; one node per
-/// joint named from model.joint_names, translated relative to its parent; inverse bind matrices
-/// translation(-J_shaped); with options.pose_correctives, 9 (K - 1) morph targets (posedirs
-/// columns, named in mesh.extras.targetNames; target weight = (R_k - I)(r, c), may be negative).
-/// `.glb` writes binary glTF, `.gltf` writes JSON with an embedded buffer. Throws ModelError on
-/// failure.
+/// joint named by options.bone_names, translated relative to its parent (and rotated by
+/// options.pose); inverse bind matrices translation(-J_shaped). Morph targets, in this order:
+/// with options.shape_keys = N, N targets beta_00 ... (shapedirs columns; POSITION holds the body
+/// without them and their default weights are betas[0..N), so the default shape is the avatar);
+/// with options.pose_correctives, 9 (K - 1) targets (posedirs columns, weight (R_k - I)(r, c),
+/// may be negative; 0 in the rest pose). Names in mesh.extras.targetNames. `.glb` writes binary
+/// glTF, `.gltf` JSON with an embedded buffer, atomically. Throws ModelError on failure.
 void write_gltf(const std::string& path, const BodyModel& model,
                 const Eigen::Ref<const Eigen::VectorXd>& betas, const GltfOptions& options = {});
+
+/// Exports a VRM 1.0 avatar (`.vrm`: GLB with the VRMC_vrm extension, specVersion "1.0"): the
+/// glTF avatar above (rest pose; the model's rest pose is its T-pose, facing +Z, on the floor)
+/// plus the humanoid bone map from SMPL's joint names (hips, spine, chest, upperChest, neck,
+/// head, shoulders, upper/lower arms, hands, upper/lower legs, feet, toes), meta (options.name,
+/// options.author, the VRM Public Licence URL the specification requires, the body model's
+/// licence as otherLicenseUrl / thirdPartyLicenses) and first-person settings (the mesh is
+/// annotated `auto`: triangles weighted to the head are hidden in first person). Throws
+/// ModelError when the model lacks a required humanoid joint, when options.pose is set, or when
+/// the model's licence is unknown and options.licence is empty (the message says how to state
+/// it).
+void write_vrm(const std::string& path, const BodyModel& model,
+               const Eigen::Ref<const Eigen::VectorXd>& betas, const ExportOptions& options = {});
+
+/// The same VRM as bytes in memory.
+std::vector<std::uint8_t> vrm_bytes(const BodyModel& model,
+                                    const Eigen::Ref<const Eigen::VectorXd>& betas,
+                                    const ExportOptions& options = {});
+
+/// The VRM humanoid bone of each SMPL joint name ("pelvis" -> "hips", ...); joints without one
+/// (SMPL's left_hand/right_hand) are absent.
+const std::map<std::string, std::string>& vrm_humanoid_bones();
 
 /// The same avatar as GLB bytes in memory (no disk I/O).
 std::vector<std::uint8_t> glb_bytes(const BodyModel& model,
@@ -67,12 +85,15 @@ struct GltfAvatar {
   Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor> joint_weights;  ///< V x 4 WEIGHTS_0
   /// Position displacements (V x 3) of the mesh's morph targets, in order (empty when none).
   std::vector<Vertices> morph_targets;
+  std::vector<double> morph_weights;          ///< mesh.weights (default weights; 0 when absent)
+  std::vector<std::string> morph_names;       ///< mesh.extras.targetNames ("" when absent)
   std::string generator;                      ///< asset.generator
   std::map<std::string, std::string> extras;  ///< asset.extras entries that are strings
   std::vector<std::string> warnings;          ///< tinygltf's warnings on a file that still loaded.
 };
 
-/// Reads back a GLB/glTF written by write_gltf() (or any single-skinned-mesh glTF). Throws
+/// Reads back a GLB/glTF/VRM written by write_gltf() or write_vrm() (or any single-skinned-mesh
+/// glTF; `.vrm` is read as GLB). POSITION is the bind (rest) pose whatever the joints' pose. Throws
 /// ModelError naming the file and the problem; tinygltf warnings are reported in the message.
 GltfAvatar read_gltf(const std::string& path);
 

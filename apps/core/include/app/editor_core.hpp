@@ -11,6 +11,7 @@
 #pragma once
 
 #include <deque>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -22,9 +23,14 @@
 #include "caliper/measurements.hpp"
 #include "caliper/plausibility.hpp"
 #include "caliper/regressor.hpp"
+#include "smpl/avatar_export.hpp"
 #include "smpl/body_model.hpp"
 
 namespace caliper::app {
+
+/// Every avatar file format the editor exports, in the order a file dialog should offer them
+/// (extension, description, rigged): smpl::export_formats().
+const std::vector<smpl::ExportFormat>& export_formats();
 
 /// Which regressor turns the measurements into betas.
 enum class RegressorChoice { R2, R4, R5, R6, NoiseAware };
@@ -157,9 +163,20 @@ class EditorCore {
   /// or array, or a JSON Lines journal whose records carry "id"/"value" pairs). Values become
   /// the inputs (undoable).
   bool open_session(const std::string& path);
-  /// Export the current avatar (rest pose, floor at 0): ".obj" or ".glb"/".gltf" (the latter
-  /// only when built with glTF support).
-  bool export_mesh(const std::string& path);
+  /// Exports the current avatar (rest pose, floor at 0) in the format of the file's extension,
+  /// one of export_formats() (.glb, .gltf, .vrm, .fbx, .obj, .ply), with the same metadata as
+  /// `caliper create` (generator, regressor, model, open_model_sex for an open model, betas,
+  /// measurements; see export_metadata()), so that `caliper measure` on it picks the right
+  /// model. `options` adds shape keys, bone names, a pose, an axis or a licence
+  /// (smpl::ExportOptions); its extras are replaced by the metadata. Posts "exported PATH" or an
+  /// error naming the problem (unknown extension listing the formats, a model without a licence
+  /// for VRM, a write failure: an existing file is left as it was). Returns success.
+  bool export_avatar(const std::string& path, smpl::ExportOptions options = {});
+  /// export_avatar(path) with default options.
+  bool export_mesh(const std::string& path) { return export_avatar(path); }
+  /// The metadata export_avatar() writes for the current avatar (string values; betas and
+  /// measurements as JSON text). Empty without a model.
+  std::map<std::string, std::string> export_metadata() const;
 
   // ---- Comparison ----------------------------------------------------------------------
   /// Pins the current avatar as the comparison avatar.
