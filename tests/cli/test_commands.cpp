@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
 #include "caliper/json.hpp"
 #include "caliper/measurements.hpp"
 #include "cli_fixture.hpp"
@@ -278,6 +280,64 @@ TEST_F(Commands, EvaluateTable1RunsOnAModel) {
   EXPECT_TRUE(contains(r.out, "| R2 Mean |")) << r.out;
   EXPECT_TRUE(contains(r.out, "| noise-aware Max |")) << r.out;
   EXPECT_EQ(run({"evaluate", "nonsense", "--model", model_}).code, kExitUsage);
+}
+
+// Issue 17, item 13: the command line's details.
+TEST_F(Commands, CreateWithoutOutSaysNothingWasWritten) {
+  const CliRun r =
+      run({"create", "--model", model_, "--height", "172cm", "--weight", "70kg", "--force"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_TRUE(contains(r.err, "no avatar file written")) << r.err;
+  const CliRun w = run({"create", "--model", model_, "--height", "172cm", "--weight", "70kg",
+                        "--force", "--out", path("a.obj")});
+  EXPECT_FALSE(contains(w.err, "no avatar file written")) << w.err;
+}
+
+TEST_F(Commands, DecimalCommaIsADecimalPoint) {
+  const CliRun r = run({"create", "--model", model_, "--height", "1,72m", "--weight", "70,5kg",
+                        "--force", "--json"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  const Json j = parse_json(r.out);
+  EXPECT_NEAR(j.at("achieved").at("height").as_number(), 1.72, kInputTolM);
+  // A comma that is not between digits is still refused.
+  EXPECT_EQ(run({"create", "--model", model_, "--height", "172,cm", "--weight", "70kg"}).code,
+            kExitUsage);
+}
+
+TEST_F(Commands, BatchCountsInWordsAndWarnsAboutMissingSex) {
+  std::ofstream(path("people.csv")) << "id,sex,height_cm,weight_kg\n"
+                                       "a,,170,62\n";
+  // One open model per sex (no --model): the empty cell is reported, not silently neutral.
+  std::filesystem::create_directories(dir_ / "assets" / "models");
+  smpl::save_model(test::cli_test_model("neutral"), path("assets/models/caliper-neutral.npz"));
+  const char* before = std::getenv("CALIPER_ASSETS");
+  const std::string saved = before != nullptr ? before : "";
+  setenv("CALIPER_ASSETS", path("assets").c_str(), 1);
+  const CliRun r =
+      run({"batch", path("people.csv"), "-j", "1", "--out", path("results.csv"), "--force"});
+  if (before != nullptr)
+    setenv("CALIPER_ASSETS", saved.c_str(), 1);
+  else
+    unsetenv("CALIPER_ASSETS");
+  EXPECT_TRUE(contains(r.err, "1 person has no sex")) << r.err;
+  const CliRun m = run({"batch", path("people.csv"), "--model", model_, "-j", "1", "--out",
+                        path("results.csv"), "--force"});
+  EXPECT_TRUE(contains(m.err, "1 person in")) << m.err;
+  EXPECT_TRUE(contains(m.err, "1 job;")) << m.err;
+  EXPECT_TRUE(contains(m.err, "0 errors")) << m.err;
+  EXPECT_FALSE(contains(m.err, "1 people")) << m.err;
+}
+
+TEST(Cli, MistypedCommandGetsASuggestionAndOneHelpPointer) {
+  std::ostringstream out, err;
+  Io io{out, err, false};
+  EXPECT_EQ(main_guarded({"creat"}, io), kExitUsage);
+  EXPECT_TRUE(contains(err.str(), "did you mean create?")) << err.str();
+  EXPECT_EQ(err.str().find("--help"), err.str().rfind("--help")) << err.str();
+  std::ostringstream out2, err2;
+  Io io2{out2, err2, false};
+  EXPECT_EQ(main_guarded({"create", "--heigth", "1m"}, io2), kExitUsage);
+  EXPECT_EQ(err2.str().find("--help"), err2.str().rfind("--help")) << err2.str();
 }
 
 TEST(Cli, VersionHelpAndUnknownCommand) {

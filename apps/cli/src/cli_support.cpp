@@ -52,19 +52,29 @@ size_t edit_distance(const std::string& a, const std::string& b) {
 }
 
 std::string closest_option(const std::string& name, const std::vector<OptionSpec>& specs) {
+  std::vector<std::string> names;
+  for (const auto& s : specs) names.push_back(s.name);
+  return closest_name(name, names);
+}
+
+}  // namespace
+
+std::string closest_name(const std::string& name, const std::vector<std::string>& names) {
   std::string best;
   size_t best_d = 4;  // suggest only near misses
-  for (const auto& s : specs) {
-    const size_t d = edit_distance(name, s.name);
+  for (const std::string& n : names) {
+    const size_t d = edit_distance(name, n);
     if (d < best_d) {
       best_d = d;
-      best = s.name;
+      best = n;
     }
   }
   return best;
 }
 
-}  // namespace
+std::string count_noun(long long n, const std::string& singular, const std::string& plural) {
+  return std::to_string(n) + " " + (n == 1 ? singular : plural);
+}
 
 ParsedArgs parse_args(const std::vector<std::string>& args, const std::vector<OptionSpec>& specs) {
   ParsedArgs out;
@@ -238,9 +248,16 @@ bool split_number_unit(const std::string& text, size_t& pos, double& value, std:
   return true;
 }
 
-double parse_with_units(const std::string& text, const std::string& what, bool is_length) {
+double parse_with_units(const std::string& typed, const std::string& what, bool is_length) {
   const std::string examples =
       is_length ? "e.g. 168cm, 1.68m, 1680mm, 66in or 5ft6in" : "e.g. 62kg or 137lb";
+  // A decimal comma between digits ("1,68m", "62,5 kg") is a decimal point.
+  std::string text = typed;
+  for (size_t i = 1; i + 1 < text.size(); ++i) {
+    if (text[i] == ',' && std::isdigit(static_cast<unsigned char>(text[i - 1])) &&
+        std::isdigit(static_cast<unsigned char>(text[i + 1])))
+      text[i] = '.';
+  }
   double total = 0.0;
   size_t pos = 0;
   int parts = 0;

@@ -153,9 +153,18 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
   BundleCache cache(a.get("model"), a.get("regressors"));
   std::map<std::string, std::shared_ptr<const ModelBundle>> bundles;
   const auto t_load = std::chrono::steady_clock::now();
+  long long no_sex = 0;
   for (auto& p : people) {
-    if (p.sex.empty()) p.sex = default_sex;
+    if (p.sex.empty()) {
+      ++no_sex;
+      p.sex = default_sex;
+    }
     if (!bundles.count(p.sex)) bundles[p.sex] = cache.get(p.sex);
+  }
+  if (no_sex > 0 && !a.get("sex") && !a.get("model")) {
+    io.err << "caliper batch: " << count_noun(no_sex, "person has", "people have")
+           << " no sex (no sex column or an empty cell): the " << default_sex
+           << " model was used; fill the sex column or give --sex\n";
   }
   std::map<const ModelBundle*, std::unique_ptr<ShapeMeasurer>> measurers;
   if (!need_mesh) {
@@ -292,12 +301,13 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
   out->flush();
   char buf[256];
   std::snprintf(buf, sizeof buf,
-                "caliper batch: %zu people in %.3f s (%.0f per second, %d jobs; models loaded and "
-                "regressors trained in %.3f s): %d ok, %d refused, %d errors\n",
-                people.size(), seconds,
-                seconds > 0 ? static_cast<double>(people.size()) / seconds : 0.0, n_threads, load_s,
-                ok, refused, errors);
-  io.err << buf;
+                " in %.3f s (%.0f per second, %s; models loaded and regressors trained in %.3f "
+                "s): %d ok, %d refused, %s\n",
+                seconds, seconds > 0 ? static_cast<double>(people.size()) / seconds : 0.0,
+                count_noun(n_threads, "job", "jobs").c_str(), load_s, ok, refused,
+                count_noun(errors, "error", "errors").c_str());
+  io.err << "caliper batch: "
+         << count_noun(static_cast<long long>(people.size()), "person", "people") << buf;
   return (refused + errors) > 0 ? kExitRuntime : kExitOk;
 }
 

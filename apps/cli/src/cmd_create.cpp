@@ -225,6 +225,10 @@ int cmd_create(const std::vector<std::string>& args, Io& io) {
     written.push_back(*png);
   }
   const double total_s = seconds_since(t_start);
+  if (!a.get("out")) {
+    io.err << "caliper create: no avatar file written (add --out avatar.glb, or .gltf, .obj, "
+              ".ply, to write one)\n";
+  }
 
   if (a.flags.count("json")) {
     Json j = Json::object();

@@ -669,7 +669,9 @@ void EditorApp::draw_measurements() {
   }
   const std::vector<std::string> editable = core_.editable_inputs();
   const app::UnitSystem units = core_.view().units;
-  ImGui::TextDisabled("Drag a slider or type a value (Enter, Tab or a click elsewhere applies it)");
+  ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+  ImGui::TextWrapped("Drag a slider or type a value (Enter, Tab or a click elsewhere applies it)");
+  ImGui::PopStyleColor();
   for (const std::string& id : editable) {
     const auto value = core_.shown_value(id);
     if (!value) continue;
@@ -679,7 +681,7 @@ void EditorApp::draw_measurements() {
     const std::string name = app::measurement_label(id);
     const float avail = ImGui::GetContentRegionAvail().x;
     const float name_w = std::min(170.0f, avail * 0.38f);
-    const float typed_w = 80.0f;
+    const float typed_w = 96.0f;
     ImGui::AlignTextToFramePadding();
     ImGui::TextUnformatted(name.c_str());
     ImGui::SameLine(name_w);
@@ -698,10 +700,10 @@ void EditorApp::draw_measurements() {
     ImGui::SameLine();
     ImGui::SetNextItemWidth(typed_w);
     auto& text = typed_text_[id];
-    if (active_field_ != id) std::snprintf(text.data(), text.size(), "%.1f", shown);
+    if (active_field_ != id)
+      std::snprintf(text.data(), text.size(), "%.1f %s", shown, unit.c_str());
     const std::string typed_id = "##typed " + name;
-    ImGui::InputText(typed_id.c_str(), text.data(), text.size(),
-                     ImGuiInputTextFlags_CharsNoBlank | ImGuiInputTextFlags_AutoSelectAll);
+    ImGui::InputText(typed_id.c_str(), text.data(), text.size(), ImGuiInputTextFlags_AutoSelectAll);
     probe_.track(typed_id.c_str());
     if (ImGui::IsItemActive()) {
       active_field_ = id;
@@ -759,7 +761,8 @@ void EditorApp::draw_achieved_table() {
       ImGui::TableNextColumn();
       ImGui::Text("%.1f %s", achieved, unit.c_str());
       ImGui::TableNextColumn();
-      const double diff = achieved - typed;
+      // Rounded as shown, so that a tiny negative difference does not print as "-0.0".
+      const double diff = std::round((achieved - typed) * 10.0) / 10.0 + 0.0;
       // Within half a display unit the avatar matches what was typed.
       const ImVec4 c =
           std::abs(diff) < 0.5 ? ImVec4(0.1f, 0.5f, 0.2f, 1) : ImVec4(0.75f, 0.35f, 0.0f, 1);
@@ -787,10 +790,15 @@ void EditorApp::draw_betas() {
       "Distance from the average body (Mahalanobis distance): %.2f. It counts the shape "
       "components b0-b%d in standard deviations (SD) of the population; 0 is the average body.",
       p.mahalanobis, std::max(0, p.dof - 1));
+  char share[64];
+  if (p.p_value >= 0.001)
+    std::snprintf(share, sizeof share, "%.1f %% of people", 100.0 * p.p_value);
+  else
+    std::snprintf(share, sizeof share, "fewer than 1 in 1000 people");
   ImGui::TextWrapped(
-      "p = %.3g: %.1f %% of people have a shape at least this far from the average. "
-      "A shape is called plausible when p >= 0.001 and no component is beyond 3 SD.",
-      p.p_value, 100.0 * p.p_value);
+      "p = %.3g: %s have a shape at least this far from the average. A shape is called "
+      "plausible when p >= 0.001 and no component is beyond 3 SD.",
+      p.p_value, share);
   if (!p.beyond_3sd.empty()) {
     std::string list;
     for (int b : p.beyond_3sd) {
@@ -798,11 +806,14 @@ void EditorApp::draw_betas() {
       std::snprintf(buf, sizeof buf, "%sb%d (%+.1f SD)", list.empty() ? "" : ", ", b, av.betas(b));
       list += buf;
     }
-    ImGui::TextColored(bad, "Beyond 3 SD: %s. Check the typed values in the table above.",
-                       list.c_str());
+    ImGui::PushStyleColor(ImGuiCol_Text, bad);
+    ImGui::TextWrapped("Beyond 3 SD: %s. Check the typed values in the table above.", list.c_str());
+    ImGui::PopStyleColor();
   } else if (!p.beyond_2sd.empty()) {
-    ImGui::TextColored(warn, "%d component(s) beyond 2 SD (uncommon, not implausible).",
+    ImGui::PushStyleColor(ImGuiCol_Text, warn);
+    ImGui::TextWrapped("%d component(s) beyond 2 SD (uncommon, not implausible).",
                        static_cast<int>(p.beyond_2sd.size()));
+    ImGui::PopStyleColor();
   }
   const int k = p.dof;
   for (int b = 0; b < k; ++b) {

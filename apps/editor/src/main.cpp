@@ -19,6 +19,7 @@
 #include "caliper/assets.hpp"
 #include "config.hpp"
 #include "editor_app.hpp"
+#include "key_taps.hpp"
 #include "render/glfw_context.hpp"
 #include "render/render_mesh.hpp"
 
@@ -194,23 +195,14 @@ struct InputGlue {
   GLFWmousebuttonfun imgui_button = nullptr;
   GLFWscrollfun imgui_scroll = nullptr;
   GLFWcursorposfun prev_cursor = nullptr;
-  struct Key {
-    int key, scancode, mods;
-  };
-  std::vector<int> pressed_this_frame;
-  std::vector<Key> held_back;
+  caliper::editor::KeyTaps taps;
   bool event = false;
 };
 InputGlue g_input;
 
 void on_key(GLFWwindow* w, int key, int scancode, int action, int mods) {
   g_input.event = true;
-  auto& p = g_input.pressed_this_frame;
-  if (action == GLFW_PRESS) p.push_back(key);
-  if (action == GLFW_RELEASE && std::find(p.begin(), p.end(), key) != p.end()) {
-    g_input.held_back.push_back({key, scancode, mods});
-    return;
-  }
+  if (!g_input.taps.on_key(key, scancode, action, mods)) return;
   if (g_input.imgui_key) g_input.imgui_key(w, key, scancode, action, mods);
 }
 void on_char(GLFWwindow* w, unsigned int c) {
@@ -309,12 +301,10 @@ int run_window(EditorCore& core, const Options& o, const std::vector<std::string
       ++frame;
       --busy;
       // Releases held back for a quick tap reach ImGui now, after it saw the key down.
-      g_input.pressed_this_frame.clear();
-      for (const InputGlue::Key& k : g_input.held_back) {
+      for (const caliper::editor::KeyTaps::Key& k : g_input.taps.frame_done()) {
         if (g_input.imgui_key) g_input.imgui_key(win, k.key, k.scancode, GLFW_RELEASE, k.mods);
         busy = std::max(busy, 2);
       }
-      g_input.held_back.clear();
       if (core.revision() != seen_revision || core.messages().size() != seen_messages) {
         seen_revision = core.revision();
         seen_messages = core.messages().size();
