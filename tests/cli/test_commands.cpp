@@ -328,6 +328,41 @@ TEST_F(Commands, BatchCountsInWordsAndWarnsAboutMissingSex) {
   EXPECT_FALSE(contains(m.err, "1 people")) << m.err;
 }
 
+TEST(Cli, EveryCommandDefaultsToTheNeutralSex) {
+  for (const char* cmd : {"create", "measure", "batch", "render", "evaluate"}) {
+    std::ostringstream out, err;
+    Io io{out, err, false};
+    EXPECT_EQ(main_guarded({cmd, "--help"}, io), kExitOk) << cmd;
+    const std::string help = out.str() + err.str();
+    const size_t at = help.find("--sex");
+    ASSERT_NE(at, std::string::npos) << cmd;
+    const std::string line = help.substr(at, help.find("\n", help.find("neutral", at)) - at);
+    EXPECT_TRUE(contains(line, "default neutral") || contains(line, "else neutral"))
+        << cmd << ": " << line;
+  }
+}
+
+TEST_F(Commands, PlausibilityNamesTheComponentsBeyond3Sd) {
+  const CliRun r =
+      run({"create", "--model", model_, "--height", "172cm", "--weight", "70kg", "--force"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  // "beyond 3 SD: none" or a count with component names ("1 (b0)"), never a bare index.
+  EXPECT_TRUE(contains(r.out, "beyond 3 SD: none") || contains(r.out, "beyond 3 SD: 1 (b"))
+      << r.out;
+  EXPECT_TRUE(contains(r.out, "share of people")) << r.out;
+}
+
+TEST_F(Commands, ImperialInputGetsAnImperialReport) {
+  const CliRun r =
+      run({"create", "--model", model_, "--height", "5ft8in", "--weight", "154lb", "--force"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_TRUE(contains(r.out, "68.0 in (172.7 cm)")) << r.out;
+  EXPECT_TRUE(contains(r.out, "154.0 lb (69.9 kg)")) << r.out;
+  const CliRun m =
+      run({"create", "--model", model_, "--height", "172cm", "--weight", "70kg", "--force"});
+  EXPECT_FALSE(contains(m.out, " in (")) << m.out;
+}
+
 TEST(Cli, MistypedCommandGetsASuggestionAndOneHelpPointer) {
   std::ostringstream out, err;
   Io io{out, err, false};

@@ -279,7 +279,13 @@ int cmd_create(const std::vector<std::string>& args, Io& io) {
          << bundle->path << ")\n"
          << "regressor: " << regressor;
   if (mapping) io.out << " with mapping " << *a.get("mapping") << " (input column: mapped values)";
-  io.out << "\n\n" << measurement_table(mapping ? avatar.mapped : avatar.input, avatar.achieved);
+  // Inputs typed in imperial units get the report in inches and pounds too.
+  bool imperial = false;
+  for (const auto& o : kInputOptions) {
+    if (auto v = a.get(o.option)) imperial = imperial || is_imperial_text(*v);
+  }
+  io.out << "\n\n"
+         << measurement_table(mapping ? avatar.mapped : avatar.input, avatar.achieved, imperial);
   io.out << "\nbetas: " << format_betas(avatar.betas) << "\n";
   if (avatar.covariance) {
     io.out << "betas posterior SD: "
