@@ -230,12 +230,15 @@ TEST_F(Commands, BatchFastPathEqualsMeasuringTheMesh) {
   ASSERT_EQ(f.rows.size(), 2u);
   for (const char* col : {"height_cm", "weight_kg", "inseam_height_cm", "hip_width_cm",
                           "arm_length_cm", "volume_L", "beta0", "mahalanobis"}) {
-    const int c = f.column(col);
+    const int c = f.column(col), cm = m.column(col);  // the mesh CSV has more columns
     ASSERT_GE(c, 0) << col;
+    ASSERT_GE(cm, 0) << col;
     for (size_t r = 0; r < 2; ++r)  // the CSV's 2 decimals: the values agree to printing
-      EXPECT_EQ(f.rows[r][static_cast<size_t>(c)], m.rows[r][static_cast<size_t>(c)]) << col;
+      EXPECT_EQ(f.rows[r][static_cast<size_t>(c)], m.rows[r][static_cast<size_t>(cm)]) << col;
   }
-  EXPECT_TRUE(f.rows[0][static_cast<size_t>(f.column("chest_circumference_cm"))].empty());
+  // Circumferences only when asked (issue 17: no columns that are always empty).
+  EXPECT_LT(f.column("chest_circumference_cm"), 0);
+  ASSERT_GE(m.column("chest_circumference_cm"), 0);
   EXPECT_FALSE(m.rows[0][static_cast<size_t>(m.column("chest_circumference_cm"))].empty());
 }
 
@@ -361,6 +364,31 @@ TEST_F(Commands, ImperialInputGetsAnImperialReport) {
   const CliRun m =
       run({"create", "--model", model_, "--height", "172cm", "--weight", "70kg", "--force"});
   EXPECT_FALSE(contains(m.out, " in (")) << m.out;
+}
+
+TEST_F(Commands, BatchColumnsHoldOnlyWhatWasComputed) {
+  std::ofstream(path("people.csv")) << "id,sex,height_cm,weight_kg\n"
+                                       "a,female,170,62\n";
+  const CliRun r = run({"batch", path("people.csv"), "--model", model_, "-j", "1", "--out",
+                        path("plain.csv"), "--force"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  const CsvTable t = read_csv(path("plain.csv"));
+  for (const std::string& h : t.header) {
+    EXPECT_EQ(h.find("circumference"), std::string::npos) << h;
+  }
+  // The test model's regressors set its first betas; no always-zero columns after them.
+  const int k = test::cli_test_model("female").num_betas();
+  int beta_columns = 0;
+  for (const std::string& h : t.header) beta_columns += h.rfind("beta", 0) == 0;
+  EXPECT_GT(beta_columns, 0);
+  EXPECT_LE(beta_columns, std::min(k, 10));
+  const CliRun c = run({"batch", path("people.csv"), "--model", model_, "-j", "1", "--out",
+                        path("circ.csv"), "--force", "--circumferences"});
+  ASSERT_EQ(c.code, kExitOk) << c.err;
+  const CsvTable tc = read_csv(path("circ.csv"));
+  const int chest = tc.column("chest_circumference_cm");
+  ASSERT_GE(chest, 0);
+  EXPECT_FALSE(tc.rows[0][static_cast<size_t>(chest)].empty());
 }
 
 TEST(Cli, MistypedCommandGetsASuggestionAndOneHelpPointer) {

@@ -250,8 +250,18 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   // Results CSV.
+  // Beta columns: the components the regressors set (the model's further ones are always 0).
   int max_betas = 0;
-  for (const auto& o : outcomes) max_betas = std::max(max_betas, static_cast<int>(o.betas.size()));
+  for (const auto& o : outcomes) {
+    if (o.status == "ok")
+      max_betas = std::max(
+          max_betas, std::min(static_cast<int>(o.betas.size()), std::max(1, o.plausibility.dof)));
+  }
+  // Circumference columns only when they are measured (--circumferences).
+  std::vector<std::string> result_ids;
+  for (const auto& id : report_ids()) {
+    if (circumferences || id.find("circumference") == std::string::npos) result_ids.push_back(id);
+  }
   std::ofstream file;
   std::ostream* out = &io.out;
   if (auto path = a.get("out")) {
@@ -263,7 +273,7 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
   auto col = [](const std::string& id) { return id + "_" + display_unit(id).first; };
   *out << "id,sex,status,regressor";
   for (const auto& id : inputs) *out << ",input_" << col(id);
-  for (const auto& id : report_ids()) *out << "," << col(id);
+  for (const auto& id : result_ids) *out << "," << col(id);
   *out << ",mahalanobis,p_value,beyond_2sd,beyond_3sd,plausible";
   for (int b = 0; b < max_betas; ++b) *out << ",beta" << b;
   *out << ",message\n";
@@ -280,7 +290,7 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
       *out << ",";
       if (it != p.inputs.end()) *out << num(it->second * display_unit(id).second, 2);
     }
-    for (const auto& id : report_ids()) {
+    for (const auto& id : result_ids) {
       auto it = o.achieved.find(id);
       *out << ",";
       if (it != o.achieved.end()) *out << num(it->second * display_unit(id).second, 2);
