@@ -243,6 +243,20 @@ int run_window(EditorCore& core, const Options& o, const std::vector<std::string
   const int h = o.height > 0 ? o.height : cfg.window_height;
   caliper::render::GlfwWindowContext window(w, h, "The Virtual Caliper - editor");
   GLFWwindow* win = window.window();
+  // A remembered or default size larger than the screen (1600x1000 on a 1366x768 laptop) would
+  // put the panel's bottom and the status bar off-screen: shrink the window to the work area.
+  if (o.width <= 0) {
+    if (GLFWmonitor* monitor = glfwGetPrimaryMonitor()) {
+      int x = 0, y = 0, area_w = 0, area_h = 0;
+      glfwGetMonitorWorkarea(monitor, &x, &y, &area_w, &area_h);
+      // Room for the window manager's title bar and borders.
+      constexpr int kDecoration = 40;
+      if (area_w > 0 && area_h > kDecoration && (w > area_w || h > area_h - kDecoration)) {
+        glfwSetWindowSize(win, std::min(w, area_w), std::min(h, area_h - kDecoration));
+        glfwSetWindowPos(win, x, y + kDecoration / 2);
+      }
+    }
+  }
   ImGui::CreateContext();
   ImGuiIO& io = ImGui::GetIO();
   io.IniFilename = nullptr;
