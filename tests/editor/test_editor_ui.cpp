@@ -651,3 +651,22 @@ TEST(EditorUiGolden, Window1280x720FixedScaleSideView) {
   ui.frames(2);
   check_golden(ui.picture(), "editor_1280x720_scrolled.png");
 }
+
+// ---- The dialog's path rules (plain C++) ---------------------------------------------------
+TEST(FileDialogPath, ExtensionFoldersAndRefusals) {
+  const ce::FileActionInfo save = ce::file_action_info(ce::FileAction::SaveProfile, {".glb"});
+  EXPECT_EQ(ce::resolve_dialog_path("/d", "me", save, ".json"), fs::path("/d/me.json"));
+  EXPECT_EQ(ce::resolve_dialog_path("/d", "a/b/me.JSON", save, ".json"),
+            fs::path("/d/a/b/me.JSON"));
+  EXPECT_EQ(ce::resolve_dialog_path("/d", "/abs/me", save, ".json"), fs::path("/abs/me.json"));
+  EXPECT_THROW(ce::resolve_dialog_path("/d", "me.glb", save, ".json"), std::invalid_argument);
+  EXPECT_THROW(ce::resolve_dialog_path("/d", "  ", save, ".json"), std::invalid_argument);
+  EXPECT_THROW(ce::resolve_dialog_path("/d", "folder/", save, ".json"), std::invalid_argument);
+  const ce::FileActionInfo exp =
+      ce::file_action_info(ce::FileAction::Export, {".glb", ".gltf", ".obj", ".ply"});
+  EXPECT_EQ(ce::resolve_dialog_path("/d", "me", exp, ".obj"), fs::path("/d/me.obj"));
+  EXPECT_EQ(ce::resolve_dialog_path("/d", "me.ply", exp, ".obj"), fs::path("/d/me.ply"));
+  const ce::FileActionInfo shot = ce::file_action_info(ce::FileAction::Screenshot, {});
+  EXPECT_EQ(ce::resolve_dialog_path("/d", "s", shot, ".png"), fs::path("/d/s.png"));
+  EXPECT_THROW(ce::resolve_dialog_path("/d", "s.glb", shot, ".png"), std::invalid_argument);
+}
