@@ -1,5 +1,6 @@
 // The subcommands run in process (main_guarded) on a small generated model: happy paths, exact
 // exit codes and messages for bad input.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -17,6 +18,9 @@
 #include "render_bridge.hpp"
 #include "smpl/gltf.hpp"
 #include "smpl/io.hpp"
+#ifdef CALIPER_CLI_TESTS_HAVE_RENDER
+#include "render/image.hpp"
+#endif
 
 namespace caliper::cli {
 namespace {
@@ -276,6 +280,41 @@ TEST_F(Commands, RenderWritesPngs) {
   EXPECT_TRUE(std::filesystem::exists(path("pic_side.png")));
   EXPECT_EQ(run({"render", "--model", model_, "--views", "top"}).code, kExitUsage);
 }
+
+#ifdef CALIPER_CLI_TESTS_HAVE_RENDER
+// Issue 17, item 13: the body fills the picture (it filled about half its height) and is not cut.
+TEST_F(Commands, RenderedBodyFillsThePicture) {
+  // The camera fits the vertices with a 5 % margin (frame_points_tight): the body spans ~90 % of
+  // the picture's height or width; 80 % leaves room for antialiasing and the perspective.
+  constexpr double kMinFill = 0.80;
+  ASSERT_EQ(run({"render", "--model", model_, "--views", "front,side", "--size", "120x160", "--out",
+                 path("fill")})
+                .code,
+            kExitOk);
+  for (const char* view : {"front", "side"}) {
+    const render::Image img = render::read_png(path(std::string("fill_") + view + ".png"));
+    // Skin pixels: clearly redder than blue; the background and the floor grid are grey.
+    int x0 = img.width, x1 = -1, y0 = img.height, y1 = -1;
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x) {
+        const std::uint8_t* p = img.pixel(x, y);
+        if (p[0] > 30 && p[0] > p[2] * 1.15) {
+          x0 = std::min(x0, x);
+          x1 = std::max(x1, x);
+          y0 = std::min(y0, y);
+          y1 = std::max(y1, y);
+        }
+      }
+    ASSERT_GE(x1, 0) << view << ": no body in the picture";
+    const double fill = std::max(static_cast<double>(x1 - x0 + 1) / img.width,
+                                 static_cast<double>(y1 - y0 + 1) / img.height);
+    EXPECT_GE(fill, kMinFill) << view << " rows " << y0 << "-" << y1 << " columns " << x0 << "-"
+                              << x1;
+    EXPECT_TRUE(x0 > 0 && y0 > 0 && x1 < img.width - 1 && y1 < img.height - 1)
+        << view << ": the body touches the border (cut off)";
+  }
+}
+#endif
 
 TEST_F(Commands, EvaluateTable1RunsOnAModel) {
   const CliRun r = run({"evaluate", "table1", "--model", model_, "-n", "10"});
