@@ -49,9 +49,16 @@ bool split_number_unit(const std::string& text, size_t& pos, double& value, std:
   return true;
 }
 
-double parse_with_units(const std::string& text, const std::string& what, bool is_length) {
+double parse_with_units(const std::string& typed, const std::string& what, bool is_length) {
   const std::string examples =
       is_length ? "e.g. 168cm, 1.68m, 1680mm, 66in or 5ft6in" : "e.g. 62kg or 137lb";
+  // A decimal comma between digits ("1,68m", "62,5 kg") is a decimal point.
+  std::string text = typed;
+  for (size_t i = 1; i + 1 < text.size(); ++i) {
+    if (text[i] == ',' && std::isdigit(static_cast<unsigned char>(text[i - 1])) &&
+        std::isdigit(static_cast<unsigned char>(text[i + 1])))
+      text[i] = '.';
+  }
   double total = 0.0;
   size_t pos = 0;
   int parts = 0;

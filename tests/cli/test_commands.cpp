@@ -1,5 +1,7 @@
 // The subcommands run in process (main_guarded) on a small generated model: happy paths, exact
 // exit codes and messages for bad input.
+#include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -17,6 +19,9 @@
 #include "smpl/gltf.hpp"
 #include "smpl/io.hpp"
 #include "smpl/npz.hpp"
+#ifdef CALIPER_CLI_TESTS_HAVE_RENDER
+#include "render/image.hpp"
+#endif
 
 namespace caliper::cli {
 namespace {
@@ -381,12 +386,15 @@ TEST_F(Commands, BatchFastPathEqualsMeasuringTheMesh) {
   ASSERT_EQ(f.rows.size(), 2u);
   for (const char* col : {"height_cm", "weight_kg", "inseam_height_cm", "hip_width_cm",
                           "arm_length_cm", "volume_L", "beta0", "mahalanobis"}) {
-    const int c = f.column(col);
+    const int c = f.column(col), cm = m.column(col);  // the mesh CSV has more columns
     ASSERT_GE(c, 0) << col;
+    ASSERT_GE(cm, 0) << col;
     for (size_t r = 0; r < 2; ++r)  // the CSV's 2 decimals: the values agree to printing
-      EXPECT_EQ(f.rows[r][static_cast<size_t>(c)], m.rows[r][static_cast<size_t>(c)]) << col;
+      EXPECT_EQ(f.rows[r][static_cast<size_t>(c)], m.rows[r][static_cast<size_t>(cm)]) << col;
   }
-  EXPECT_TRUE(f.rows[0][static_cast<size_t>(f.column("chest_circumference_cm"))].empty());
+  // Circumferences only when asked (issue 17: no columns that are always empty).
+  EXPECT_LT(f.column("chest_circumference_cm"), 0);
+  ASSERT_GE(m.column("chest_circumference_cm"), 0);
   EXPECT_FALSE(m.rows[0][static_cast<size_t>(m.column("chest_circumference_cm"))].empty());
 }
 
@@ -425,12 +433,165 @@ TEST_F(Commands, RenderWritesPngs) {
   EXPECT_EQ(run({"render", "--model", model_, "--views", "top"}).code, kExitUsage);
 }
 
+#ifdef CALIPER_CLI_TESTS_HAVE_RENDER
+// Issue 17, item 13: the body fills the picture (it filled about half its height) and is not cut.
+TEST_F(Commands, RenderedBodyFillsThePicture) {
+  // The camera fits the vertices with a 5 % margin (frame_points_tight): the body spans ~90 % of
+  // the picture's height or width; 80 % leaves room for antialiasing and the perspective.
+  constexpr double kMinFill = 0.80;
+  ASSERT_EQ(run({"render", "--model", model_, "--views", "front,side", "--size", "120x160", "--out",
+                 path("fill")})
+                .code,
+            kExitOk);
+  for (const char* view : {"front", "side"}) {
+    const render::Image img = render::read_png(path(std::string("fill_") + view + ".png"));
+    // Skin pixels: clearly redder than blue; the background and the floor grid are grey.
+    int x0 = img.width, x1 = -1, y0 = img.height, y1 = -1;
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x) {
+        const std::uint8_t* p = img.pixel(x, y);
+        if (p[0] > 30 && p[0] > p[2] * 1.15) {
+          x0 = std::min(x0, x);
+          x1 = std::max(x1, x);
+          y0 = std::min(y0, y);
+          y1 = std::max(y1, y);
+        }
+      }
+    ASSERT_GE(x1, 0) << view << ": no body in the picture";
+    const double fill = std::max(static_cast<double>(x1 - x0 + 1) / img.width,
+                                 static_cast<double>(y1 - y0 + 1) / img.height);
+    EXPECT_GE(fill, kMinFill) << view << " rows " << y0 << "-" << y1 << " columns " << x0 << "-"
+                              << x1;
+    EXPECT_TRUE(x0 > 0 && y0 > 0 && x1 < img.width - 1 && y1 < img.height - 1)
+        << view << ": the body touches the border (cut off)";
+  }
+}
+#endif
+
 TEST_F(Commands, EvaluateTable1RunsOnAModel) {
   const CliRun r = run({"evaluate", "table1", "--model", model_, "-n", "10"});
   ASSERT_EQ(r.code, kExitOk) << r.err;
   EXPECT_TRUE(contains(r.out, "| R2 Mean |")) << r.out;
   EXPECT_TRUE(contains(r.out, "| noise-aware Max |")) << r.out;
   EXPECT_EQ(run({"evaluate", "nonsense", "--model", model_}).code, kExitUsage);
+}
+
+// Issue 17, item 13: the command line's details.
+TEST_F(Commands, CreateWithoutOutSaysNothingWasWritten) {
+  const CliRun r =
+      run({"create", "--model", model_, "--height", "172cm", "--weight", "70kg", "--force"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_TRUE(contains(r.err, "no avatar file written")) << r.err;
+  const CliRun w = run({"create", "--model", model_, "--height", "172cm", "--weight", "70kg",
+                        "--force", "--out", path("a.obj")});
+  EXPECT_FALSE(contains(w.err, "no avatar file written")) << w.err;
+}
+
+TEST_F(Commands, DecimalCommaIsADecimalPoint) {
+  const CliRun r = run({"create", "--model", model_, "--height", "1,72m", "--weight", "70,5kg",
+                        "--force", "--json"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  const Json j = parse_json(r.out);
+  EXPECT_NEAR(j.at("achieved").at("height").as_number(), 1.72, kInputTolM);
+  // A comma that is not between digits is still refused.
+  EXPECT_EQ(run({"create", "--model", model_, "--height", "172,cm", "--weight", "70kg"}).code,
+            kExitUsage);
+}
+
+TEST_F(Commands, BatchCountsInWordsAndWarnsAboutMissingSex) {
+  std::ofstream(path("people.csv")) << "id,sex,height_cm,weight_kg\n"
+                                       "a,,170,62\n";
+  // One open model per sex (no --model): the empty cell is reported, not silently neutral.
+  std::filesystem::create_directories(dir_ / "assets" / "models");
+  smpl::save_model(test::cli_test_model("neutral"), path("assets/models/caliper-neutral.npz"));
+  const char* before = std::getenv("CALIPER_ASSETS");
+  const std::string saved = before != nullptr ? before : "";
+  setenv("CALIPER_ASSETS", path("assets").c_str(), 1);
+  const CliRun r =
+      run({"batch", path("people.csv"), "-j", "1", "--out", path("results.csv"), "--force"});
+  if (before != nullptr)
+    setenv("CALIPER_ASSETS", saved.c_str(), 1);
+  else
+    unsetenv("CALIPER_ASSETS");
+  EXPECT_TRUE(contains(r.err, "1 person has no sex")) << r.err;
+  const CliRun m = run({"batch", path("people.csv"), "--model", model_, "-j", "1", "--out",
+                        path("results.csv"), "--force"});
+  EXPECT_TRUE(contains(m.err, "1 person in")) << m.err;
+  EXPECT_TRUE(contains(m.err, "1 job;")) << m.err;
+  EXPECT_TRUE(contains(m.err, "0 errors")) << m.err;
+  EXPECT_FALSE(contains(m.err, "1 people")) << m.err;
+}
+
+TEST(Cli, EveryCommandDefaultsToTheNeutralSex) {
+  for (const char* cmd : {"create", "measure", "batch", "render", "evaluate"}) {
+    std::ostringstream out, err;
+    Io io{out, err, false};
+    EXPECT_EQ(main_guarded({cmd, "--help"}, io), kExitOk) << cmd;
+    const std::string help = out.str() + err.str();
+    const size_t at = help.find("--sex");
+    ASSERT_NE(at, std::string::npos) << cmd;
+    const std::string line = help.substr(at, help.find("\n", help.find("neutral", at)) - at);
+    EXPECT_TRUE(contains(line, "default neutral") || contains(line, "else neutral"))
+        << cmd << ": " << line;
+  }
+}
+
+TEST_F(Commands, PlausibilityNamesTheComponentsBeyond3Sd) {
+  const CliRun r =
+      run({"create", "--model", model_, "--height", "172cm", "--weight", "70kg", "--force"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  // "beyond 3 SD: none" or a count with component names ("1 (b0)"), never a bare index.
+  EXPECT_TRUE(contains(r.out, "beyond 3 SD: none") || contains(r.out, "beyond 3 SD: 1 (b"))
+      << r.out;
+  EXPECT_TRUE(contains(r.out, "share of people")) << r.out;
+}
+
+TEST_F(Commands, ImperialInputGetsAnImperialReport) {
+  const CliRun r =
+      run({"create", "--model", model_, "--height", "5ft8in", "--weight", "154lb", "--force"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  EXPECT_TRUE(contains(r.out, "68.0 in (172.7 cm)")) << r.out;
+  EXPECT_TRUE(contains(r.out, "154.0 lb (69.9 kg)")) << r.out;
+  const CliRun m =
+      run({"create", "--model", model_, "--height", "172cm", "--weight", "70kg", "--force"});
+  EXPECT_FALSE(contains(m.out, " in (")) << m.out;
+}
+
+TEST_F(Commands, BatchColumnsHoldOnlyWhatWasComputed) {
+  std::ofstream(path("people.csv")) << "id,sex,height_cm,weight_kg\n"
+                                       "a,female,170,62\n";
+  const CliRun r = run({"batch", path("people.csv"), "--model", model_, "-j", "1", "--out",
+                        path("plain.csv"), "--force"});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  const CsvTable t = read_csv(path("plain.csv"));
+  for (const std::string& h : t.header) {
+    EXPECT_EQ(h.find("circumference"), std::string::npos) << h;
+  }
+  // The test model's regressors set its first betas; no always-zero columns after them.
+  const int k = test::cli_test_model("female").num_betas();
+  int beta_columns = 0;
+  for (const std::string& h : t.header) beta_columns += h.rfind("beta", 0) == 0;
+  EXPECT_GT(beta_columns, 0);
+  EXPECT_LE(beta_columns, std::min(k, 10));
+  const CliRun c = run({"batch", path("people.csv"), "--model", model_, "-j", "1", "--out",
+                        path("circ.csv"), "--force", "--circumferences"});
+  ASSERT_EQ(c.code, kExitOk) << c.err;
+  const CsvTable tc = read_csv(path("circ.csv"));
+  const int chest = tc.column("chest_circumference_cm");
+  ASSERT_GE(chest, 0);
+  EXPECT_FALSE(tc.rows[0][static_cast<size_t>(chest)].empty());
+}
+
+TEST(Cli, MistypedCommandGetsASuggestionAndOneHelpPointer) {
+  std::ostringstream out, err;
+  Io io{out, err, false};
+  EXPECT_EQ(main_guarded({"creat"}, io), kExitUsage);
+  EXPECT_TRUE(contains(err.str(), "did you mean create?")) << err.str();
+  EXPECT_EQ(err.str().find("--help"), err.str().rfind("--help")) << err.str();
+  std::ostringstream out2, err2;
+  Io io2{out2, err2, false};
+  EXPECT_EQ(main_guarded({"create", "--heigth", "1m"}, io2), kExitUsage);
+  EXPECT_EQ(err2.str().find("--help"), err2.str().rfind("--help")) << err2.str();
 }
 
 TEST(Cli, VersionHelpAndUnknownCommand) {

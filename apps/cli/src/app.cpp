@@ -70,9 +70,11 @@ int dispatch(const std::vector<std::string>& args, Io& io) {
   if (cmd == "models") return cmd_models(rest, io);
   if (cmd == "render") return cmd_render(rest, io);
   if (cmd == "evaluate") return cmd_evaluate(rest, io);
-  throw UsageError("unknown command '" + cmd +
-                   "' (commands: create, measure, train, batch, models, render, evaluate; see "
-                   "caliper --help)");
+  const std::string near =
+      closest_name(cmd, {"create", "measure", "train", "batch", "models", "render", "evaluate"});
+  throw UsageError("unknown command '" + cmd + "'" +
+                   (near.empty() ? "" : " (did you mean " + near + "?)") +
+                   "; commands: create, measure, train, batch, models, render, evaluate");
 }
 
 }  // namespace
@@ -90,7 +92,8 @@ int main_guarded(const std::vector<std::string>& args, Io& io) {
     } catch (const UsageError& e) {
       code = kExitUsage;
       message = e.what();
-      hint = " (see --help)";
+      // One pointer to the help, whatever the message already says.
+      if (message.find("--help") == std::string::npos) hint = " (see --help)";
     } catch (const ImplausibleInput& e) {
       code = kExitImplausible;
       message = e.what();

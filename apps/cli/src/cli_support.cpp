@@ -54,19 +54,29 @@ size_t edit_distance(const std::string& a, const std::string& b) {
 }
 
 std::string closest_option(const std::string& name, const std::vector<OptionSpec>& specs) {
+  std::vector<std::string> names;
+  for (const auto& s : specs) names.push_back(s.name);
+  return closest_name(name, names);
+}
+
+}  // namespace
+
+std::string closest_name(const std::string& name, const std::vector<std::string>& names) {
   std::string best;
   size_t best_d = 4;  // suggest only near misses
-  for (const auto& s : specs) {
-    const size_t d = edit_distance(name, s.name);
+  for (const std::string& n : names) {
+    const size_t d = edit_distance(name, n);
     if (d < best_d) {
       best_d = d;
-      best = s.name;
+      best = n;
     }
   }
   return best;
 }
 
-}  // namespace
+std::string count_noun(long long n, const std::string& singular, const std::string& plural) {
+  return std::to_string(n) + " " + (n == 1 ? singular : plural);
+}
 
 ParsedArgs parse_args(const std::vector<std::string>& args, const std::vector<OptionSpec>& specs) {
   ParsedArgs out;

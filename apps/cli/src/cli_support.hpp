@@ -70,6 +70,12 @@ struct ParsedArgs {
   std::string get_or(const std::string& name, const std::string& fallback) const;
 };
 
+/// The name in `names` closest to `name` (edit distance < 4), or "" when none is near:
+/// the "did you mean" of unknown options and commands.
+std::string closest_name(const std::string& name, const std::vector<std::string>& names);
+/// "1 person" / "2 people": a count with the singular or plural noun.
+std::string count_noun(long long n, const std::string& singular, const std::string& plural);
+
 /// Parses `--name value`, `--name=value`, `-x value`, `-xVALUE` and flags for one subcommand.
 /// `--` ends the options. Throws UsageError naming an unknown option (with the closest known
 /// one), a missing value or a flag given a value. `--help`/`-h` is always accepted as a flag.

@@ -155,9 +155,18 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
   BundleCache cache(a.get("model"), a.get("regressors"));
   std::map<std::string, std::shared_ptr<const ModelBundle>> bundles;
   const auto t_load = std::chrono::steady_clock::now();
+  long long no_sex = 0;
   for (auto& p : people) {
-    if (p.sex.empty()) p.sex = default_sex;
+    if (p.sex.empty()) {
+      ++no_sex;
+      p.sex = default_sex;
+    }
     if (!bundles.count(p.sex)) bundles[p.sex] = cache.get(p.sex);
+  }
+  if (no_sex > 0 && !a.get("sex") && !a.get("model")) {
+    io.err << "caliper batch: " << count_noun(no_sex, "person has", "people have")
+           << " no sex (no sex column or an empty cell): the " << default_sex
+           << " model was used; fill the sex column or give --sex\n";
   }
   std::map<const ModelBundle*, std::unique_ptr<ShapeMeasurer>> measurers;
   if (!need_mesh) {
@@ -275,8 +284,18 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   // Results CSV.
+  // Beta columns: the components the regressors set (the model's further ones are always 0).
   int max_betas = 0;
-  for (const auto& o : outcomes) max_betas = std::max(max_betas, static_cast<int>(o.betas.size()));
+  for (const auto& o : outcomes) {
+    if (o.status == "ok")
+      max_betas = std::max(
+          max_betas, std::min(static_cast<int>(o.betas.size()), std::max(1, o.plausibility.dof)));
+  }
+  // Circumference columns only when they are measured (--circumferences).
+  std::vector<std::string> result_ids;
+  for (const auto& id : report_ids()) {
+    if (circumferences || id.find("circumference") == std::string::npos) result_ids.push_back(id);
+  }
   std::ofstream file;
   std::ostream* out = &io.out;
   if (auto path = a.get("out")) {
@@ -288,7 +307,7 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
   auto col = [](const std::string& id) { return id + "_" + display_unit(id).first; };
   *out << "id,sex,status,regressor";
   for (const auto& id : inputs) *out << ",input_" << col(id);
-  for (const auto& id : report_ids()) *out << "," << col(id);
+  for (const auto& id : result_ids) *out << "," << col(id);
   *out << ",mahalanobis,p_value,beyond_2sd,beyond_3sd,plausible";
   for (int b = 0; b < max_betas; ++b) *out << ",beta" << b;
   *out << ",message\n";
@@ -305,7 +324,7 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
       *out << ",";
       if (it != p.inputs.end()) *out << num(it->second * display_unit(id).second, 2);
     }
-    for (const auto& id : report_ids()) {
+    for (const auto& id : result_ids) {
       auto it = o.achieved.find(id);
       *out << ",";
       if (it != o.achieved.end()) *out << num(it->second * display_unit(id).second, 2);
@@ -326,12 +345,13 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
   out->flush();
   char buf[256];
   std::snprintf(buf, sizeof buf,
-                "caliper batch: %zu people in %.3f s (%.0f per second, %d jobs; models loaded and "
-                "regressors trained in %.3f s): %d ok, %d refused, %d errors\n",
-                people.size(), seconds,
-                seconds > 0 ? static_cast<double>(people.size()) / seconds : 0.0, n_threads, load_s,
-                ok, refused, errors);
-  io.err << buf;
+                " in %.3f s (%.0f per second, %s; models loaded and regressors trained in %.3f "
+                "s): %d ok, %d refused, %s\n",
+                seconds, seconds > 0 ? static_cast<double>(people.size()) / seconds : 0.0,
+                count_noun(n_threads, "job", "jobs").c_str(), load_s, ok, refused,
+                count_noun(errors, "error", "errors").c_str());
+  io.err << "caliper batch: "
+         << count_noun(static_cast<long long>(people.size()), "person", "people") << buf;
   return (refused + errors) > 0 ? kExitRuntime : kExitOk;
 }
 

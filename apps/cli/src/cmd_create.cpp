@@ -246,6 +246,10 @@ int cmd_create(const std::vector<std::string>& args, Io& io) {
     written.push_back(*png);
   }
   const double total_s = seconds_since(t_start);
+  if (!a.get("out")) {
+    io.err << "caliper create: no avatar file written (add --out avatar.glb, or .gltf, .obj, "
+              ".ply, to write one)\n";
+  }
 
   if (a.flags.count("json")) {
     Json j = Json::object();
@@ -296,7 +300,13 @@ int cmd_create(const std::vector<std::string>& args, Io& io) {
          << bundle->path << ")\n"
          << "regressor: " << regressor;
   if (mapping) io.out << " with mapping " << *a.get("mapping") << " (input column: mapped values)";
-  io.out << "\n\n" << measurement_table(mapping ? avatar.mapped : avatar.input, avatar.achieved);
+  // Inputs typed in imperial units get the report in inches and pounds too.
+  bool imperial = false;
+  for (const auto& o : kInputOptions) {
+    if (auto v = a.get(o.option)) imperial = imperial || is_imperial_text(*v);
+  }
+  io.out << "\n\n"
+         << measurement_table(mapping ? avatar.mapped : avatar.input, avatar.achieved, imperial);
   io.out << "\nbetas: " << format_betas(avatar.betas) << "\n";
   if (avatar.covariance) {
     io.out << "betas posterior SD: "

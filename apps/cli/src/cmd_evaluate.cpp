@@ -14,7 +14,7 @@ namespace caliper::cli {
 int cmd_evaluate(const std::vector<std::string>& args, Io& io) {
   const std::vector<OptionSpec> specs = {
       {"model", "m", "FILE", "model file (table1, simulation); default: the open model", false},
-      {"sex", "s", "SEX", "female, male or neutral (default female)", false},
+      {"sex", "s", "SEX", "female, male or neutral (default neutral, as for every command)", false},
       {"regressors", "", "FILE", "regressors saved by caliper train (with --model)", false},
       {"bodies", "n", "N", "bodies drawn from the model (default 1000 / 500)", false},
       {"seed", "", "S", "random seed (default 1)", false},
@@ -42,7 +42,7 @@ int cmd_evaluate(const std::vector<std::string>& args, Io& io) {
     seed = static_cast<std::uint64_t>(parse_int(*s, "seed", 0, 2147483647));
   const auto t0 = std::chrono::steady_clock::now();
   if (study == "table1" || study == "simulation") {
-    const std::string sex = a.get("sex") ? normalise_sex(*a.get("sex")) : "female";
+    const std::string sex = a.get("sex") ? normalise_sex(*a.get("sex")) : "neutral";
     const auto bundle = load_bundle(resolve_model_path(a.get("model"), sex), a.get("regressors"));
     io.out << "model: " << bundle->path << " (" << bundle->model.meta.name << ", "
            << bundle->model.num_vertices() << " vertices)\n\n";

@@ -16,7 +16,8 @@ namespace caliper::cli {
 int cmd_render(const std::vector<std::string>& args, Io& io) {
   const std::vector<OptionSpec> specs = {
       {"model", "m", "FILE", "render this model (with --betas) instead of an avatar file", false},
-      {"sex", "s", "SEX", "female, male or neutral: the open model to render", false},
+      {"sex", "s", "SEX", "female, male or neutral: the open model to render (default neutral)",
+       false},
       {"betas", "b", "LIST", "comma-separated betas for the model", false},
       {"views", "", "LIST", "front,side,three_quarter,back (default front,side,three_quarter)",
        false},

@@ -14,8 +14,8 @@
 #include <Eigen/Core>
 
 #include "smpl/body_model.hpp"
-#include "smpl/gltf.hpp"
 #include "smpl/export.hpp"
+#include "smpl/gltf.hpp"
 
 namespace caliper::cli {
 
@@ -49,8 +49,9 @@ void write_avatar(const std::string& path, const smpl::BodyModel& model,
                   const Eigen::VectorXd& betas, const smpl::ExportOptions& options);
 
 /// The same with default options and `extras` as metadata (the rest pose's vertices come from
-/// the model; `rest_vertices` is accepted for callers that have them and is not needed). `skin_weights`:
-/// smpl::gltf_skin_weights(model) computed once for many avatars of `model`, or null.
+/// the model; `rest_vertices` is accepted for callers that have them and is not needed).
+/// `skin_weights`: smpl::gltf_skin_weights(model) computed once for many avatars of `model`, or
+/// null.
 void write_avatar(const std::string& path, const smpl::BodyModel& model,
                   const Eigen::VectorXd& betas, const smpl::Vertices& rest_vertices,
                   const std::map<std::string, std::string>& extras,

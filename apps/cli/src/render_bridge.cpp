@@ -18,6 +18,7 @@ void render_png(const smpl::Vertices& vertices, const smpl::Faces& faces, const 
                 const std::string& view, int width, int height) {
   render::RenderOptions o;
   o.view = view;
+  o.fill = true;  // the body fills the picture's height (issue 17)
   o.width = width;
   o.height = height;
   render::render_mesh_png(vertices, faces, path, o);

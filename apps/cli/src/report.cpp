@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iomanip>
+#include <optional>
 #include <sstream>
 
 #include "caliper/circumference.hpp"
@@ -55,24 +56,65 @@ std::string format_difference(const std::string& id, double si_difference, int d
   return buf;
 }
 
-std::string measurement_table(const MeasurementMap& input, const MeasurementMap& achieved) {
+bool is_imperial_text(const std::string& text) {
+  std::string t;
+  for (char c : text) t += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (const char* u : {"in", "ft", "feet", "foot", "inch", "lb", "'", "\""}) {
+    if (t.find(u) != std::string::npos) return true;
+  }
+  return false;
+}
+
+namespace {
+/// Imperial display of a value: inches for lengths, pounds for weight; nothing for the rest.
+std::optional<std::pair<std::string, double>> imperial_unit(const std::string& id) {
+  const auto [unit, factor] = display_unit(id);
+  (void)factor;
+  if (unit == "cm") return std::make_pair(std::string("in"), 1.0 / 0.0254);
+  if (unit == "kg") return std::make_pair(std::string("lb"), 1.0 / 0.45359237);
+  return std::nullopt;
+}
+}  // namespace
+
+std::string measurement_table(const MeasurementMap& input, const MeasurementMap& achieved,
+                              bool imperial) {
   std::ostringstream s;
   const bool with_input = !input.empty();
   s << std::left << std::setw(38) << "measurement";
-  if (with_input) s << std::right << std::setw(12) << "input";
-  s << std::right << std::setw(12) << "achieved";
+  if (with_input) s << std::right << std::setw(imperial ? 22 : 12) << "input";
+  s << std::right << std::setw(imperial ? 22 : 12) << "achieved";
   if (with_input) s << std::setw(12) << "difference";
   s << "\n";
+  const int width = imperial ? 22 : 12;
+  auto value = [&](const std::string& id, double si) {
+    std::string v = format_value(id, si);
+    if (const auto u = imperial ? imperial_unit(id) : std::nullopt) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%.1f %s", si * u->second, u->first.c_str());
+      v = std::string(buf) + " (" + v + ")";
+    }
+    return v;
+  };
+  auto difference = [&](const std::string& id, double si) {
+    if (const auto u = imperial ? imperial_unit(id) : std::nullopt) {
+      char buf[64];
+      double d = si * u->second;
+      if (std::abs(d) < 0.05) d = 0.0;
+      std::snprintf(buf, sizeof buf, "%+.1f %s", d, u->first.c_str());
+      return std::string(buf);
+    }
+    return format_difference(id, si);
+  };
   auto row = [&](const std::string& id) {
     auto a = achieved.find(id);
     auto in = input.find(id);
     if (a == achieved.end() && in == input.end()) return;
     s << std::left << std::setw(38) << label_of(id);
     if (with_input)
-      s << std::right << std::setw(12) << (in != input.end() ? format_value(id, in->second) : "-");
-    s << std::right << std::setw(12) << (a != achieved.end() ? format_value(id, a->second) : "-");
+      s << std::right << std::setw(width) << (in != input.end() ? value(id, in->second) : "-");
+    s << std::right << std::setw(width) << (a != achieved.end() ? value(id, a->second) : "-");
     if (with_input && in != input.end() && a != achieved.end())
-      s << std::setw(12) << format_difference(id, a->second - in->second);
+      s << std::setw(12) << difference(id, a->second - in->second);
     s << "\n";
   };
   for (const auto& id : report_ids()) row(id);
@@ -94,10 +136,11 @@ std::string format_betas(const Eigen::VectorXd& betas) {
 
 namespace {
 std::string index_list(const std::vector<int>& v) {
+  // "none", or the count and the components by name: "1 (b0)", "2 (b1, b3)".
   if (v.empty()) return "none";
-  std::string s;
-  for (size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + std::to_string(v[i]);
-  return s;
+  std::string s = std::to_string(v.size()) + " (";
+  for (size_t i = 0; i < v.size(); ++i) s += (i ? ", b" : "b") + std::to_string(v[i]);
+  return s + ")";
 }
 }  // namespace
 
@@ -107,7 +150,10 @@ std::string format_plausibility(const Plausibility& p) {
     << p.dof << " components, chi-square p = " << std::setprecision(3) << p.p_value
     << (p.plausible ? " (plausible)" : " (IMPLAUSIBLE)") << "\n"
     << "components beyond 2 SD: " << index_list(p.beyond_2sd)
-    << "; beyond 3 SD: " << index_list(p.beyond_3sd) << "\n";
+    << "; beyond 3 SD: " << index_list(p.beyond_3sd) << "\n"
+    << "(the distance counts the shape components b0, b1, ... in standard deviations (SD) of "
+       "the population; p is the share of people at least this far from the average body; "
+       "plausible: p >= 0.001 and no component beyond 3 SD)\n";
   return s.str();
 }
 

@@ -29,7 +29,12 @@ std::string format_value(const std::string& id, double si_value, int decimals = 
 std::string format_difference(const std::string& id, double si_difference, int decimals = 1);
 
 /// The table "measurement | input | achieved | difference" for `ids` (inputs may be empty).
-std::string measurement_table(const MeasurementMap& input, const MeasurementMap& achieved);
+/// `imperial`: lengths in inches and weight in pounds, each with the metric value beside it
+/// (for inputs given in imperial units).
+std::string measurement_table(const MeasurementMap& input, const MeasurementMap& achieved,
+                              bool imperial = false);
+/// True when a typed value uses imperial units ("66in", "5ft6in", "5'6\"", "137lb").
+bool is_imperial_text(const std::string& text);
 
 /// "0.12 -1.05 ..." with 3 decimals.
 std::string format_betas(const Eigen::VectorXd& betas);

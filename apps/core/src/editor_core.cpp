@@ -145,6 +145,10 @@ bool EditorCore::select_model(int index) {
     if (previous >= 0) recompute(true);
     return false;
   }
+  if (!baseline_set_) {
+    saved_doc_ = doc_;
+    baseline_set_ = true;
+  }
   post(Message::Level::Info, "model: " + model().label);
   return true;
 }
@@ -183,6 +187,32 @@ RegressorChoice effective_choice(const Document& d) {
                         : RegressorChoice::R6;
 }
 }  // namespace
+
+RegressorChoice EditorCore::active_regressor() const {
+  return effective_choice(doc_);
+}
+
+std::string measurement_label(const std::string& id) {
+  if (id == "weight") return "Weight";
+  if (id == "volume") return "Volume";
+  for (const MeasurementDef& d : paper_measurements()) {
+    if (d.id == id) return d.label;
+  }
+  return id;
+}
+
+std::string describe_regressor(RegressorChoice choice) {
+  std::string s = to_string(choice) + ": ";
+  if (choice == RegressorChoice::NoiseAware) s = "noise-aware: ";
+  bool first = true;
+  for (const std::string& id : choice_inputs(choice)) {
+    s += (first ? "" : ", ") + measurement_label(id);
+    first = false;
+  }
+  if (choice == RegressorChoice::NoiseAware)
+    s += " (weighs each input by its measuring noise; shows the shape's uncertainty)";
+  return s;
+}
 
 std::vector<std::string> EditorCore::editable_inputs() const {
   return doc_.hierarchical ? level_inputs(doc_.level) : choice_inputs(doc_.regressor);
@@ -326,6 +356,7 @@ bool EditorCore::check_value(const std::string& id, double v) {
 }
 
 bool EditorCore::set_value(const std::string& id, double value_si) {
+  clear_stale_messages();
   if (!has_model()) {
     post(Message::Level::Error, "open a model first");
     return false;
@@ -352,6 +383,7 @@ bool EditorCore::set_display_value(const std::string& id, double shown) {
 
 void EditorCore::begin_drag() {
   if (dragging_) return;
+  clear_stale_messages();
   push_undo();
   dragging_ = true;
 }
@@ -398,7 +430,28 @@ std::optional<double> EditorCore::shown_value(const std::string& id) const {
   return std::nullopt;
 }
 
+void EditorCore::use_regressor(RegressorChoice choice) {
+  clear_stale_messages();
+  Document d = doc_;
+  d.regressor = choice;
+  d.hierarchical = false;
+  const std::vector<std::string> before_inputs = editable_inputs();
+  for (const std::string& id : choice_inputs(choice)) {
+    if (std::find(before_inputs.begin(), before_inputs.end(), id) == before_inputs.end()) {
+      auto it = avatar_.achieved.find(id);
+      if (it != avatar_.achieved.end()) d.values[id] = it->second;
+    }
+  }
+  try {
+    commit(d);
+    post(Message::Level::Info, "regressor " + describe_regressor(choice));
+  } catch (const std::exception& e) {
+    post(Message::Level::Error, std::string("regressor ") + to_string(choice) + ": " + e.what());
+  }
+}
+
 void EditorCore::set_regressor(RegressorChoice choice) {
+  clear_stale_messages();
   Document d = doc_;
   d.regressor = choice;
   // New inputs start from the avatar's own measurements.
@@ -417,16 +470,30 @@ void EditorCore::set_regressor(RegressorChoice choice) {
 }
 
 void EditorCore::set_hierarchical(bool on) {
+  clear_stale_messages();
   Document d = doc_;
   d.hierarchical = on;
+  // Inputs the new mode edits start from the avatar's own values.
+  const std::vector<std::string> before_inputs = editable_inputs();
+  for (const std::string& id : on ? level_inputs(d.level) : choice_inputs(d.regressor)) {
+    if (std::find(before_inputs.begin(), before_inputs.end(), id) == before_inputs.end()) {
+      auto it = avatar_.achieved.find(id);
+      if (it != avatar_.achieved.end()) d.values[id] = it->second;
+    }
+  }
   try {
     commit(d);
+    post(Message::Level::Info,
+         on ? "hierarchical adjustment on: level " + std::to_string(d.level) + " uses " +
+                  to_string(active_regressor())
+            : "hierarchical adjustment off: regressor " + describe_regressor(d.regressor));
   } catch (const std::exception& e) {
     post(Message::Level::Error, e.what());
   }
 }
 
 bool EditorCore::set_level(int level) {
+  clear_stale_messages();
   if (level < 1 || level > 3) {
     post(Message::Level::Error, "level must be 1, 2 or 3, not " + std::to_string(level));
     return false;
@@ -443,6 +510,11 @@ bool EditorCore::set_level(int level) {
   }
   try {
     commit(d);
+    std::string names;
+    for (const std::string& id : level_inputs(level))
+      names += (names.empty() ? "" : ", ") + measurement_label(id);
+    post(Message::Level::Info, "level " + std::to_string(level) + " (" +
+                                   to_string(active_regressor()) + "): you can edit " + names);
   } catch (const std::exception& e) {
     post(Message::Level::Error, std::string("level ") + std::to_string(level) + ": " + e.what());
     return false;
@@ -452,6 +524,7 @@ bool EditorCore::set_level(int level) {
 
 void EditorCore::reset() {
   if (!has_model()) return;
+  clear_stale_messages();
   push_undo();
   const Document keep = doc_;
   doc_.values.clear();
@@ -484,6 +557,7 @@ void EditorCore::commit(const Document& d) {
 
 bool EditorCore::step_history(std::vector<Document>& from, std::vector<Document>& to,
                               const char* what) {
+  clear_stale_messages();
   if (from.empty()) return false;
   const Document target = from.back();
   try {
@@ -491,11 +565,39 @@ bool EditorCore::step_history(std::vector<Document>& from, std::vector<Document>
     apply(target, true);
     from.pop_back();
     to.push_back(now);
+    post(Message::Level::Info, std::string(what == std::string("undo") ? "undone: " : "redone: ") +
+                                   describe_change(now, target));
   } catch (const std::exception& e) {
     post(Message::Level::Error, std::string(what) + ": " + e.what());
     return false;
   }
   return true;
+}
+
+std::string EditorCore::describe_change(const Document& from, const Document& to) const {
+  std::string s;
+  auto add = [&](const std::string& part) { s += (s.empty() ? "" : "; ") + part; };
+  if (from.regressor != to.regressor || from.hierarchical != to.hierarchical ||
+      from.level != to.level) {
+    if (to.hierarchical && to.regressor != RegressorChoice::NoiseAware)
+      add("hierarchical level " + std::to_string(to.level));
+    else
+      add("regressor " + to_string(to.regressor));
+  }
+  for (const auto& [id, v] : to.values) {
+    auto it = from.values.find(id);
+    if (it != from.values.end() && it->second == v) continue;
+    char buf[128];
+    const double shown = to_display(id, v, view_.units);
+    if (it != from.values.end()) {
+      std::snprintf(buf, sizeof buf, "%.1f -> %.1f %s", to_display(id, it->second, view_.units),
+                    shown, unit_label(id, view_.units).c_str());
+    } else {
+      std::snprintf(buf, sizeof buf, "%.1f %s", shown, unit_label(id, view_.units).c_str());
+    }
+    add(measurement_label(id) + " " + buf);
+  }
+  return s.empty() ? "no visible change" : s;
 }
 
 bool EditorCore::undo() {
@@ -530,6 +632,7 @@ bool EditorCore::save_profile(const std::string& path) {
     std::vector<double> betas(avatar_.betas.data(), avatar_.betas.data() + avatar_.betas.size());
     j.set("betas", Json(betas));
     write_json_file(path, j);
+    saved_doc_ = doc_;
     post(Message::Level::Info, "saved profile " + path);
     return true;
   } catch (const std::exception& e) {
@@ -539,6 +642,7 @@ bool EditorCore::save_profile(const std::string& path) {
 }
 
 bool EditorCore::open_profile(const std::string& path) {
+  clear_stale_messages();
   const int previous_model = current_;
   try {
     const Json j = read_json_file(path);
@@ -585,6 +689,7 @@ bool EditorCore::open_profile(const std::string& path) {
     }
     commit(d);
     if (units) view_.units = *units;
+    saved_doc_ = doc_;
     post(Message::Level::Info, "opened profile " + path);
     return true;
   } catch (const std::exception& e) {
@@ -623,6 +728,7 @@ void collect_measurements(const Json& m, MeasurementMap& out) {
 }  // namespace
 
 bool EditorCore::open_session(const std::string& path) {
+  clear_stale_messages();
   try {
     std::ifstream f(path, std::ios::binary);
     if (!f) throw InvalidInputError("cannot open the file");
@@ -699,6 +805,12 @@ const std::vector<smpl::ExportFormat>& export_formats() {
   return smpl::export_formats();
 }
 
+std::vector<std::string> EditorCore::export_extensions() {
+  std::vector<std::string> extensions;
+  for (const auto& f : export_formats()) extensions.push_back(f.extension);
+  return extensions;
+}
+
 std::map<std::string, std::string> EditorCore::export_metadata() const {
   std::map<std::string, std::string> extras;
   if (!has_model()) return extras;
@@ -754,6 +866,12 @@ void EditorCore::pin_comparison(const std::string& label) {
 void EditorCore::clear_comparison() {
   comparison_.reset();
   view_.compare = CompareMode::Off;
+}
+
+void EditorCore::clear_stale_messages() {
+  messages_.erase(std::remove_if(messages_.begin(), messages_.end(),
+                                 [](const Message& m) { return m.level != Message::Level::Info; }),
+                  messages_.end());
 }
 
 void EditorCore::post(Message::Level level, const std::string& text) {
@@ -853,6 +971,12 @@ bool EditorCore::run_command(const std::string& line) {
   if (cmd == "overlay") {
     in >> a;
     return on_off(a, view_.overlay) || fail("expected on or off");
+  }
+  if (cmd == "scale") {
+    in >> a;
+    if (a != "fixed" && a != "fit") return fail("scale is fixed or fit");
+    view_.fixed_scale = a == "fixed";
+    return true;
   }
   if (cmd == "colour" || cmd == "color") {
     in >> a;

@@ -6,6 +6,8 @@
 #include <backends/imgui_impl_glfw.h>
 #include <imgui.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -17,6 +19,7 @@
 #include "caliper/assets.hpp"
 #include "config.hpp"
 #include "editor_app.hpp"
+#include "key_taps.hpp"
 #include "render/glfw_context.hpp"
 #include "render/render_mesh.hpp"
 
@@ -36,6 +39,8 @@ struct Options {
   bool no_open_models = false;
   bool strict = false;
   bool no_config = false;
+  double exit_after = -1;     // seconds of wall time, then quit (benchmarks); < 0: never
+  bool no_idle_wait = false;  // draw every frame even when nothing changes (benchmark baseline)
 };
 
 void usage() {
@@ -52,7 +57,9 @@ void usage() {
       "  --screenshot PNG      write the last frame to PNG\n"
       "  --size WxH            window / image size (default 1600x1000 or the remembered size)\n"
       "  --strict              exit with status 1 if a script command failed\n"
-      "  --no-config           neither read nor write the settings file\n");
+      "  --no-config           neither read nor write the settings file\n"
+      "  --exit-after SECONDS  quit after this much time (benchmarks)\n"
+      "  --no-idle-wait        redraw continuously instead of waiting for input (benchmarks)\n");
 }
 
 bool parse(int argc, char** argv, Options& o) {
@@ -80,6 +87,10 @@ bool parse(int argc, char** argv, Options& o) {
       o.strict = true;
     else if (a == "--no-config")
       o.no_config = true;
+    else if (a == "--no-idle-wait")
+      o.no_idle_wait = true;
+    else if (a == "--exit-after")
+      o.exit_after = std::stod(next());
     else if (a == "--size") {
       const std::string s = next();
       if (std::sscanf(s.c_str(), "%dx%d", &o.width, &o.height) != 2 || o.width < 64 ||
@@ -149,6 +160,7 @@ int run_headless(EditorCore& core, const Options& o, const std::vector<std::stri
   io.IniFilename = nullptr;
   io.DisplaySize = ImVec2(static_cast<float>(w), static_cast<float>(h));
   io.DeltaTime = 1.0f / 60.0f;
+  caliper::editor::set_glfw_key_map(io);
   int failures = 0;
   {
     caliper::editor::EditorApp app(core, off.context().gl());
@@ -173,6 +185,56 @@ int run_headless(EditorCore& core, const Options& o, const std::vector<std::stri
   return (o.strict && failures > 0) ? 1 : 0;
 }
 
+// Input glue for the window. Dear ImGui 1.86 reads the key state once per frame (io.KeysDown),
+// so a key pressed and released between two frames (a quick Enter tap) would never be seen
+// down: such releases are held back until the frame after the press. Every input event also
+// marks the loop busy, so it draws a few frames and then waits for the next event.
+struct InputGlue {
+  GLFWkeyfun imgui_key = nullptr;
+  GLFWcharfun imgui_char = nullptr;
+  GLFWmousebuttonfun imgui_button = nullptr;
+  GLFWscrollfun imgui_scroll = nullptr;
+  GLFWcursorposfun prev_cursor = nullptr;
+  caliper::editor::KeyTaps taps;
+  bool event = false;
+};
+InputGlue g_input;
+
+void on_key(GLFWwindow* w, int key, int scancode, int action, int mods) {
+  g_input.event = true;
+  if (!g_input.taps.on_key(key, scancode, action, mods)) return;
+  if (g_input.imgui_key) g_input.imgui_key(w, key, scancode, action, mods);
+}
+void on_char(GLFWwindow* w, unsigned int c) {
+  g_input.event = true;
+  if (g_input.imgui_char) g_input.imgui_char(w, c);
+}
+void on_button(GLFWwindow* w, int button, int action, int mods) {
+  g_input.event = true;
+  if (g_input.imgui_button) g_input.imgui_button(w, button, action, mods);
+}
+void on_scroll(GLFWwindow* w, double x, double y) {
+  g_input.event = true;
+  if (g_input.imgui_scroll) g_input.imgui_scroll(w, x, y);
+}
+void on_cursor(GLFWwindow* w, double x, double y) {
+  g_input.event = true;
+  if (g_input.prev_cursor) g_input.prev_cursor(w, x, y);
+}
+void on_window(GLFWwindow*) {
+  g_input.event = true;
+}
+void on_size(GLFWwindow*, int, int) {
+  g_input.event = true;
+}
+
+/// Frames drawn after an input event before the loop waits again (ImGui settles hover states,
+/// popups and auto-sized windows within two or three frames).
+constexpr int kFramesAfterInput = 4;
+/// The longest wait without an event (seconds): the loop wakes up, finds nothing to do and
+/// waits again without drawing.
+constexpr double kIdleWakeSeconds = 0.5;
+
 int run_window(EditorCore& core, const Options& o, const std::vector<std::string>& script) {
   const std::string cfg_path = o.no_config ? "" : caliper::editor::config_path();
   caliper::editor::EditorConfig cfg = caliper::editor::load_config(cfg_path);
@@ -180,17 +242,64 @@ int run_window(EditorCore& core, const Options& o, const std::vector<std::string
   const int w = o.width > 0 ? o.width : cfg.window_width;
   const int h = o.height > 0 ? o.height : cfg.window_height;
   caliper::render::GlfwWindowContext window(w, h, "The Virtual Caliper - editor");
+  GLFWwindow* win = window.window();
+  // A remembered or default size larger than the screen (1600x1000 on a 1366x768 laptop) would
+  // put the panel's bottom and the status bar off-screen: shrink the window to the work area.
+  if (o.width <= 0) {
+    if (GLFWmonitor* monitor = glfwGetPrimaryMonitor()) {
+      int x = 0, y = 0, area_w = 0, area_h = 0;
+      glfwGetMonitorWorkarea(monitor, &x, &y, &area_w, &area_h);
+      // Room for the window manager's title bar and borders.
+      constexpr int kDecoration = 40;
+      if (area_w > 0 && area_h > kDecoration && (w > area_w || h > area_h - kDecoration)) {
+        glfwSetWindowSize(win, std::min(w, area_w), std::min(h, area_h - kDecoration));
+        glfwSetWindowPos(win, x, y + kDecoration / 2);
+      }
+    }
+  }
   ImGui::CreateContext();
   ImGuiIO& io = ImGui::GetIO();
   io.IniFilename = nullptr;
-  ImGui_ImplGlfw_InitForOpenGL(window.window(), true);
+  ImGui_ImplGlfw_InitForOpenGL(win, true);
+  g_input.imgui_key = glfwSetKeyCallback(win, on_key);
+  g_input.imgui_char = glfwSetCharCallback(win, on_char);
+  g_input.imgui_button = glfwSetMouseButtonCallback(win, on_button);
+  g_input.imgui_scroll = glfwSetScrollCallback(win, on_scroll);
+  g_input.prev_cursor = glfwSetCursorPosCallback(win, on_cursor);
+  glfwSetWindowRefreshCallback(win, on_window);
+  glfwSetFramebufferSizeCallback(win, on_size);
+  const auto started = std::chrono::steady_clock::now();
+  auto elapsed = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  };
   int failures = 0;
   {
     caliper::editor::EditorApp app(core, window.gl());
     int frame = 0;
-    while (!window.should_close()) {
-      glfwPollEvents();
+    int busy = kFramesAfterInput;
+    std::uint64_t seen_revision = core.revision();
+    size_t seen_messages = core.messages().size();
+    while (true) {
+      const bool scripted = frame < static_cast<int>(script.size()) || o.frames >= 0;
+      if (busy > 0 || scripted || o.no_idle_wait || app.animating()) {
+        glfwPollEvents();
+      } else {
+        glfwWaitEventsTimeout(kIdleWakeSeconds);
+      }
+      if (g_input.event) {
+        busy = kFramesAfterInput;
+        g_input.event = false;
+      }
+      if (o.exit_after >= 0 && elapsed() >= o.exit_after) break;
+      if (window.should_close()) {  // the close button: ask first when work is unsaved
+        glfwSetWindowShouldClose(win, GLFW_FALSE);
+        app.request_quit();
+        busy = kFramesAfterInput;
+      }
+      if (app.quit_requested()) break;
+      if (busy <= 0 && !scripted && !o.no_idle_wait && !app.animating()) continue;
       ImGui_ImplGlfw_NewFrame();
+      io.DeltaTime = std::min(io.DeltaTime, 1.0f / 20.0f);  // no jump after an idle wait
       if (frame < static_cast<int>(script.size()) &&
           !app.run_command(script[static_cast<size_t>(frame)])) {
         ++failures;
@@ -204,11 +313,29 @@ int run_window(EditorCore& core, const Options& o, const std::vector<std::string
       }
       app.frame(window.width(), window.height());
       ++frame;
+      --busy;
+      // Releases held back for a quick tap reach ImGui now, after it saw the key down.
+      for (const caliper::editor::KeyTaps::Key& k : g_input.taps.frame_done()) {
+        if (g_input.imgui_key) g_input.imgui_key(win, k.key, k.scancode, GLFW_RELEASE, k.mods);
+        busy = std::max(busy, 2);
+      }
+      if (core.revision() != seen_revision || core.messages().size() != seen_messages) {
+        seen_revision = core.revision();
+        seen_messages = core.messages().size();
+        busy = std::max(busy, 2);
+      }
       const bool last = o.frames >= 0 && frame >= static_cast<int>(script.size()) + o.frames;
       if (!app.screenshot_request().empty()) {
-        caliper::render::write_png(window.read_pixels(), app.screenshot_request());
-        core.post(caliper::app::Message::Level::Info, "screenshot " + app.screenshot_request());
+        try {
+          caliper::render::write_png(window.read_pixels(), app.screenshot_request());
+          core.post(caliper::app::Message::Level::Info,
+                    "saved screenshot " + app.screenshot_request());
+        } catch (const std::exception& e) {
+          core.post(caliper::app::Message::Level::Error,
+                    "could not save the screenshot " + app.screenshot_request() + ": " + e.what());
+        }
         app.screenshot_request().clear();
+        busy = std::max(busy, 2);
       }
       if (last && !o.screenshot.empty())
         caliper::render::write_png(window.read_pixels(), o.screenshot);

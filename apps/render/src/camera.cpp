@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 namespace caliper::render {
 
@@ -102,6 +103,46 @@ Camera frame_box(const Vec3& lo, const Vec3& hi, float azimuth_degrees, float as
   c.near_plane = std::max(0.01f, distance - radius * 2);
   c.far_plane = distance + radius * 4;
   return c;
+}
+
+Camera frame_points_tight(const std::vector<Vec3>& points, float azimuth_degrees, float aspect,
+                          float elevation_degrees, float margin) {
+  if (points.empty()) throw std::invalid_argument("frame_points_tight: no points");
+  Vec3 lo = points.front(), hi = points.front();
+  for (const Vec3& p : points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  Camera c = frame_box(lo, hi, azimuth_degrees, aspect, elevation_degrees);
+  const Vec3 centre = c.target;
+  const Vec3 back = (c.eye - centre).normalized();  // from the target towards the eye
+  const Vec3 right = c.up.cross(back).normalized();
+  const Vec3 up = back.cross(right);
+  const float tan_v = std::tan(c.fov_y_degrees * kPi / 360) * (1 - margin);
+  const float tan_h = tan_v * aspect;
+  // A point at (x, y, z) in the camera's axes around the target is inside the picture when
+  // |x| <= tan_h * (d - z) and |y| <= tan_v * (d - z), with d the eye's distance to the target.
+  const float radius = std::max(0.05f, (hi - lo).norm() / 2);
+  float distance = radius * 0.5f;
+  for (const Vec3& p : points) {
+    const Vec3 q = p - centre;
+    const float z = q.dot(back);
+    distance =
+        std::max({distance, z + std::abs(q.dot(right)) / tan_h, z + std::abs(q.dot(up)) / tan_v});
+  }
+  c.eye = centre + back * distance;
+  c.near_plane = std::max(0.01f, distance - radius * 2);
+  c.far_plane = distance + radius * 4;
+  return c;
+}
+
+Camera frame_box_tight(const Vec3& lo, const Vec3& hi, float azimuth_degrees, float aspect,
+                       float elevation_degrees, float margin) {
+  std::vector<Vec3> corners;
+  for (int i = 0; i < 8; ++i)
+    corners.emplace_back((i & 1) ? hi.x() : lo.x(), (i & 2) ? hi.y() : lo.y(),
+                         (i & 4) ? hi.z() : lo.z());
+  return frame_points_tight(corners, azimuth_degrees, aspect, elevation_degrees, margin);
 }
 
 }  // namespace caliper::render

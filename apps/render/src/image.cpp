@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <filesystem>
+#include <system_error>
 
 #include "render/gl_functions.hpp"
 
@@ -16,6 +18,8 @@ void write_png(const Image& image, const std::string& path) {
       image.rgba.size() != 4 * static_cast<size_t>(image.width) * image.height) {
     throw RenderError("write_png " + path + ": the image is empty or its size is inconsistent");
   }
+  // Written next to the target and renamed over it: a reader never sees half a picture.
+  const std::string tmp = path + ".tmp";
   bool opaque = true;
   for (size_t i = 3; i < image.rgba.size(); i += 4) opaque = opaque && image.rgba[i] == 255;
   int ok = 0;
@@ -26,12 +30,15 @@ void write_png(const Image& image, const std::string& path) {
       rgb[3 * p + 1] = image.rgba[4 * p + 1];
       rgb[3 * p + 2] = image.rgba[4 * p + 2];
     }
-    ok = stbi_write_png(path.c_str(), image.width, image.height, 3, rgb.data(), image.width * 3);
+    ok = stbi_write_png(tmp.c_str(), image.width, image.height, 3, rgb.data(), image.width * 3);
   } else {
-    ok = stbi_write_png(path.c_str(), image.width, image.height, 4, image.rgba.data(),
+    ok = stbi_write_png(tmp.c_str(), image.width, image.height, 4, image.rgba.data(),
                         image.width * 4);
   }
-  if (!ok) {
+  std::error_code ec;
+  if (ok) std::filesystem::rename(tmp, path, ec);
+  if (!ok || ec) {
+    std::filesystem::remove(tmp, ec);
     throw RenderError("could not write PNG " + path +
                       ": check that the folder exists and is writable");
   }

@@ -99,8 +99,14 @@ Camera mesh_camera(const smpl::Vertices& vertices, const RenderOptions& o) {
   const Eigen::Vector3d lo = vertices.colwise().minCoeff(), hi = vertices.colwise().maxCoeff();
   const float az =
       o.azimuth_degrees ? *o.azimuth_degrees : view_azimuth_degrees(parse_standard_view(o.view));
-  return frame_box(lo.cast<float>(), hi.cast<float>(), az,
-                   static_cast<float>(o.width) / static_cast<float>(o.height), o.elevation_degrees);
+  const float aspect = static_cast<float>(o.width) / static_cast<float>(o.height);
+  if (o.fill) {
+    std::vector<Vec3> points(static_cast<size_t>(vertices.rows()));
+    for (Eigen::Index i = 0; i < vertices.rows(); ++i)
+      points[static_cast<size_t>(i)] = vertices.row(i).transpose().cast<float>();
+    return frame_points_tight(points, az, aspect, o.elevation_degrees);
+  }
+  return frame_box(lo.cast<float>(), hi.cast<float>(), az, aspect, o.elevation_degrees);
 }
 
 Scene mesh_scene(const smpl::Vertices& vertices, MeshHandle mesh, const RenderOptions& o) {
@@ -150,6 +156,7 @@ std::vector<std::string> render_turntable_pngs(const smpl::Vertices& vertices,
   std::vector<std::string> paths;
   for (int f = 0; f < frames; ++f) {
     RenderOptions o = options;
+    o.fill = false;  // one distance for every frame
     o.azimuth_degrees = 360.0f * static_cast<float>(f) / static_cast<float>(frames);
     char suffix[32];
     std::snprintf(suffix, sizeof suffix, "_%03d.png", f);

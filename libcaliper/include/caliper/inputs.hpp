@@ -12,7 +12,8 @@
 
 namespace caliper {
 
-/// A length with its unit stated: mm, cm, m, in, ft, and feet-inches ("5ft6in", "5'6\"").
+/// A length with its unit stated: mm, cm, m, in, ft, and feet-inches ("5ft6in", "5'6\""); a
+/// decimal comma between digits ("1,68m") is read as a decimal point.
 /// Returns metres. Throws InvalidInputError naming `what` (e.g. "--height") when the unit is
 /// missing or unknown, or the number is not finite.
 double parse_length(const std::string& text, const std::string& what);

@@ -60,7 +60,17 @@ struct Document {
   RegressorChoice regressor = RegressorChoice::R2;
   bool hierarchical = true;
   int level = 1;  ///< 1..3, used when hierarchical
+  bool operator==(const Document& o) const {
+    return values == o.values && regressor == o.regressor && hierarchical == o.hierarchical &&
+           level == o.level;
+  }
+  bool operator!=(const Document& o) const { return !(*this == o); }
 };
+
+/// The human name of a measurement for the UI ("Arm span (fingertips)"; "Weight", "Volume").
+std::string measurement_label(const std::string& id);
+/// One line describing a regressor choice, e.g. "R4: height, weight, inseam, arm span".
+std::string describe_regressor(RegressorChoice choice);
 
 /// How the avatar is coloured.
 enum class ColourMode { Skin, Plausibility, Uncertainty };
@@ -74,6 +84,9 @@ struct ViewSettings {
   bool overlay = true;  ///< measurement lines and values on the avatar
   ColourMode colour = ColourMode::Skin;
   CompareMode compare = CompareMode::Off;
+  /// true: the 3D view keeps one scale (a 2.2 m tall box) so bodies of different heights look
+  /// different, with a height ruler on the floor grid; false: it fits the avatar.
+  bool fixed_scale = false;
 };
 
 /// The current avatar and what is derived from it.
@@ -142,6 +155,12 @@ class EditorCore {
   std::optional<double> shown_value(const std::string& id) const;
 
   void set_regressor(RegressorChoice choice);
+  /// Uses `choice` as the regressor from now on: hierarchical mode off (one undo step), so
+  /// the choice takes effect at once (the UI's regressor list).
+  void use_regressor(RegressorChoice choice);
+  /// The regressor that turns the inputs into betas now: the chosen one, or the hierarchy
+  /// level's (R2, R4, R6) when hierarchical mode is on with R2-R6.
+  RegressorChoice active_regressor() const;
   void set_hierarchical(bool on);
   /// Level 1..3 (hierarchical mode). New inputs start from the avatar's own values.
   bool set_level(int level);
@@ -149,6 +168,7 @@ class EditorCore {
   void reset();
 
   // ---- Undo / redo ---------------------------------------------------------------------
+  /// Undo and redo post what they changed ("undone: height 170.0 cm -> 165.2 cm").
   bool can_undo() const { return !undo_.empty(); }
   bool can_redo() const { return !redo_.empty(); }
   bool undo();
@@ -177,6 +197,12 @@ class EditorCore {
   /// The metadata export_avatar() writes for the current avatar (string values; betas and
   /// measurements as JSON text). Empty without a model.
   std::map<std::string, std::string> export_metadata() const;
+  /// File extensions export_avatar() writes (lower case with the dot, the first is the default):
+  /// those of export_formats().
+  static std::vector<std::string> export_extensions();
+
+  /// True when the inputs differ from the last saved or opened profile (or from the start).
+  bool has_unsaved_changes() const { return doc_ != saved_doc_; }
 
   // ---- Comparison ----------------------------------------------------------------------
   /// Pins the current avatar as the comparison avatar.
@@ -193,6 +219,8 @@ class EditorCore {
   std::uint64_t revision() const { return revision_; }
   const std::deque<Message>& messages() const { return messages_; }
   void post(Message::Level level, const std::string& text);
+  /// Drops the errors and warnings of earlier commands (each edit starts with a clean status).
+  void clear_stale_messages();
 
   /// Runs one text command (the headless script language, docs/editor.md), e.g.
   /// "set height 180 cm", "units imperial", "level 2", "undo". Returns false (with a
@@ -214,10 +242,14 @@ class EditorCore {
   bool step_history(std::vector<Document>& from, std::vector<Document>& to, const char* what);
   void recompute(bool complete);
   bool check_value(const std::string& id, double value_si);
+  /// A short account of what differs between two documents, for undo/redo messages.
+  std::string describe_change(const Document& from, const Document& to) const;
 
   std::vector<ModelEntry> models_;
   int current_ = -1;
   Document doc_;
+  Document saved_doc_;  ///< has_unsaved_changes() compares with this
+  bool baseline_set_ = false;
   ViewSettings view_;
   AvatarView avatar_;
   std::optional<Comparison> comparison_;

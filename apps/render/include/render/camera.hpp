@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "render/scene.hpp"
 
@@ -32,5 +33,17 @@ StandardView parse_standard_view(const std::string& name);
 /// elevation, for a viewport of the given aspect; the whole box is visible with a margin.
 Camera frame_box(const Vec3& lo, const Vec3& hi, float azimuth_degrees, float aspect,
                  float elevation_degrees = 8.0f);
+/// Like frame_box, but the distance is the smallest at which all eight corners of the box fit
+/// in the picture with `margin` (a fraction of each half-size, e.g. 0.05) to spare, so the box
+/// fills the picture's height or width from this direction (frame_box fits the box's bounding
+/// sphere into the narrower side, which leaves a standing body in T-pose half the height of a
+/// portrait picture). The distance depends on the direction: use frame_box for turntables.
+Camera frame_box_tight(const Vec3& lo, const Vec3& hi, float azimuth_degrees, float aspect,
+                       float elevation_degrees = 8.0f, float margin = 0.05f);
+/// The same for a set of points (e.g. a mesh's vertices: tighter than their box, whose near
+/// corners stand far in front of a body seen from the side). Throws std::invalid_argument when
+/// `points` is empty.
+Camera frame_points_tight(const std::vector<Vec3>& points, float azimuth_degrees, float aspect,
+                          float elevation_degrees = 8.0f, float margin = 0.05f);
 
 }  // namespace caliper::render

@@ -37,6 +37,10 @@ struct RenderOptions {
   std::vector<Point> points;          ///< landmarks
   std::vector<Label> labels;          ///< values next to lines, captions
   int samples = 4;                    ///< multisampling (1 = off)
+  /// Frame the mesh tightly for this view (frame_points_tight on its vertices: the body fills the
+  /// picture's height) instead of its bounding sphere (frame_box: the same distance from every
+  /// side, as a turntable needs). render_turntable_pngs ignores it.
+  bool fill = false;
 };
 
 /// Float positions and 32-bit indices of an smpl mesh, ready for Renderer::upload_mesh().
