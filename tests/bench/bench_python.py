@@ -4,9 +4,10 @@
 
 create: caliper.create() vs the C++ of create() (caliper::create_avatar on the same model,
 regressors and inputs); batch: caliper.evaluate() of N bodies vs the same C++ loop (both allocate
-a fresh uninitialised output per call). Two baselines: the C++ work timed inside C++, and the same
-baseline call timed from Python (docs/performance.md explains why both). Thread CPU time on both
-sides (CLOCK_THREAD_CPUTIME_ID; wall time would measure the neighbours on a shared machine).
+a fresh uninitialised output of the same dtype per call). Two baselines: the C++ work timed inside
+C++, and the same baseline call timed from Python (docs/performance.md explains why both). Thread
+CPU time on both sides (CLOCK_THREAD_CPUTIME_ID; wall time would measure the neighbours on a
+shared machine).
 
 Paired: each Python call is paired with one baseline call (Python first in even rounds, the
 baseline first in odd rounds, so that an advantage of going first or second cancels), and the
@@ -97,10 +98,12 @@ def main():
     poses = rng.normal(scale=0.3, size=(a.bodies, 3 * model.num_joints))
     for label, pose_arg in (("rest pose", None), ("posed", poses)) if a.only != "create" else ():
         for dtype in (np.float64, np.float32):
-            report(f"evaluate {a.bodies} bodies, {label}, Python out {np.dtype(dtype).name} "
-                   f"(C++ float64), {a.batch_pairs} pairs", "ms", 1e3,
+            f32 = dtype == np.float32
+            report(f"evaluate {a.bodies} bodies, {label}, {np.dtype(dtype).name} out, "
+                   f"{a.batch_pairs} pairs", "ms", 1e3,
                    paired(lambda: caliper.evaluate(model, betas, pose_arg, dtype=dtype),
-                          lambda: te(model, betas, pose_arg, repeats=1), a.batch_pairs))
+                          lambda: te(model, betas, pose_arg, float32=f32, repeats=1),
+                          a.batch_pairs))
 
 
 if __name__ == "__main__":
