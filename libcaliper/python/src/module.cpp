@@ -611,8 +611,26 @@ double time_create_cpp(const ModelPtr& model, const RegressorsPtr& regressors,
   return median(t);
 }
 
+/// The C++ loop of evaluate() with `Out` (double or float) output, timed as time_evaluate_cpp.
+template <class Out>
+double time_evaluate_typed(const smpl::BodyModel& model, const caliper::python::BatchInput& in,
+                           size_t size, int repeats) {
+  std::vector<double> t;
+  for (int i = 0; i < repeats; ++i) {
+    // A fresh uninitialised output per call, as evaluate() allocates its numpy array: a C++
+    // caller also needs somewhere to put N x V x 3 results.
+    const double t0 = thread_seconds();
+    {
+      std::unique_ptr<Out[]> out(new Out[size]);  // freed inside the timed section
+      caliper::python::evaluate_many(model, in, out.get(), static_cast<Out*>(nullptr));
+    }
+    t.push_back(thread_seconds() - t0);
+  }
+  return median(t);
+}
+
 double time_evaluate_cpp(const ModelPtr& model, const InArray& betas, const py::object& poses_obj,
-                         int repeats) {
+                         bool float32, int repeats) {
   std::optional<InArray> poses;
   if (!poses_obj.is_none()) poses = InArray::ensure(poses_obj);
   bool single = false;
@@ -624,18 +642,8 @@ double time_evaluate_cpp(const ModelPtr& model, const InArray& betas, const py::
   in.poses = poses ? poses->data() : nullptr;
   const size_t size = static_cast<size_t>(n) * static_cast<size_t>(model->num_vertices()) * 3;
   py::gil_scoped_release release;
-  std::vector<double> t;
-  for (int i = 0; i < repeats; ++i) {
-    // A fresh uninitialised output per call, as evaluate() allocates its numpy array: a C++
-    // caller also needs somewhere to put N x V x 3 results.
-    const double t0 = thread_seconds();
-    {
-      std::unique_ptr<double[]> out(new double[size]);  // freed inside the timed section
-      caliper::python::evaluate_many(*model, in, out.get(), static_cast<double*>(nullptr));
-    }
-    t.push_back(thread_seconds() - t0);
-  }
-  return median(t);
+  return float32 ? time_evaluate_typed<float>(*model, in, size, repeats)
+                 : time_evaluate_typed<double>(*model, in, size, repeats);
 }
 
 }  // namespace
@@ -1135,8 +1143,8 @@ PYBIND11_MODULE(_caliper, m) {
   m.def("_time_create_cpp", &time_create_cpp, py::arg("model"), py::arg("regressors"),
         py::arg("measurements"), py::arg("regressor") = py::none(), py::arg("repeats") = 100,
         "Benchmark baseline: median thread CPU seconds of the C++ work of create(), timed in C++.");
-  m.def(
-      "_time_evaluate_cpp", &time_evaluate_cpp, py::arg("model"), py::arg("betas"),
-      py::arg("poses") = py::none(), py::arg("repeats") = 5,
-      "Benchmark baseline: median thread CPU seconds of the C++ loop of evaluate(), timed in C++.");
+  m.def("_time_evaluate_cpp", &time_evaluate_cpp, py::arg("model"), py::arg("betas"),
+        py::arg("poses") = py::none(), py::arg("float32") = false, py::arg("repeats") = 5,
+        "Benchmark baseline: median thread CPU seconds of the C++ loop of evaluate() (float64 or, "
+        "with float32=True, float32 output), timed in C++.");
 }
