@@ -1,8 +1,9 @@
 /// \file mesh_io.hpp
 /// Avatar files for the `caliper` command: writing an avatar by the output's extension (.glb and
 /// .gltf through smpl::gltf, .obj and .ply through smpl/export.hpp) and reading a rest-pose
-/// avatar mesh back (.glb/.gltf through smpl::read_gltf; Wavefront OBJ `v`/`f` lines; PLY ascii
-/// or binary little-endian with float or double x, y, z and a face index list).
+/// avatar mesh back (.glb/.gltf through smpl::read_gltf; OBJ and PLY through smpl/mesh_read.hpp:
+/// Wavefront OBJ `v`/`f` lines; PLY ascii or binary little-endian with x, y, z and a face index
+/// list).
 #pragma once
 
 #include <map>
@@ -21,8 +22,9 @@ struct MeshFile {
   std::map<std::string, std::string> extras;  ///< .glb/.gltf asset.extras strings (else empty)
 };
 
-/// Reads .glb, .gltf, .obj or .ply (by extension). Throws RuntimeError naming the file and the
-/// problem (unknown extension, unreadable, malformed line, unsupported PLY property).
+/// Reads .glb, .gltf, .obj or .ply (by extension). Throws RuntimeError (unknown extension,
+/// missing file, no vertices) or smpl::ModelError (unreadable, malformed line, unsupported PLY
+/// property, counts or indices out of range) naming the file and the problem.
 MeshFile read_mesh(const std::string& path);
 
 /// Writes the avatar of `model` with `betas` standing on the floor (min y = 0): .glb / .gltf
