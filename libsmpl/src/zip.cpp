@@ -129,7 +129,7 @@ std::vector<std::uint8_t> deflate_raw(const std::vector<std::uint8_t>& in) {
 }  // namespace
 
 NpzReader::NpzReader(const std::uint8_t* bytes, std::size_t size, std::string context_in)
-    : bytes_(bytes), size_(size), context_(std::move(context_in)) {
+    : bytes_(bytes), context_(std::move(context_in)) {
   const std::string& context = context_;
   // End of central directory: the last signature whose comment fits the file.
   if (size < 22)

@@ -181,7 +181,6 @@ class NpzReader {
     std::uint64_t data_offset = 0;
   };
   const std::uint8_t* bytes_;
-  std::size_t size_;
   std::string context_;
   std::map<std::string, Member> members_;  // by key
 };
