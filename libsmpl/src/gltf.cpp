@@ -6,22 +6,26 @@
 // declarations match when no TINYGLTF_NO_* macro is defined here).
 //
 // Sections: 1. buffer building helpers  2. avatar -> tinygltf::Model  3. write_gltf / glb_bytes
-//           4. VRM  5. accessor reading  6. read_gltf
+//           4. VRM  5. reading limits  6. accessor reading  7. read_gltf
 #include "smpl/gltf.hpp"
 
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
-#include <functional>
+#include <filesystem>
+#include <limits>
 #include <sstream>
+#include <unordered_map>
 
 #include <tiny_gltf.h>
 
 #include "smpl/evaluate.hpp"
 #include "smpl/export.hpp"
+#include "smpl/npz.hpp"
 
 #include <Eigen/Geometry>
 
@@ -517,14 +521,173 @@ void write_vrm(const std::string& path, const BodyModel& model,
 }
 
 // ---------------------------------------------------------------------------------------------
-// 5. Accessor reading
+// 5. Reading limits: buffer URIs, JSON nesting, decoded bytes
+// ---------------------------------------------------------------------------------------------
+namespace {
+
+// glTF's own schema nests about 8 levels; extras may add some. Deeper JSON is refused before
+// tinygltf sees it (its JSON-to-Value conversion recurses once per level).
+constexpr int kMaxJsonDepth = 128;
+// The arrays read_gltf() hands out may hold this many times the bytes of the file and its
+// buffers (a float becomes a double: 2x; an unsigned byte JOINTS_0 becomes a double: 8x), plus
+// a fixed allowance for tiny files.
+constexpr size_t kDecodedPerInputByte = 16;
+constexpr size_t kDecodedSlack = size_t{16} << 20;
+
+// Counts the bytes of every array read_gltf() makes, against a limit relative to the input.
+class DecodeBudget {
+ public:
+  DecodeBudget(size_t input_bytes, std::string path)
+      : limit_(input_bytes > (SIZE_MAX - kDecodedSlack) / kDecodedPerInputByte
+                   ? SIZE_MAX
+                   : input_bytes * kDecodedPerInputByte + kDecodedSlack),
+        input_(input_bytes),
+        path_(std::move(path)) {}
+  // Charges count x item_bytes bytes for `what`; throws when the total passes the limit.
+  void charge(size_t count, size_t item_bytes, const std::string& what) {
+    if (count > (limit_ - used_) / std::max<size_t>(item_bytes, 1)) {
+      throw ModelError(path_ + ": " + what + " would make the decoded data larger than " +
+                       std::to_string(kDecodedPerInputByte) + " times the " +
+                       std::to_string(input_) +
+                       " bytes of the file and its buffers (accessors or morph targets used "
+                       "over and over): not an avatar file");
+    }
+    used_ += count * item_bytes;
+  }
+
+ private:
+  size_t limit_;
+  size_t used_ = 0;
+  size_t input_;
+  std::string path_;
+};
+
+// Where external buffer and image files may come from: only files inside `folder` (absolute,
+// canonical), named by a relative URI without "..", without a scheme ("http:", "file:") and
+// without a drive or backslash. The first refusal is kept for the error message.
+struct UriPolicy {
+  std::string folder;  // empty: no external file at all (in-memory reading)
+  std::string refused;
+};
+
+bool uri_allowed(const std::string& joined, UriPolicy& policy) {
+  auto refuse = [&](const std::string& uri, const std::string& why) {
+    if (policy.refused.empty()) {
+      policy.refused = "refused to read the external file '" + uri + "': " + why +
+                       "; a glTF file may only use data: URIs and relative file names inside "
+                       "its own folder (re-export it, or use .glb)";
+    }
+    return false;
+  };
+  // tinygltf asks for <base dir>/<uri> first, then ./<uri>: only the first form can be allowed.
+  const std::string prefix =
+      !policy.folder.empty() && policy.folder.back() == '/' ? policy.folder : policy.folder + "/";
+  if (policy.folder.empty() || joined.compare(0, prefix.size(), prefix) != 0) {
+    return refuse(joined, policy.folder.empty() ? "external files are not read here"
+                                                : "it is not inside the folder of the file");
+  }
+  const std::string uri = joined.substr(prefix.size());
+  if (uri.empty()) return refuse(uri, "the URI is empty");
+  if (uri.find('\0') != std::string::npos || uri.find('\\') != std::string::npos) {
+    return refuse(uri, "it holds a NUL or backslash");
+  }
+  if (uri[0] == '/') return refuse(uri, "absolute paths are not allowed");
+  const size_t first_slash = uri.find('/');
+  if (uri.substr(0, first_slash).find(':') != std::string::npos) {
+    return refuse(uri, "URI schemes other than data: (http:, file:, ...) are not read");
+  }
+  size_t begin = 0;
+  while (begin <= uri.size()) {
+    const size_t end = std::min(uri.find('/', begin), uri.size());
+    if (uri.compare(begin, end - begin, "..") == 0 && end - begin == 2) {
+      return refuse(uri, "it leaves the folder of the file ('..')");
+    }
+    begin = end + 1;
+  }
+  // A symbolic link inside the folder must not lead out of it either.
+  std::error_code ec;
+  const std::filesystem::path real = std::filesystem::weakly_canonical(joined, ec);
+  if (ec || real.string().compare(0, prefix.size(), prefix) != 0) {
+    return refuse(uri, "it resolves to a file outside the folder of the file");
+  }
+  return true;
+}
+
+bool policy_file_exists(const std::string& path, void* user) {
+  if (!uri_allowed(path, *static_cast<UriPolicy*>(user))) return false;
+  std::error_code ec;
+  return std::filesystem::is_regular_file(path, ec);
+}
+
+std::string policy_expand(const std::string& path, void*) {
+  return path;
+}
+
+bool policy_read(std::vector<unsigned char>* out, std::string* err, const std::string& path,
+                 void* user) {
+  if (!uri_allowed(path, *static_cast<UriPolicy*>(user))) {
+    if (err) *err += static_cast<UriPolicy*>(user)->refused;
+    return false;
+  }
+  try {
+    *out = read_file_bytes(path);
+  } catch (const ModelError& e) {
+    if (err) *err += e.what();
+    return false;
+  }
+  return true;
+}
+
+bool policy_write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+  if (err) *err += "read_gltf never writes files";
+  return false;
+}
+
+// Images are not needed for an avatar: they are neither decoded nor kept.
+bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, int,
+                const unsigned char*, int, void*) {
+  return true;
+}
+
+// The deepest nesting of arrays and objects in JSON text (strings skipped), stopping early once
+// `limit` is passed.
+int json_depth(const char* p, size_t n, int limit) {
+  int depth = 0;
+  int deepest = 0;
+  bool in_string = false;
+  for (size_t i = 0; i < n; ++i) {
+    const char c = p[i];
+    if (in_string) {
+      if (c == '\\') {
+        ++i;
+      } else if (c == '"') {
+        in_string = false;
+      }
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      deepest = std::max(deepest, ++depth);
+      if (deepest > limit) break;
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return deepest;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// 6. Accessor reading
 // ---------------------------------------------------------------------------------------------
 namespace {
 
 // Reads any accessor into a count x components double matrix (normalised integers are mapped
-// to [0, 1] as the specification says).
+// to [0, 1] as the specification says). Every offset is checked without overflow: byteOffset
+// values near 2^64 cannot wrap round to a small position. `budget` is charged with the bytes of
+// the result.
 Eigen::MatrixXd read_accessor(const tinygltf::Model& g, int index, const std::string& path,
-                              const std::string& what) {
+                              const std::string& what, DecodeBudget& budget) {
   auto fail = [&](const std::string& why) -> ModelError {
     return ModelError(path + ": " + what + " (accessor " + std::to_string(index) + ") " + why);
   };
@@ -542,17 +705,28 @@ Eigen::MatrixXd read_accessor(const tinygltf::Model& g, int index, const std::st
   const int size = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(a.componentType));
   const int stride = a.ByteStride(view);
   if (comps <= 0 || size <= 0 || stride <= 0) throw fail("has an invalid type or component type");
-  const size_t start = view.byteOffset + a.byteOffset;
-  if (a.count > 0 &&
-      (start + (a.count - 1) * static_cast<size_t>(stride) + static_cast<size_t>(comps * size) >
-           data.size() ||
-       start + (a.count - 1) * static_cast<size_t>(stride) + static_cast<size_t>(comps * size) >
-           view.byteOffset + view.byteLength)) {
-    throw fail("reaches past the end of its buffer: the file is truncated or corrupt");
+  const auto element = static_cast<size_t>(comps) * static_cast<size_t>(size);
+  const auto ustride = static_cast<size_t>(stride);
+  // view.byteOffset + view.byteLength <= data.size() and a.byteOffset + (count - 1) * stride +
+  // element <= view.byteLength, each written so that no sum can wrap.
+  if (view.byteOffset > data.size() || view.byteLength > data.size() - view.byteOffset) {
+    throw fail("has a bufferView that reaches past the end of its buffer (byteOffset " +
+               std::to_string(view.byteOffset) + ", byteLength " + std::to_string(view.byteLength) +
+               ", buffer " + std::to_string(data.size()) +
+               " bytes): the file is truncated or corrupt");
   }
+  if (a.count > 0 && (a.byteOffset > view.byteLength || element > view.byteLength - a.byteOffset ||
+                      a.count - 1 > (view.byteLength - a.byteOffset - element) / ustride)) {
+    throw fail("reaches past the end of its bufferView (byteOffset " +
+               std::to_string(a.byteOffset) + ", count " + std::to_string(a.count) +
+               ", bufferView " + std::to_string(view.byteLength) +
+               " bytes): the file is truncated or corrupt");
+  }
+  const size_t start = view.byteOffset + a.byteOffset;
+  budget.charge(a.count, static_cast<size_t>(comps) * sizeof(double), what);
   Eigen::MatrixXd out(static_cast<Eigen::Index>(a.count), comps);
   for (size_t i = 0; i < a.count; ++i) {
-    const unsigned char* p = data.data() + start + i * static_cast<size_t>(stride);
+    const unsigned char* p = data.data() + start + i * ustride;
     for (int c = 0; c < comps; ++c) {
       const unsigned char* q = p + c * size;
       double x = 0.0;
@@ -623,27 +797,57 @@ Eigen::Matrix4d local_matrix(const tinygltf::Node& n) {
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
-// 6. read_gltf
+// 7. read_gltf
 // ---------------------------------------------------------------------------------------------
 
-GltfAvatar read_gltf(const std::string& path) {
+namespace {
+
+GltfAvatar read_gltf_impl(const std::uint8_t* bytes, size_t size, const std::string& path,
+                          const std::string& folder) {
+  if (size > std::numeric_limits<unsigned int>::max()) {
+    throw ModelError(path + ": larger than 4 GiB, which glTF files cannot be");
+  }
+  const bool binary = size >= 4 && std::memcmp(bytes, "glTF", 4) == 0;
+  // The JSON text: the whole file, or the GLB's first chunk (header 12 bytes, chunk header 8).
+  const char* json = reinterpret_cast<const char*>(bytes);
+  size_t json_size = size;
+  if (binary) {
+    std::uint32_t chunk = 0;
+    if (size >= 20) std::memcpy(&chunk, bytes + 12, 4);
+    json += std::min<size_t>(size, 20);
+    json_size = std::min<size_t>(chunk, size - std::min<size_t>(size, 20));
+  }
+  if (json_depth(json, json_size, kMaxJsonDepth) > kMaxJsonDepth) {
+    throw ModelError(path + ": the JSON nests arrays and objects more than " +
+                     std::to_string(kMaxJsonDepth) + " levels deep: not an avatar file");
+  }
   tinygltf::Model g;
   tinygltf::TinyGLTF loader;
+  UriPolicy policy{folder, {}};
+  loader.SetFsCallbacks(
+      {&policy_file_exists, &policy_expand, &policy_read, &policy_write, &policy});
+  loader.SetImageLoader(&skip_image, nullptr);
   std::string err, warn;
-  const bool ok = ends_with(path, ".glb") || ends_with(path, ".vrm")
-                      ? loader.LoadBinaryFromFile(&g, &err, &warn, path)
-                      : loader.LoadASCIIFromFile(&g, &err, &warn, path);
+  const auto n = static_cast<unsigned int>(size);
+  const std::string base = folder.empty() ? std::string("/nonexistent") : folder;
+  const bool ok = binary ? loader.LoadBinaryFromMemory(&g, &err, &warn, bytes, n, base)
+                         : loader.LoadASCIIFromString(
+                               &g, &err, &warn, reinterpret_cast<const char*>(bytes), n, base);
+  if (!policy.refused.empty()) throw ModelError(path + ": " + policy.refused);
   if (!ok) {
     throw ModelError(path + ": not a readable glTF file: " + (err.empty() ? "unknown error" : err) +
                      (warn.empty() ? "" : " (tinygltf warnings: " + warn + ")"));
   }
   GltfAvatar out;
   if (!warn.empty()) out.warnings.push_back(warn);
+  size_t input_bytes = size;
+  for (const auto& b : g.buffers) input_bytes += b.data.size();
+  DecodeBudget budget(input_bytes, path);
 
   const tinygltf::Node* skinned = nullptr;
-  for (const auto& n : g.nodes) {
-    if (n.mesh >= 0 && n.skin >= 0) {
-      skinned = &n;
+  for (const auto& node : g.nodes) {
+    if (node.mesh >= 0 && node.skin >= 0) {
+      skinned = &node;
       break;
     }
   }
@@ -653,13 +857,15 @@ GltfAvatar read_gltf(const std::string& path) {
       g.meshes[static_cast<size_t>(skinned->mesh)].primitives.empty()) {
     throw ModelError(path + ": the skinned node refers to a missing mesh, skin or primitive");
   }
+  const auto& skin = g.skins[static_cast<size_t>(skinned->skin)];
+  const auto K = skin.joints.size();
   const auto& prim = g.meshes[static_cast<size_t>(skinned->mesh)].primitives[0];
   auto attribute = [&](const char* name) {
     const auto it = prim.attributes.find(name);
     if (it == prim.attributes.end()) {
       throw ModelError(path + ": the skinned mesh has no " + std::string(name) + " attribute");
     }
-    return read_accessor(g, it->second, path, name);
+    return read_accessor(g, it->second, path, name, budget);
   };
   const Eigen::MatrixXd pos = attribute("POSITION");
   if (pos.cols() != 3) throw ModelError(path + ": POSITION is not VEC3");
@@ -669,15 +875,26 @@ GltfAvatar read_gltf(const std::string& path) {
   if (ids.cols() != 4 || wts.cols() != 4 || ids.rows() != pos.rows() || wts.rows() != pos.rows()) {
     throw ModelError(path + ": JOINTS_0/WEIGHTS_0 must be VEC4 with one entry per vertex");
   }
+  // Joint indices are checked as doubles before any conversion: a float JOINTS_0 may hold 1e30
+  // or NaN, which no int can represent.
+  for (Eigen::Index i = 0; i < ids.size(); ++i) {
+    const double x = ids.data()[i];
+    if (!(x >= 0.0 && x < static_cast<double>(K)) || x != std::floor(x)) {
+      throw ModelError(path + ": JOINTS_0 holds " + std::to_string(x) +
+                       ", which is not a joint of the skin (integers 0 to " +
+                       std::to_string(K == 0 ? 0 : K - 1) + ")");
+    }
+  }
   out.joint_ids = ids.cast<int>();
   for (size_t t = 0; t < prim.targets.size(); ++t) {
+    const std::string what = "morph target " + std::to_string(t) + " POSITION";
     const auto it = prim.targets[t].find("POSITION");
     if (it == prim.targets[t].end()) {
+      budget.charge(static_cast<size_t>(pos.rows()), 3 * sizeof(double), what);
       out.morph_targets.emplace_back(Vertices::Zero(pos.rows(), 3));
       continue;
     }
-    const Eigen::MatrixXd d =
-        read_accessor(g, it->second, path, "morph target " + std::to_string(t) + " POSITION");
+    const Eigen::MatrixXd d = read_accessor(g, it->second, path, what, budget);
     if (d.rows() != pos.rows() || d.cols() != 3) {
       throw ModelError(path + ": morph target " + std::to_string(t) +
                        " does not have one VEC3 per vertex");
@@ -709,12 +926,12 @@ GltfAvatar read_gltf(const std::string& path) {
   }
   out.joint_weights = wts;
   if (prim.indices >= 0) {
-    const Eigen::MatrixXd idx = read_accessor(g, prim.indices, path, "indices");
+    const Eigen::MatrixXd idx = read_accessor(g, prim.indices, path, "indices", budget);
     if (idx.size() % 3 != 0) throw ModelError(path + ": the index count is not a multiple of 3");
     out.faces.resize(idx.size() / 3, 3);
     for (Eigen::Index i = 0; i < idx.size(); ++i) {
       const double x = idx(i, 0);
-      if (x < 0 || x >= static_cast<double>(pos.rows())) {
+      if (!(x >= 0 && x < static_cast<double>(pos.rows()))) {
         throw ModelError(path + ": index " + std::to_string(x) + " is out of range");
       }
       out.faces.data()[i] = static_cast<std::int32_t>(x);
@@ -733,28 +950,34 @@ GltfAvatar read_gltf(const std::string& path) {
       node_parent[static_cast<size_t>(c)] = static_cast<int>(i);
     }
   }
+  // World transforms without recursion (a parent chain may be as long as the file allows): walk
+  // up from each node to the first finished ancestor, then come back down.
   std::vector<Eigen::Matrix4d, Eigen::aligned_allocator<Eigen::Matrix4d>> world(N);
-  std::vector<int> state(N, 0);  // 0 = todo, 1 = in progress, 2 = done
-  std::function<void(size_t)> visit = [&](size_t i) {
-    if (state[i] == 2) return;
-    if (state[i] == 1) throw ModelError(path + ": the node hierarchy has a cycle");
-    state[i] = 1;
-    const int p = node_parent[i];
-    Eigen::Matrix4d parent = Eigen::Matrix4d::Identity();
-    if (p >= 0) {
-      visit(static_cast<size_t>(p));
-      parent = world[static_cast<size_t>(p)];
+  std::vector<char> state(N, 0);  // 0 = todo, 1 = on the current chain, 2 = done
+  std::vector<size_t> chain;
+  for (size_t i = 0; i < N; ++i) {
+    chain.clear();
+    for (size_t at = i; state[at] != 2;) {
+      if (state[at] == 1) throw ModelError(path + ": the node hierarchy has a cycle");
+      state[at] = 1;
+      chain.push_back(at);
+      if (node_parent[at] < 0) break;
+      at = static_cast<size_t>(node_parent[at]);
     }
-    world[i] = parent * local_matrix(g.nodes[i]);
-    state[i] = 2;
-  };
-  for (size_t i = 0; i < N; ++i) visit(i);
+    for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+      const int p = node_parent[*it];
+      world[*it] = p >= 0
+                       ? Eigen::Matrix4d(world[static_cast<size_t>(p)] * local_matrix(g.nodes[*it]))
+                       : local_matrix(g.nodes[*it]);
+      state[*it] = 2;
+    }
+  }
 
-  const auto& skin = g.skins[static_cast<size_t>(skinned->skin)];
-  const auto K = skin.joints.size();
   out.joints.resize(static_cast<Eigen::Index>(K), 3);
   out.joint_names.resize(K);
   out.parents.assign(K, -1);
+  std::unordered_map<int, int> joint_of_node;  // first skin joint of each node
+  for (size_t k = 0; k < K; ++k) joint_of_node.emplace(skin.joints[k], static_cast<int>(k));
   for (size_t k = 0; k < K; ++k) {
     const int node = skin.joints[k];
     if (node < 0 || static_cast<size_t>(node) >= N) {
@@ -764,18 +987,26 @@ GltfAvatar read_gltf(const std::string& path) {
         world[static_cast<size_t>(node)].topRightCorner<3, 1>().transpose();
     out.joint_names[k] = g.nodes[static_cast<size_t>(node)].name;
     const int pn = node_parent[static_cast<size_t>(node)];
-    const auto it = std::find(skin.joints.begin(), skin.joints.end(), pn);
-    if (pn >= 0 && it != skin.joints.end()) {
-      out.parents[k] = static_cast<int>(it - skin.joints.begin());
-    }
-  }
-  if (out.joint_ids.size() > 0 &&
-      (out.joint_ids.minCoeff() < 0 || out.joint_ids.maxCoeff() >= static_cast<int>(K))) {
-    throw ModelError(path + ": JOINTS_0 refers to joint " +
-                     std::to_string(out.joint_ids.maxCoeff()) + " but the skin has " +
-                     std::to_string(K) + " joints");
+    const auto it = joint_of_node.find(pn);
+    if (pn >= 0 && it != joint_of_node.end()) out.parents[k] = it->second;
   }
   return out;
+}
+
+}  // namespace
+
+GltfAvatar read_gltf(const std::string& path) {
+  const std::vector<std::uint8_t> bytes = read_file_bytes(path);
+  std::error_code ec;
+  std::filesystem::path folder = std::filesystem::absolute(path, ec).parent_path();
+  folder = std::filesystem::weakly_canonical(folder, ec);
+  if (ec) throw ModelError(path + ": cannot resolve the folder of the file (" + ec.message() + ")");
+  return read_gltf_impl(bytes.data(), bytes.size(), path, folder.string());
+}
+
+GltfAvatar read_gltf_from_memory(const std::uint8_t* bytes, std::size_t size,
+                                 const std::string& context) {
+  return read_gltf_impl(bytes, size, context, std::string());
 }
 
 }  // namespace smpl

@@ -19,22 +19,34 @@ namespace {
 
 constexpr std::uint64_t kUint32Minus1 = 0xFFFFFFFFull;
 
-/// The file's values by key with the helpers that check and convert them.
+/// The file's values by key with the helpers that check and convert them. The values of an
+/// .npz are read from the archive when first asked for, so members the model does not use are
+/// never inflated.
 class Source {
  public:
   Source(PickleDict values, std::string context)
       : values_(std::move(values)), context_(std::move(context)) {}
+  Source(const NpzReader& npz, std::string context) : npz_(&npz), context_(std::move(context)) {}
 
-  bool has(const std::string& key) const { return values_.count(key) != 0; }
+  bool has(const std::string& key) const {
+    return values_.count(key) != 0 || (npz_ && npz_->has(key));
+  }
 
   const PickleValue& get(const std::string& key) const {
     const auto it = values_.find(key);
-    if (it == values_.end()) {
-      std::string keys;
-      for (const auto& kv : values_) keys += (keys.empty() ? "" : ", ") + kv.first;
-      fail(context_, "missing key '" + key + "' (the file has: " + keys + ")");
+    if (it != values_.end()) return it->second;
+    if (npz_ && npz_->has(key)) {
+      PickleValue v;
+      v.kind = PickleValue::Kind::kArray;
+      v.type_name = "ndarray";
+      v.array = npz_->array(key);
+      return values_.emplace(key, std::move(v)).first->second;
     }
-    return it->second;
+    std::string keys;
+    for (const std::string& k : npz_ ? npz_->keys() : key_list()) {
+      keys += (keys.empty() ? "" : ", ") + k;
+    }
+    fail(context_, "missing key '" + key + "' (the file has: " + keys + ")");
   }
 
   const NpyArray& array(const std::string& key) const {
@@ -84,10 +96,16 @@ class Source {
   }
 
   const std::string& context() const { return context_; }
-  const PickleDict& values() const { return values_; }
 
  private:
-  PickleDict values_;
+  std::vector<std::string> key_list() const {
+    std::vector<std::string> out;
+    for (const auto& kv : values_) out.push_back(kv.first);
+    return out;
+  }
+
+  mutable PickleDict values_;  // an .npz's members are added when first read
+  const NpzReader* npz_ = nullptr;
   std::string context_;
 };
 
@@ -334,23 +352,15 @@ bool starts_with(const std::uint8_t* bytes, std::size_t size, const char* magic,
 
 BodyModel load_model_from_memory(const std::uint8_t* bytes, std::size_t size,
                                  const std::string& context, const LoadOptions& options) {
-  PickleDict values;
   if (starts_with(bytes, size, "PK\x03\x04", 4) || starts_with(bytes, size, "PK\x05\x06", 4)) {
-    for (auto& [key, array] : parse_npz(bytes, size, context)) {
-      PickleValue v;
-      v.kind = PickleValue::Kind::kArray;
-      v.type_name = "ndarray";
-      v.array = std::move(array);
-      values.emplace(key, std::move(v));
-    }
-  } else if (size >= 2 && bytes[0] == 0x80) {
-    values = parse_pickle(bytes, size, context);
-  } else if (size == 0) {
-    fail(context, "the file is empty");
-  } else {
-    fail(context, "neither an .npz (zip) nor a .pkl (pickle protocol 2-5) file");
+    const NpzReader npz(bytes, size, context);
+    return build_model(Source(npz, context), options);
   }
-  return build_model(Source(std::move(values), context), options);
+  if (size >= 2 && bytes[0] == 0x80) {
+    return build_model(Source(parse_pickle(bytes, size, context), context), options);
+  }
+  if (size == 0) fail(context, "the file is empty");
+  fail(context, "neither an .npz (zip) nor a .pkl (pickle protocol 2-5) file");
 }
 
 BodyModel load_model(const std::string& path, const LoadOptions& options) {

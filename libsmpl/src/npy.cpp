@@ -518,14 +518,27 @@ std::vector<std::uint8_t> npy_bytes(const NpyArray& a) {
   return out;
 }
 
-NpyArray parse_npy(const std::uint8_t* bytes, std::size_t size, const std::string& context) {
+namespace {
+
+// A parsed .npy header.
+struct NpyHeader {
+  std::string descr;
+  std::vector<std::size_t> shape;
+  bool fortran = false;
+  std::size_t data_offset = 0;  // bytes before the array data
+  bool object = false;          // pickled Python objects (no data is read)
+};
+
+// The length of the .npy preamble (magic, version, header length field) and of the header text,
+// from the first bytes of a .npy file.
+std::size_t preamble_and_header(const std::uint8_t* bytes, std::size_t size,
+                                const std::string& context, std::size_t& header_len) {
   static const std::uint8_t magic[] = {0x93, 'N', 'U', 'M', 'P', 'Y'};
   if (size < 10 || std::memcmp(bytes, magic, 6) != 0) {
     fail(context, size < 10 ? "truncated .npy data (" + std::to_string(size) + " bytes)"
                             : "not an .npy array (bad magic bytes)");
   }
   const int major = bytes[6];
-  std::size_t header_len = 0;
   std::size_t offset = 0;
   if (major == 1) {
     header_len = bytes[8] | (static_cast<std::size_t>(bytes[9]) << 8);
@@ -539,11 +552,17 @@ NpyArray parse_npy(const std::uint8_t* bytes, std::size_t size, const std::strin
   } else {
     fail(context, "unsupported .npy format version " + std::to_string(major));
   }
+  if (header_len > (1u << 20)) fail(context, ".npy header longer than 1 MiB");
+  return offset;
+}
+
+NpyHeader parse_header(const std::uint8_t* bytes, std::size_t size, const std::string& context) {
+  std::size_t header_len = 0;
+  const std::size_t offset = preamble_and_header(bytes, size, context, header_len);
   if (header_len > size - offset) {
     fail(context, "truncated .npy header (needs " + std::to_string(header_len) + " bytes, " +
                       std::to_string(size - offset) + " present)");
   }
-  if (header_len > (1u << 20)) fail(context, ".npy header longer than 1 MiB");
   const std::string header(reinterpret_cast<const char*>(bytes + offset), header_len);
   const Literal dict = LiteralParser(header, context).parse();
   if (dict.kind != Literal::Kind::kDict) fail(context, "bad .npy header: not a dictionary");
@@ -565,23 +584,59 @@ NpyArray parse_npy(const std::uint8_t* bytes, std::size_t size, const std::strin
   if (fortran->kind != Literal::Kind::kBool) fail(context, "bad .npy header: fortran_order");
   if (shape->kind != Literal::Kind::kTuple) fail(context, "bad .npy header: shape is no tuple");
   if (shape->items.size() > kMaxDims) fail(context, "bad .npy header: too many dimensions");
-  std::vector<std::size_t> dims;
+  NpyHeader h;
   for (const Literal& d : shape->items) {
     if (d.kind != Literal::Kind::kInt || d.integer < 0) fail(context, "bad .npy header: shape");
-    dims.push_back(static_cast<std::size_t>(d.integer));
+    h.shape.push_back(static_cast<std::size_t>(d.integer));
   }
-  const std::size_t available = size - offset - header_len;
-  const std::string& d = descr->text;
-  if (d == "|O" || d == "O" || d == "<O" || d == ">O" || d == "|O8" || d == "<O8") {
+  h.descr = descr->text;
+  h.fortran = fortran->integer != 0;
+  h.data_offset = offset + header_len;
+  const std::string& t = h.descr;
+  h.object = t == "|O" || t == "O" || t == "<O" || t == ">O" || t == "|O8" || t == "<O8";
+  return h;
+}
+
+}  // namespace
+
+std::size_t npy_header_size(const std::uint8_t* bytes, std::size_t size,
+                            const std::string& context) {
+  std::size_t header_len = 0;
+  return preamble_and_header(bytes, size, context, header_len) + header_len;
+}
+
+std::size_t npy_declared_size(const std::uint8_t* bytes, std::size_t size,
+                              const std::string& context) {
+  const NpyHeader h = parse_header(bytes, size, context);
+  if (h.object) return 0;
+  const DtypeInfo info = parse_descr(h.descr, context);
+  std::size_t total = h.data_offset;
+  if (std::find(h.shape.begin(), h.shape.end(), 0) != h.shape.end()) return total;
+  std::size_t count = info.item_size;
+  for (const std::size_t n : h.shape) {
+    if (count > std::numeric_limits<std::size_t>::max() / n) {
+      fail(context, "array shape is impossibly large");
+    }
+    count *= n;
+  }
+  if (count > std::numeric_limits<std::size_t>::max() - total) {
+    fail(context, "array shape is impossibly large");
+  }
+  return total + count;
+}
+
+NpyArray parse_npy(const std::uint8_t* bytes, std::size_t size, const std::string& context) {
+  NpyHeader h = parse_header(bytes, size, context);
+  if (h.object) {
     // Pickled Python objects: not loaded; a placeholder whose accessors explain the conversion.
     NpyArray placeholder;
     placeholder.dtype = "|O";
-    placeholder.shape = std::move(dims);
-    placeholder.fortran_order = fortran->integer != 0;
+    placeholder.shape = std::move(h.shape);
+    placeholder.fortran_order = h.fortran;
     return placeholder;
   }
-  return npy_from_raw(descr->text, std::move(dims), fortran->integer != 0,
-                      bytes + offset + header_len, available, context);
+  return npy_from_raw(h.descr, std::move(h.shape), h.fortran, bytes + h.data_offset,
+                      size - h.data_offset, context);
 }
 
 NpyArray npy_from_raw(const std::string& descr, std::vector<std::size_t> shape, bool fortran_order,

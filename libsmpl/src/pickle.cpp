@@ -2,9 +2,15 @@
 // of CPython's Lib/pickletools.py; numpy's ndarray/dtype __reduce__ and _frombuffer; scipy's
 // csc/csr state dictionaries; chumpy's Ch state). Objects live in an arena and refer to each other
 // by index, so shared and cyclic references are safe; nothing is ever called or executed.
+// Resources: memo references and REDUCE / BUILD arguments are never copied (set(list) keeps no
+// copy of the list), and every byte the machine makes (strings, arrays, container and memo
+// slots, dictionary scans, the copies handed out in the result) is charged to a budget relative
+// to the input size (PickleLimits), so no small file can make it use much memory or time. The
+// fixed-size object records themselves are bounded by kMaxObjects.
 //
 // Sections: objects and whitelist | the machine (opcodes) | REDUCE / NEWOBJ / BUILD | conversion.
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <unordered_map>
 
@@ -98,6 +104,8 @@ struct Obj {
   bool built = false;              // ndarray: has data; sparse/chumpy: has state
   std::size_t state = 0;           // sparse / chumpy: the state dict
 };
+// set / frozenset elements are never needed by a model: a set keeps only its type, and set(x)
+// copies nothing.
 
 bool lookup_global(const std::string& module, const std::string& name, Global& g) {
   const bool np_multiarray =
@@ -137,8 +145,14 @@ bool lookup_global(const std::string& module, const std::string& name, Global& g
 // The machine.
 class Unpickler {
  public:
-  Unpickler(const std::uint8_t* bytes, std::size_t size, const std::string& context)
-      : p_(bytes), size_(size), context_(context) {}
+  Unpickler(const std::uint8_t* bytes, std::size_t size, const std::string& context,
+            const PickleLimits& limits)
+      : p_(bytes), size_(size), context_(context) {
+    const std::size_t ratio = limits.decoded_per_input_byte;
+    budget_ = ratio != 0 && size > (SIZE_MAX - limits.decoded_slack) / ratio
+                  ? SIZE_MAX
+                  : size * ratio + limits.decoded_slack;
+  }
 
   PickleDict run();
 
@@ -149,6 +163,21 @@ class Unpickler {
   [[noreturn]] void truncated() const {
     throw ModelError(context_ + ": truncated pickle: the data ends at byte " +
                      std::to_string(size_) + " in the middle of an opcode or before STOP");
+  }
+
+  // Charges `bytes` made or visited for `what`; refuses the file when the total passes the budget.
+  void charge(std::size_t bytes, const char* what) {
+    if (bytes > budget_ - used_) {
+      fail(std::string("decoding needs more than ") + std::to_string(budget_) +
+           " bytes (the limit for a " + std::to_string(size_) +
+           "-byte pickle; reached while making " + what +
+           "): objects shared by memo references are expanded over and over; not a model file");
+    }
+    used_ += bytes;
+  }
+  void charge_slots(std::size_t n, const char* what) {
+    if (n > SIZE_MAX / sizeof(std::size_t)) fail("impossibly many container items");
+    charge(n * sizeof(std::size_t), what);
   }
 
   const std::uint8_t* take(std::size_t n) {
@@ -181,6 +210,7 @@ class Unpickler {
   }
   std::size_t make_text(Type t, std::size_t n) {
     const std::uint8_t* q = take(n);
+    charge(n, "strings");
     const std::size_t id = make(t);
     objs_[id].text.assign(reinterpret_cast<const char*>(q), n);
     return id;
@@ -228,6 +258,7 @@ class Unpickler {
   void memo_put(std::uint64_t index) {
     const std::size_t id = top();
     if (memo_.size() >= kMaxMemo && memo_.count(index) == 0) fail("more than 2^20 memo entries");
+    charge(4 * sizeof(std::size_t), "memo entries");
     memo_[index] = id;
   }
   void memo_get(std::uint64_t index) {
@@ -236,6 +267,7 @@ class Unpickler {
     push(it->second);
   }
   std::size_t tuple(std::vector<std::size_t> items) {
+    charge_slots(items.size(), "tuples");
     const std::size_t id = make(Type::kTuple);
     objs_[id].items = std::move(items);
     return id;
@@ -252,6 +284,7 @@ class Unpickler {
     if (objs_[dict].type != Type::kDict)
       fail(std::string("SETITEM(S) on a ") + type_name(objs_[dict].type));
     if (kv.size() % 2 != 0) fail("SETITEMS with an odd number of items");
+    charge_slots(kv.size(), "dictionaries");
     auto& items = objs_[dict].items;
     items.insert(items.end(), kv.begin(), kv.end());
   }
@@ -260,6 +293,8 @@ class Unpickler {
       fail(std::string(t == Type::kList ? "APPEND(S)" : "ADDITEMS") + " on a " +
            type_name(objs_[list].type));
     }
+    if (t == Type::kSet) return;  // set elements are not kept
+    charge_slots(values.size(), "lists");
     auto& items = objs_[list].items;
     items.insert(items.end(), values.begin(), values.end());
   }
@@ -273,7 +308,7 @@ class Unpickler {
   const std::uint8_t* raw_of(std::size_t id, std::size_t& n, const char* what);
 
   // Conversion.
-  const Obj* dict_get(const Obj& dict, const std::string& key) const;
+  const Obj* dict_get(const Obj& dict, const std::string& key);
   PickleValue convert(std::size_t id, const std::string& key, int depth);
   NpyArray array_of(std::size_t id, const std::string& key, int depth);
 
@@ -286,6 +321,8 @@ class Unpickler {
   std::vector<std::size_t> stack_;
   std::vector<std::size_t> marks_;
   std::unordered_map<std::uint64_t, std::size_t> memo_;
+  std::size_t budget_ = 0;
+  std::size_t used_ = 0;
 };
 
 std::string hex_byte(std::uint8_t b) {
@@ -425,6 +462,7 @@ PickleDict Unpickler::run() {
         break;
       case 'l': {  // LIST
         std::vector<std::size_t> items = pop_mark();
+        charge_slots(items.size(), "lists");
         const std::size_t id = make(Type::kList);
         objs_[id].items = std::move(items);
         push(id);
@@ -443,13 +481,10 @@ PickleDict Unpickler::run() {
       case 0x8f:  // EMPTY_SET
         push(make(Type::kSet));
         break;
-      case 0x91: {  // FROZENSET
-        std::vector<std::size_t> items = pop_mark();
-        const std::size_t id = make(Type::kSet);
-        objs_[id].items = std::move(items);
-        push(id);
+      case 0x91:  // FROZENSET (elements not kept)
+        pop_mark();
+        push(make(Type::kSet));
         break;
-      }
       case 'a': {  // APPEND
         const std::size_t v = pop();
         add_to_list(top(), {v}, Type::kList);
@@ -601,7 +636,13 @@ std::size_t Unpickler::reduce(std::size_t callable, std::size_t args) {
     fail(std::string("REDUCE on a ") + type_name(c.type) + ", not a class");
   const Global g = c.global;
   const std::string name = c.text;
+  // No whitelisted callable takes more than 4 arguments: a longer tuple (perhaps a huge one
+  // shared through the memo) is refused before anything is copied.
   const Obj& a = expect(args, Type::kTuple, "REDUCE arguments");
+  if (a.items.size() > 4) {
+    fail("REDUCE of '" + name + "' with " + std::to_string(a.items.size()) +
+         " arguments (at most 4 are taken)");
+  }
   const std::vector<std::size_t> items = a.items;
   switch (g) {
     case Global::kReconstruct: {
@@ -611,6 +652,7 @@ std::size_t Unpickler::reduce(std::size_t callable, std::size_t args) {
     case Global::kDtype: {
       if (items.empty()) fail("numpy.dtype() without arguments");
       const std::string descr = text_of(items[0], "dtype descriptor");
+      if (descr.size() > 32) fail("dtype descriptor longer than 32 characters");
       const std::size_t id = make(Type::kDtype);
       objs_[id].text = descr;
       return id;
@@ -619,6 +661,7 @@ std::size_t Unpickler::reduce(std::size_t callable, std::size_t args) {
       if (items.size() != 4) fail("numpy _frombuffer needs 4 arguments");
       std::size_t n = 0;
       const std::uint8_t* raw = raw_of(items[0], n, "_frombuffer buffer");
+      charge(n, "arrays");
       const std::string descr = dtype_descr(items[1], "_frombuffer dtype");
       std::vector<std::size_t> shape = shape_of(items[2]);
       const std::string order = text_of(items[3], "_frombuffer order");
@@ -635,6 +678,7 @@ std::size_t Unpickler::reduce(std::size_t callable, std::size_t args) {
       std::size_t n = 0;
       const std::string descr = dtype_descr(items[0], "scalar dtype");
       const std::uint8_t* raw = raw_of(items[1], n, "scalar data");
+      charge(n, "arrays");
       NpyArray arr = npy_from_raw(descr, {}, false, raw, n, context_);
       if (arr.data.size() != n) fail("numpy scalar data size does not match its dtype");
       const std::size_t id = make(Type::kNdarray);
@@ -644,15 +688,14 @@ std::size_t Unpickler::reduce(std::size_t callable, std::size_t args) {
     }
     case Global::kSet:
     case Global::kFrozenSet: {
-      const std::size_t id = make(Type::kSet);
+      // Only the argument's type is checked: its elements are not copied (a set keeps none).
       if (!items.empty()) {
-        const Obj& l = objs_[items[0]];
-        if (l.type != Type::kList && l.type != Type::kTuple && l.type != Type::kSet) {
+        const Type t = objs_[items[0]].type;
+        if (t != Type::kList && t != Type::kTuple && t != Type::kSet) {
           fail("set() argument must be a list");
         }
-        objs_[id].items = l.items;
       }
-      return id;
+      return make(Type::kSet);
     }
     case Global::kCsc:
     case Global::kCsr:
@@ -683,15 +726,16 @@ void Unpickler::build(std::size_t target, std::size_t state) {
   if (t == Type::kNdarray) {
     if (objs_[target].built) fail("BUILD on an array that already has data");
     const Obj& s = expect(state, Type::kTuple, "ndarray state");
+    if (s.items.size() != 4 && s.items.size() != 5) fail("ndarray state must have 4 or 5 items");
     std::vector<std::size_t> items = s.items;
     if (items.size() == 5) items.erase(items.begin());  // version number
-    if (items.size() != 4) fail("ndarray state must have 4 or 5 items");
     std::vector<std::size_t> shape = shape_of(items[0]);
     const std::string descr = dtype_descr(items[1], "ndarray dtype");
     const Obj& fortran = objs_[items[2]];
     if (fortran.type != Type::kBool && fortran.type != Type::kInt) fail("ndarray is_fortran flag");
     std::size_t n = 0;
     const std::uint8_t* raw = raw_of(items[3], n, "ndarray data");
+    charge(n, "arrays");
     NpyArray arr = npy_from_raw(descr, std::move(shape), fortran.integer != 0, raw, n, context_);
     if (arr.data.size() != n) fail("ndarray data size does not match its shape and dtype");
     objs_[target].array = std::move(arr);
@@ -715,7 +759,8 @@ void Unpickler::build(std::size_t target, std::size_t state) {
 
 // ---------------------------------------------------------------------------------------------
 // Conversion of the top-level dictionary's values.
-const Obj* Unpickler::dict_get(const Obj& dict, const std::string& key) const {
+const Obj* Unpickler::dict_get(const Obj& dict, const std::string& key) {
+  charge_slots(dict.items.size(), "dictionary look-ups");
   for (std::size_t i = dict.items.size(); i >= 2; i -= 2) {
     const Obj& k = objs_[dict.items[i - 2]];
     if ((k.type == Type::kStr || k.type == Type::kBytes) && k.text == key) {
@@ -730,11 +775,13 @@ NpyArray Unpickler::array_of(std::size_t id, const std::string& key, int depth) 
   const Obj& o = objs_[id];
   if (o.type == Type::kNdarray) {
     if (!o.built) fail("'" + key + "' is an array without data (missing BUILD)");
+    charge(o.array.data.size(), "the result's arrays");
     return o.array;
   }
   if (o.type == Type::kChumpy) {
     if (!o.built) fail("'" + key + "' is a chumpy object without state");
     const Obj& st = objs_[o.state];
+    charge_slots(st.items.size(), "dictionary look-ups");
     for (std::size_t i = st.items.size(); i >= 2; i -= 2) {
       const Obj& k = objs_[st.items[i - 2]];
       if ((k.type == Type::kStr || k.type == Type::kBytes) && k.text == "x") {
@@ -776,6 +823,7 @@ PickleValue Unpickler::convert(std::size_t id, const std::string& key, int depth
       for (const char* field : {"data", "indices", "indptr"}) {
         std::size_t fid = 0;
         bool found = false;
+        charge_slots(st.items.size(), "dictionary look-ups");
         for (std::size_t i = st.items.size(); i >= 2 && !found; i -= 2) {
           const Obj& k = objs_[st.items[i - 2]];
           if ((k.type == Type::kStr || k.type == Type::kBytes) && k.text == field) {
@@ -794,6 +842,7 @@ PickleValue Unpickler::convert(std::size_t id, const std::string& key, int depth
     case Type::kStr:
     case Type::kBytes:
       v.kind = PickleValue::Kind::kText;
+      charge(o.text.size(), "the result's strings");
       v.text = o.text;
       break;
     case Type::kInt:
@@ -813,8 +862,9 @@ PickleValue Unpickler::convert(std::size_t id, const std::string& key, int depth
 
 }  // namespace
 
-PickleDict parse_pickle(const std::uint8_t* bytes, std::size_t size, const std::string& context) {
-  return Unpickler(bytes, size, context).run();
+PickleDict parse_pickle(const std::uint8_t* bytes, std::size_t size, const std::string& context,
+                        const PickleLimits& limits) {
+  return Unpickler(bytes, size, context, limits).run();
 }
 
 PickleDict read_pickle(const std::string& path) {

@@ -1,6 +1,7 @@
 // .npz archives: the zip container (PKWARE APPNOTE.TXT 6.3: local headers, central directory,
 // end of central directory, zip64 records and extra fields), stored and deflated members (RFC 1951
 // through zlib's raw inflate), CRC-32 checked.
+#include <algorithm>
 #include <limits>
 
 #include <zlib.h>
@@ -39,53 +40,74 @@ std::uint32_t crc_of(const std::uint8_t* p, std::size_t n) {
   return static_cast<std::uint32_t>(crc32_z(crc, p, n));
 }
 
-// Inflates raw deflate data that the zip directory says gives `out_size` bytes. The output grows
-// with the data actually produced (no allocation of the claimed size up front).
-std::vector<std::uint8_t> inflate_raw(const std::uint8_t* in, std::size_t in_size,
-                                      std::size_t out_size, const std::string& context) {
-  constexpr std::size_t kChunk = std::numeric_limits<uInt>::max();
-  constexpr std::size_t kInitial = std::size_t{64} << 20;
-  std::vector<std::uint8_t> out(std::min(out_size, kInitial));
-  z_stream zs{};
-  if (inflateInit2(&zs, -15) != Z_OK) fail(context, "zlib inflateInit2 failed");
-  zs.next_in = const_cast<Bytef*>(in);
-  std::size_t in_left = in_size;
-  std::size_t produced = 0;
-  int rc = Z_OK;
-  std::string problem;
-  while (true) {
-    if (produced == out.size() && out.size() < out_size) {
-      out.resize(std::min(out_size, 2 * out.size()));
-    }
-    const std::size_t in_chunk = std::min(in_left, kChunk);
-    const std::size_t out_chunk = std::min(out.size() - produced, kChunk);
-    zs.next_out = out.data() + produced;
-    zs.avail_in = static_cast<uInt>(in_chunk);
-    zs.avail_out = static_cast<uInt>(out_chunk);
-    rc = inflate(&zs, Z_NO_FLUSH);
-    in_left -= in_chunk - zs.avail_in;
-    produced += out_chunk - zs.avail_out;
-    if (rc == Z_STREAM_END) break;
-    if (rc == Z_OK) continue;
-    if (rc == Z_BUF_ERROR && produced == out_size) {
-      problem = "the deflate data gives more than the " + std::to_string(out_size) +
-                " bytes the zip directory says";
-    } else if (rc == Z_BUF_ERROR) {
-      problem = "truncated deflate data";
-    } else {
-      problem =
-          std::string("corrupt deflate data") + (zs.msg ? std::string(" (") + zs.msg + ")" : "");
-    }
-    break;
+// Raw deflate data inflated on demand: fill(n) inflates until n bytes are out (or the stream
+// ends); the output grows with the data actually produced (no allocation of a claimed size up
+// front).
+class RawInflater {
+ public:
+  RawInflater(const std::uint8_t* in, std::size_t in_size, std::string context)
+      : in_left_(in_size), context_(std::move(context)) {
+    if (inflateInit2(&zs_, -15) != Z_OK) fail(context_, "zlib inflateInit2 failed");
+    zs_.next_in = const_cast<Bytef*>(in);
   }
-  inflateEnd(&zs);
-  if (!problem.empty()) fail(context, problem);
-  if (produced != out_size) {
-    fail(context, "deflate data gives " + std::to_string(produced) +
-                      " bytes, the zip directory says " + std::to_string(out_size));
+  ~RawInflater() { inflateEnd(&zs_); }
+  RawInflater(const RawInflater&) = delete;
+  RawInflater& operator=(const RawInflater&) = delete;
+
+  // Inflates until `n` bytes are out or the stream ends. Throws for corrupt data, and for data
+  // that ends before the stream does (truncated).
+  void fill(std::size_t n) {
+    constexpr std::size_t kChunk = std::numeric_limits<uInt>::max();
+    while (produced_ < n && !ended_) {
+      if (produced_ == out_.size()) {
+        out_.resize(std::min(n, std::max<std::size_t>(2 * out_.size(), std::size_t{1} << 16)));
+      }
+      const std::size_t in_chunk = std::min(in_left_, kChunk);
+      const std::size_t out_chunk = std::min(out_.size() - produced_, kChunk);
+      zs_.next_out = out_.data() + produced_;
+      zs_.avail_in = static_cast<uInt>(in_chunk);
+      zs_.avail_out = static_cast<uInt>(out_chunk);
+      const int rc = inflate(&zs_, Z_NO_FLUSH);
+      in_left_ -= in_chunk - zs_.avail_in;
+      produced_ += out_chunk - zs_.avail_out;
+      if (rc == Z_STREAM_END) {
+        ended_ = true;
+      } else if (rc == Z_BUF_ERROR) {
+        fail(context_, "truncated deflate data");
+      } else if (rc != Z_OK) {
+        fail(context_, std::string("corrupt deflate data") +
+                           (zs_.msg ? std::string(" (") + zs_.msg + ")" : ""));
+      }
+    }
   }
-  return out;
-}
+  // Inflates exactly `n` bytes and checks that the stream ends there.
+  void finish(std::size_t n) {
+    fill(n);
+    if (produced_ < n) {
+      fail(context_, "deflate data gives " + std::to_string(produced_) +
+                         " bytes, the zip directory says " + std::to_string(n));
+    }
+    if (!ended_) {
+      out_.resize(n + 1);
+      fill(n + 1);
+      if (produced_ > n) {
+        fail(context_, "the deflate data gives more than the " + std::to_string(n) +
+                           " bytes the zip directory says");
+      }
+    }
+    out_.resize(n);
+  }
+  const std::vector<std::uint8_t>& out() const { return out_; }
+  std::size_t produced() const { return produced_; }
+
+ private:
+  z_stream zs_{};
+  std::size_t in_left_;
+  std::string context_;
+  std::vector<std::uint8_t> out_;
+  std::size_t produced_ = 0;
+  bool ended_ = false;
+};
 
 std::vector<std::uint8_t> deflate_raw(const std::vector<std::uint8_t>& in) {
   z_stream zs{};
@@ -104,19 +126,11 @@ std::vector<std::uint8_t> deflate_raw(const std::vector<std::uint8_t>& in) {
   return out;
 }
 
-struct Member {
-  std::string name;
-  std::uint16_t method = 0;
-  std::uint16_t flags = 0;
-  std::uint32_t crc = 0;
-  std::uint64_t compressed = 0;
-  std::uint64_t uncompressed = 0;
-  std::uint64_t local_offset = 0;
-};
-
 }  // namespace
 
-NpzArchive parse_npz(const std::uint8_t* bytes, std::size_t size, const std::string& context) {
+NpzReader::NpzReader(const std::uint8_t* bytes, std::size_t size, std::string context_in)
+    : bytes_(bytes), context_(std::move(context_in)) {
+  const std::string& context = context_;
   // End of central directory: the last signature whose comment fits the file.
   if (size < 22)
     fail(context, "truncated or not a zip/.npz file (" + std::to_string(size) + " bytes)");
@@ -150,7 +164,11 @@ NpzArchive parse_npz(const std::uint8_t* bytes, std::size_t size, const std::str
     fail(context, "truncated or bad zip: the central directory lies outside the file");
   }
   // Central directory.
-  std::vector<Member> members;
+  struct Entry {
+    Member m;
+    std::uint64_t local_offset = 0;
+  };
+  std::vector<Entry> entries_read;
   std::size_t pos = cd_offset;
   const std::size_t cd_end = cd_offset + cd_size;
   for (std::uint64_t i = 0; i < entries; ++i) {
@@ -159,6 +177,7 @@ NpzArchive parse_npz(const std::uint8_t* bytes, std::size_t size, const std::str
     }
     const std::uint8_t* h = bytes + pos;
     Member m;
+    std::uint64_t local_offset = 0;
     m.flags = static_cast<std::uint16_t>(le(h + 8, 2));
     m.method = static_cast<std::uint16_t>(le(h + 10, 2));
     m.crc = static_cast<std::uint32_t>(le(h + 16, 4));
@@ -167,7 +186,7 @@ NpzArchive parse_npz(const std::uint8_t* bytes, std::size_t size, const std::str
     const std::size_t name_len = le(h + 28, 2);
     const std::size_t extra_len = le(h + 30, 2);
     const std::size_t comment_len = le(h + 32, 2);
-    m.local_offset = le(h + 42, 4);
+    local_offset = le(h + 42, 4);
     if (cd_end - pos - 46 < name_len + extra_len + comment_len) {
       fail(context, "bad zip: central directory entry " + std::to_string(i) + " is truncated");
     }
@@ -190,64 +209,121 @@ NpzArchive parse_npz(const std::uint8_t* bytes, std::size_t size, const std::str
         };
         field(m.uncompressed);
         field(m.compressed);
-        field(m.local_offset);
+        field(local_offset);
       }
       xpos += 4 + len;
     }
-    members.push_back(m);
+    entries_read.push_back({m, local_offset});
     pos += 46 + name_len + extra_len + comment_len;
   }
-  // Members.
-  NpzArchive out;
-  for (const Member& m : members) {
+  // Local headers and data spans: inside the file, and no two members share a byte (a zip
+  // whose directory entries point at the same data would be inflated once per entry).
+  struct Span {
+    std::uint64_t begin, end;
+    const std::string* name;
+  };
+  std::vector<Span> spans;
+  for (Entry& e : entries_read) {
+    Member& m = e.m;
     const std::string where = context + " member '" + m.name + "'";
-    const std::string suffix = ".npy";
-    if (m.name.size() < suffix.size() ||
-        m.name.compare(m.name.size() - suffix.size(), suffix.size(), suffix) != 0) {
-      continue;
-    }
-    if (m.flags & 1) fail(where, "encrypted zip members are not supported");
-    if (m.local_offset > size || size - m.local_offset < 30 ||
-        le(bytes + m.local_offset, 4) != kLocalSig) {
+    if (e.local_offset > size || size - e.local_offset < 30 ||
+        le(bytes + e.local_offset, 4) != kLocalSig) {
       fail(where, "truncated or bad zip: the local header is missing");
     }
-    const std::uint8_t* h = bytes + m.local_offset;
-    const std::uint64_t start = m.local_offset + 30 + le(h + 26, 2) + le(h + 28, 2);
+    const std::uint8_t* h = bytes + e.local_offset;
+    const std::uint64_t start = e.local_offset + 30 + le(h + 26, 2) + le(h + 28, 2);
     if (start > size || m.compressed > size - start) {
       fail(where, "truncated: the member's data runs past the end of the file (" +
                       std::to_string(m.compressed) + " bytes from offset " + std::to_string(start) +
                       ", file size " + std::to_string(size) + ")");
     }
-    const std::uint8_t* data = bytes + start;
-    std::vector<std::uint8_t> inflated;
-    const std::uint8_t* npy = data;
-    std::size_t npy_size = 0;
-    if (m.method == 0) {
-      if (m.compressed != m.uncompressed) fail(where, "bad zip: stored member sizes disagree");
-      npy_size = static_cast<std::size_t>(m.compressed);
-    } else if (m.method == 8) {
-      if (m.uncompressed > kMaxMember) {
-        fail(where, "claims " + std::to_string(m.uncompressed) +
-                        " uncompressed bytes, more than the 16 GiB a model member may have");
-      }
-      if (m.uncompressed > m.compressed * kMaxDeflateRatio + 1024) {
-        fail(where, "bad zip: claims " + std::to_string(m.uncompressed) +
-                        " uncompressed bytes from " + std::to_string(m.compressed) +
-                        " compressed bytes, more than deflate can produce");
-      }
-      inflated = inflate_raw(data, static_cast<std::size_t>(m.compressed),
-                             static_cast<std::size_t>(m.uncompressed), where);
-      npy = inflated.data();
-      npy_size = inflated.size();
-    } else {
-      fail(where, "unsupported zip compression method " + std::to_string(m.method) +
-                      " (only stored and deflated members are read; re-save with np.savez or "
-                      "np.savez_compressed)");
-    }
-    if (crc_of(npy, npy_size) != m.crc) fail(where, "CRC-32 mismatch: the file is corrupt");
-    const std::string key = m.name.substr(0, m.name.size() - suffix.size());
-    out[key] = parse_npy(npy, npy_size, where);
+    m.data_offset = start;
+    spans.push_back({e.local_offset, start + m.compressed, &m.name});
   }
+  std::sort(spans.begin(), spans.end(),
+            [](const Span& a, const Span& b) { return a.begin < b.begin; });
+  for (std::size_t i = 1; i < spans.size(); ++i) {
+    if (spans[i].begin < spans[i - 1].end) {
+      fail(context, "bad zip: members '" + *spans[i - 1].name + "' and '" + *spans[i].name +
+                        "' overlap (bytes " + std::to_string(spans[i].begin) + " to " +
+                        std::to_string(std::min(spans[i].end, spans[i - 1].end)) +
+                        " belong to both): several directory entries point at the same data; "
+                        "the file is corrupt or hostile");
+    }
+  }
+  const std::string suffix = ".npy";
+  for (Entry& e : entries_read) {
+    const std::string& name = e.m.name;
+    if (name.size() < suffix.size() ||
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0) {
+      continue;
+    }
+    const std::string key = name.substr(0, name.size() - suffix.size());
+    if (!members_.emplace(key, e.m).second) {
+      fail(context, "bad zip: member '" + name + "' appears twice in the directory");
+    }
+  }
+}
+
+std::vector<std::string> NpzReader::keys() const {
+  std::vector<std::string> out;
+  for (const auto& kv : members_) out.push_back(kv.first);
+  return out;
+}
+
+bool NpzReader::has(const std::string& key) const {
+  return members_.count(key) != 0;
+}
+
+NpyArray NpzReader::array(const std::string& key) const {
+  const auto it = members_.find(key);
+  if (it == members_.end()) fail(context_, "no member '" + key + ".npy'");
+  const Member& m = it->second;
+  const std::string where = context_ + " member '" + m.name + "'";
+  if (m.flags & 1) fail(where, "encrypted zip members are not supported");
+  const std::uint8_t* data = bytes_ + m.data_offset;
+  if (m.method == 0) {
+    if (m.compressed != m.uncompressed) fail(where, "bad zip: stored member sizes disagree");
+    const auto n = static_cast<std::size_t>(m.compressed);
+    if (crc_of(data, n) != m.crc) fail(where, "CRC-32 mismatch: the file is corrupt");
+    return parse_npy(data, n, where);
+  }
+  if (m.method != 8) {
+    fail(where, "unsupported zip compression method " + std::to_string(m.method) +
+                    " (only stored and deflated members are read; re-save with np.savez or "
+                    "np.savez_compressed)");
+  }
+  if (m.uncompressed > kMaxMember) {
+    fail(where, "claims " + std::to_string(m.uncompressed) +
+                    " uncompressed bytes, more than the 16 GiB a model member may have");
+  }
+  if (m.uncompressed > m.compressed * kMaxDeflateRatio + 1024) {
+    fail(where, "bad zip: claims " + std::to_string(m.uncompressed) + " uncompressed bytes from " +
+                    std::to_string(m.compressed) +
+                    " compressed bytes, more than deflate can produce");
+  }
+  const auto claimed = static_cast<std::size_t>(m.uncompressed);
+  RawInflater z(data, static_cast<std::size_t>(m.compressed), where);
+  // First the .npy header, then exactly the size it declares.
+  z.fill(std::min<std::size_t>(claimed, 12));
+  const std::size_t header = npy_header_size(z.out().data(), z.produced(), where);
+  z.fill(std::min(claimed, header));
+  const std::size_t declared = npy_declared_size(z.out().data(), z.produced(), where);
+  if (declared == 0) return parse_npy(z.out().data(), z.produced(), where);  // object array
+  if (declared != claimed) {
+    fail(where, "the zip directory says " + std::to_string(claimed) +
+                    " bytes but the .npy header declares " + std::to_string(declared) +
+                    " (header and data): the file is corrupt; nothing more was inflated");
+  }
+  z.finish(claimed);
+  if (crc_of(z.out().data(), claimed) != m.crc) fail(where, "CRC-32 mismatch: the file is corrupt");
+  return parse_npy(z.out().data(), claimed, where);
+}
+
+NpzArchive parse_npz(const std::uint8_t* bytes, std::size_t size, const std::string& context) {
+  const NpzReader reader(bytes, size, context);
+  NpzArchive out;
+  for (const std::string& key : reader.keys()) out[key] = reader.array(key);
   return out;
 }
 

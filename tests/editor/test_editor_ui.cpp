@@ -43,6 +43,9 @@ const ca::ModelEntry& entry() {
     auto m = std::make_shared<smpl::BodyModel>(caliper::test::make_random_model(o));
     m->meta.gender = "female";
     m->meta.name = "random-test";
+    // A licence, as the open models have, so that every export format (VRM included) is
+    // written from the dialog; the refusal without one is tested in the core's tests.
+    m->meta.extra["licence"] = "CC0 (test model)";
     return ca::make_model_entry(m, "random-test");
   }();
   return e;

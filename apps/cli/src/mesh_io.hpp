@@ -2,10 +2,10 @@
 /// Avatar files for the `caliper` command: writing an avatar by the output's extension
 /// (smpl::export_avatar: .glb, .gltf, .vrm, .fbx, .obj, .ply) and reading a rest-pose avatar mesh
 /// back (.glb/.gltf/.vrm through smpl::read_gltf, with beta_NN shape keys at their default
-/// weights; .fbx through smpl::read_fbx; Wavefront OBJ
-/// `v`/`f` lines; PLY ascii or binary little-endian with float or double x, y, z and a face index
-/// list; OBJ/PLY written with `up: z` are turned back to +Y up, and their `caliper-metadata`
-/// comment is read like a glTF's asset.extras).
+/// weights; .fbx through smpl::read_fbx; OBJ and PLY through smpl/mesh_read.hpp: Wavefront OBJ
+/// `v`/`f` lines; PLY ascii or binary little-endian with x, y, z and a face index list; OBJ/PLY
+/// written with `up: z` are turned back to +Y up, and their `caliper-metadata` comment is read
+/// like a glTF's asset.extras).
 #pragma once
 
 #include <map>
@@ -31,8 +31,9 @@ struct MeshFile {
   bool order_from_faces = false;
 };
 
-/// Reads .glb, .gltf, .obj or .ply (by extension). Throws RuntimeError naming the file and the
-/// problem (unknown extension, unreadable, malformed line, unsupported PLY property).
+/// Reads .glb, .gltf, .vrm, .fbx, .obj or .ply (by extension). Throws RuntimeError (unknown
+/// extension, missing file, no vertices) or smpl::ModelError (unreadable, malformed line,
+/// unsupported PLY property, counts or indices out of range) naming the file and the problem.
 MeshFile read_mesh(const std::string& path);
 
 /// Puts `mesh`'s vertices in the order of a model with `faces` when the file kept the triangles'

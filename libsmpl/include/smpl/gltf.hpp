@@ -7,6 +7,7 @@
 /// tiny_gltf.h.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -93,8 +94,24 @@ struct GltfAvatar {
 };
 
 /// Reads back a GLB/glTF/VRM written by write_gltf() or write_vrm() (or any single-skinned-mesh
-/// glTF; `.vrm` is read as GLB). POSITION is the bind (rest) pose whatever the joints' pose. Throws
-/// ModelError naming the file and the problem; tinygltf warnings are reported in the message.
+/// glTF); the format is chosen by content (GLB magic "glTF", else JSON). POSITION is the bind
+/// (rest) pose whatever the joints' pose. Throws ModelError naming the file and the
+/// problem; tinygltf warnings are reported in the message. Hostile files are refused, never
+/// followed (docs/reliability.md, "Readers"):
+/// - external buffers and images are read only from relative URIs inside the file's own folder:
+///   "..", absolute paths, symbolic links leading out, and schemes other than data: (http:,
+///   file:, ...) are refused with an error naming the URI; images are never decoded;
+/// - JSON nested more than 128 levels deep is refused;
+/// - accessors and bufferViews are bounds-checked without overflow (any byteOffset);
+/// - JOINTS_0 must hold integer joint indices of the skin, indices must name vertices;
+/// - the node hierarchy may be any depth (no recursion); cycles are refused;
+/// - the arrays made may hold at most 16 times the bytes of the file and its buffers plus 16 MiB
+///   (accessors shared by many morph targets are refused beyond that).
 GltfAvatar read_gltf(const std::string& path);
+
+/// read_gltf() on file bytes in memory; `context` starts every error message. No external file
+/// is ever read: only GLB binary chunks and data: URIs are accepted.
+GltfAvatar read_gltf_from_memory(const std::uint8_t* bytes, std::size_t size,
+                                 const std::string& context);
 
 }  // namespace smpl

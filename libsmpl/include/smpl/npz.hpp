@@ -136,9 +136,59 @@ void write_npy(const std::string& path, const NpyArray& array);
 /// 1980-01-01 00:00, no extra fields). `compress` deflates the members (zlib level 6), like
 /// np.savez_compressed. Deterministic: the same arrays always give the same bytes.
 std::vector<std::uint8_t> npz_bytes(const NpzArchive& arrays, bool compress = false);
-/// Parses `.npz` bytes. Members not ending in ".npy" are ignored. Throws ModelError naming
-/// `context`, the member and the problem (bad zip, truncated, CRC mismatch, bad npy header,
-/// unsupported dtype or compression).
+/// The number of leading bytes of a `.npy` file that hold its preamble and header, from at least
+/// its first 12 bytes (10 for version 1.0). Throws ModelError for bad magic, an unknown version or
+/// a header longer than 1 MiB.
+std::size_t npy_header_size(const std::uint8_t* bytes, std::size_t size,
+                            const std::string& context);
+/// The size of a whole `.npy` file (header and data) as its header declares it, from at least its
+/// first npy_header_size() bytes (the data need not be present). 0 for an object array, whose
+/// pickled data has no declared size. Throws ModelError for a bad header, an unsupported dtype or
+/// an impossibly large shape.
+std::size_t npy_declared_size(const std::uint8_t* bytes, std::size_t size,
+                              const std::string& context);
+
+/// An `.npz` archive's directory, read once; a member is inflated, CRC-checked and parsed only
+/// when array() asks for it, so members nobody uses cost nothing (a zip bomb among them is never
+/// inflated). The constructor refuses archives whose members overlap (several directory entries
+/// pointing at the same data) or repeat a name, and members whose local header or data lie
+/// outside the file. A deflated member is inflated up to the size its `.npy` header declares and
+/// no further: a directory that claims more (or less) is refused before the data is inflated.
+/// The `bytes` must outlive the reader.
+class NpzReader {
+ public:
+  /// Reads the directory of `size` bytes; `context` (the file) starts every error message.
+  /// Throws ModelError: not a zip, truncated, overlapping or repeated members.
+  NpzReader(const std::uint8_t* bytes, std::size_t size, std::string context);
+  /// The keys (member names ending in ".npy", without it), sorted.
+  std::vector<std::string> keys() const;
+  /// True when the archive has member `key` + ".npy".
+  bool has(const std::string& key) const;
+  /// Inflates, checks and parses member `key` + ".npy". Throws ModelError naming the member:
+  /// missing, encrypted, unsupported compression, sizes that disagree with the `.npy` header,
+  /// corrupt deflate data, CRC mismatch, bad `.npy` data. An object array gives the placeholder
+  /// described above (its pickled data is neither inflated nor checked).
+  NpyArray array(const std::string& key) const;
+
+ private:
+  struct Member {
+    std::string name;
+    std::uint16_t method = 0;
+    std::uint16_t flags = 0;
+    std::uint32_t crc = 0;
+    std::uint64_t compressed = 0;
+    std::uint64_t uncompressed = 0;
+    std::uint64_t data_offset = 0;
+  };
+  const std::uint8_t* bytes_;
+  std::string context_;
+  std::map<std::string, Member> members_;  // by key
+};
+
+/// Parses all `.npy` members of `.npz` bytes (NpzReader::array() for every key). Members not
+/// ending in ".npy" are ignored. Throws ModelError naming `context`, the member and the problem
+/// (bad zip, truncated, overlapping members, CRC mismatch, bad npy header, unsupported dtype or
+/// compression).
 NpzArchive parse_npz(const std::uint8_t* bytes, std::size_t size, const std::string& context);
 /// Reads an `.npz` file; errors name `path`.
 NpzArchive read_npz(const std::string& path);

@@ -13,7 +13,8 @@
 ///   int, float, bool, None.
 /// Any other GLOBAL / STACK_GLOBAL is refused with an error naming the module and the name.
 /// Limits: at most 2^20 objects and 2^20 memo entries, 64 levels of nesting in what is
-/// converted; the input's size bounds everything else.
+/// converted, and a budget on the bytes decoded relative to the input's size (PickleLimits):
+/// memo references and set(list) never copy, so a small file cannot expand into a large result.
 #pragma once
 
 #include <cstddef>
@@ -56,11 +57,24 @@ struct PickleValue {
 /// The top-level dictionary of a model pickle, by key.
 using PickleDict = std::map<std::string, PickleValue>;
 
+/// Resource limits of parse_pickle().
+struct PickleLimits {
+  /// Bytes the unpickler may make or visit in total, per input byte: strings, array data,
+  /// container and memo slots, dictionary scans, and every copy handed out in the result (the
+  /// fixed-size record of each object is bounded by the 2^20 object limit instead). A model pickle
+  /// needs about 3 per byte (its strings, the arrays made from them, the result's copies).
+  std::size_t decoded_per_input_byte = 8;
+  /// A fixed allowance on top, so that tiny files load whatever their overheads.
+  std::size_t decoded_slack = std::size_t{16} << 20;
+};
+
 /// Parses a pickle whose top-level object is a dict with str (or Python-2 str) keys. `context`
 /// (usually the file path) starts every error message. Throws ModelError for truncated or
 /// malformed data, unsupported opcodes and protocols, refused classes (naming them), bad array
-/// states, limits exceeded. Never crashes, never executes anything.
-PickleDict parse_pickle(const std::uint8_t* bytes, std::size_t size, const std::string& context);
+/// states, limits exceeded (the decoded-bytes budget says "decoding needs more than N bytes").
+/// Never crashes, never executes anything.
+PickleDict parse_pickle(const std::uint8_t* bytes, std::size_t size, const std::string& context,
+                        const PickleLimits& limits = {});
 
 /// Reads and parses a pickle file; errors name `path`.
 PickleDict read_pickle(const std::string& path);
