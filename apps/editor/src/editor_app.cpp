@@ -747,8 +747,27 @@ void EditorApp::draw_achieved_table() {
   rows.push_back("volume");
   for (const std::string& id : rows) {
     auto a = av.achieved.find(id);
-    if (a == av.achieved.end()) continue;
     const bool is_input = std::find(editable.begin(), editable.end(), id) != editable.end();
+    if (a == av.achieved.end()) {
+      // During a slider drag only the distances are measured; weight and volume follow at its
+      // end. Their rows stay, so that the panel below does not jump while dragging.
+      if (av.achieved_complete) continue;
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(app::measurement_label(id).c_str());
+      ImGui::TableNextColumn();
+      if (is_input) {
+        ImGui::Text("%.1f %s", app::to_display(id, core_.state().values.at(id), units),
+                    app::unit_label(id, units).c_str());
+      } else {
+        ImGui::TextDisabled("-");
+      }
+      ImGui::TableNextColumn();
+      ImGui::TextDisabled("...");
+      ImGui::TableNextColumn();
+      ImGui::TextDisabled("(after the drag)");
+      continue;
+    }
     ImGui::TableNextRow();
     ImGui::TableNextColumn();
     ImGui::TextUnformatted(app::measurement_label(id).c_str());
@@ -772,7 +791,6 @@ void EditorApp::draw_achieved_table() {
       ImGui::TableNextColumn();
       ImGui::Text("%.1f %s", achieved, unit.c_str());
       ImGui::TableNextColumn();
-      ImGui::TextDisabled(av.achieved_complete || id != "volume" ? "" : "(after the drag)");
     }
   }
   ImGui::EndTable();
