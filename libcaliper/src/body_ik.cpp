@@ -149,6 +149,14 @@ double headset_yaw(const Eigen::Quaterniond& headset) {
   return std::atan2(x, z);
 }
 
+std::optional<double> hands_yaw(const Eigen::Vector3d& left_wrist,
+                                const Eigen::Vector3d& right_wrist, double min_apart) {
+  const Eigen::Vector3d v = left_wrist - right_wrist;
+  if (std::hypot(v.x(), v.z()) < min_apart) return std::nullopt;
+  // Left = body * +X = (cos y, 0, -sin y); forward = (sin y, 0, cos y) = (-v.z, v.x).
+  return std::atan2(-v.z(), v.x());
+}
+
 double follow_heading(double body_yaw, double head_yaw, double max_neck_yaw) {
   const double delta = wrap_angle(head_yaw - body_yaw);
   if (std::abs(delta) <= max_neck_yaw) return body_yaw;
@@ -179,10 +187,9 @@ IkRig make_ik_rig(const smpl::BodyModel& model, const Eigen::VectorXd& betas,
                        r[kNeck].y() < r[kHead].y();
   const bool legs = r[kLeftAnkle].y() < r[kLeftKnee].y() && r[kLeftKnee].y() < r[kLeftHip].y() &&
                     r[kRightAnkle].y() < r[kRightKnee].y() && r[kRightKnee].y() < r[kRightHip].y();
-  const bool arms = r[kLeftShoulder].x() < r[kLeftElbow].x() &&
-                    r[kLeftElbow].x() < r[kLeftWrist].x() &&
-                    r[kRightShoulder].x() > r[kRightElbow].x() &&
-                    r[kRightElbow].x() > r[kRightWrist].x();
+  const bool arms =
+      r[kLeftShoulder].x() < r[kLeftElbow].x() && r[kLeftElbow].x() < r[kLeftWrist].x() &&
+      r[kRightShoulder].x() > r[kRightElbow].x() && r[kRightElbow].x() > r[kRightWrist].x();
   if (!upright || !legs || !arms)
     throw IkError(
         "the body model's rest skeleton is not a standing T-pose (spine up, knees between hips and "
@@ -388,9 +395,32 @@ const IkPose& BodyIk::solve(const IkInput& in) {
   const Eigen::Quaterniond g_head = (in.head.orientation * yaw_rotation(kPi)).normalized();
   const Eigen::Vector3d head_joint = in.head.position + g_head * (r[kHead] - rig_.eyes);
 
-  // Heading: only head turns beyond the neck's range turn the body.
+  // Heading: head turns beyond the neck's range turn the body; so does the line between the
+  // hands, when both are tracked and it agrees with the head (rate-limited, towards the head
+  // only): the chest follows a whole-body turn, not a head turn.
   const double head_yaw = headset_yaw(in.head.orientation);
-  body_yaw_ = started_ ? follow_heading(body_yaw_, head_yaw, options_.max_neck_yaw) : head_yaw;
+  if (started_) {
+    if (in.grips[0] && in.grips[1]) {
+      const auto wrist = [&](int s) {
+        const RigidPose& g = *in.grips[static_cast<size_t>(s)];
+        return Eigen::Vector3d(g.position + g.orientation * options_.grip.wrist_in_grip);
+      };
+      const std::optional<double> hands = hands_yaw(wrist(0), wrist(1), options_.min_hands_apart);
+      // Only towards the head and not past it: hands moving while the head looks ahead (a
+      // wave, one hand reaching forwards) do not twist the body.
+      const double to_head = wrap_angle(head_yaw - body_yaw_);
+      if (hands && std::abs(wrap_angle(*hands - head_yaw)) <= options_.max_neck_yaw) {
+        const double to_hands = wrap_angle(*hands - body_yaw_);
+        const double turn =
+            to_head > 0.0 ? std::clamp(to_hands, 0.0, to_head) : std::clamp(to_hands, to_head, 0.0);
+        const double max_turn = options_.max_body_turn_speed * dt_;
+        body_yaw_ = wrap_angle(body_yaw_ + std::clamp(turn, -max_turn, max_turn));
+      }
+    }
+    body_yaw_ = follow_heading(body_yaw_, head_yaw, options_.max_neck_yaw);
+  } else {
+    body_yaw_ = head_yaw;
+  }
   pose_.body_yaw = body_yaw_;
   const Eigen::Quaterniond body = yaw_rotation(body_yaw_);
   const Eigen::Vector3d spine_rest = r[kHead] - r[kPelvis];

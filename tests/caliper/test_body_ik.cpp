@@ -1,13 +1,21 @@
 // Embodiment IK: each piece on analytic cases, then the whole-body solver on the open female
 // model (forward kinematics agree with smpl::evaluate, wrists reach, heading, crouch, steps,
-// joint limits).
+// joint limits), and the posed mesh over the simulator's scripted motions (hands outside the
+// torso's surface).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
 
 #include "caliper/body_ik.hpp"
 #include "caliper/measurements.hpp"
+#include "caliper/protocol_file.hpp"
+#include "caliper/simulator.hpp"
 #include "smpl/evaluate.hpp"
+#include "smpl/export.hpp"
 #include "smpl/io.hpp"
 
 namespace caliper {
@@ -203,6 +211,36 @@ TEST(BodyIk, TurningTheHeadAloneDoesNotTurnTheBody) {
   EXPECT_TRUE(check_limits(f.rig, q, ik.options().limits).empty());
 }
 
+TEST(BodyIk, TurningRoundWithTheHandsAtTheSidesTurnsTheBodyFully) {
+  // Head and hands turn together by 90 degrees over 2 s (the whole person turns): the hands'
+  // line turns the body all the way, not only to within the neck's range of the head.
+  Fixture f;
+  BodyIk ik(f.rig);
+  for (int i = 0; i <= 270; ++i) {
+    const double t = i / 90.0;
+    const double yaw = (kPi / 2) * std::min(1.0, t / 2.0);
+    IkInput in = f.standing(Eigen::Vector3d::Zero(), yaw, 0.0, t);
+    const Eigen::Quaterniond body(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()));
+    for (int s = 0; s < 2; ++s) {
+      const bool left = s == 0;
+      const int sh = left ? kLeftShoulder : kRightShoulder;
+      // Hanging at the side, fingers down, palms in.
+      const Eigen::Vector3d wrist =
+          body * (f.rig.rest[sh] + Eigen::Vector3d(left ? 0.06 : -0.06, -0.5, 0.03));
+      const Eigen::Quaterniond hand =
+          body * Eigen::AngleAxisd(left ? -kPi / 2 : kPi / 2, Eigen::Vector3d::UnitZ());
+      RigidPose g;
+      g.orientation = HandGrip::grip_from_hand(hand, left);
+      g.position = wrist - g.orientation * ik.options().grip.wrist_in_grip;
+      in.grips[static_cast<size_t>(s)] = g;
+    }
+    const IkPose& p = ik.solve(in);
+    ASSERT_TRUE(check_limits(f.rig, p, ik.options().limits).empty()) << "frame " << i;
+  }
+  // Within the rate limit's lag of the turn's end (it ended 1 s ago).
+  EXPECT_NEAR(ik.pose().body_yaw, kPi / 2, 1e-6);
+}
+
 TEST(BodyIk, CrouchingLowersThePelvisAndBendsTheKnees) {
   Fixture f;
   BodyIk ik(f.rig);
@@ -269,6 +307,139 @@ TEST(BodyIk, ElbowsNeverBendBackwardsForTargetsAllAround) {
       EXPECT_LT((p.joints[kRightWrist] - p.wrist_target[1]).norm(), kWristBound) << i;
     }
   }
+}
+
+/// Dominant skinning joint of every vertex.
+std::vector<int> dominant_joint(const smpl::BodyModel& model) {
+  std::vector<int> out(static_cast<size_t>(model.num_vertices()), -1);
+  for (Eigen::Index v = 0; v < model.weights.outerSize(); ++v) {
+    double best = -1.0;
+    for (smpl::SparseMatrix::InnerIterator it(model.weights, v); it; ++it)
+      if (it.value() > best) {
+        best = it.value();
+        out[static_cast<size_t>(v)] = static_cast<int>(it.col());
+      }
+  }
+  return out;
+}
+
+/// How far the hands of a posed body are inside the rest of it: the largest depth of a hand
+/// vertex (skinned mostly to a wrist or hand joint) behind the tangent plane of the nearest
+/// vertex of the trunk, legs, neck or head (skinned mostly to a joint that is not an arm's), m;
+/// negative when every hand vertex is in front. Hand vertices with no such vertex within
+/// `kSearch` are outside (no part of the body is thicker than 2 x kSearch).
+struct HandsInsideCheck {
+  static constexpr double kSearch = 0.15;  // m
+  std::vector<Eigen::Index> body, hands;
+  double closest = 1e9;  ///< m, smallest hand-to-body vertex distance seen
+
+  explicit HandsInsideCheck(const smpl::BodyModel& model) {
+    const std::vector<int> owner = dominant_joint(model);
+    for (size_t v = 0; v < owner.size(); ++v) {
+      const int j = owner[v];
+      if (j < kLeftShoulder) body.push_back(static_cast<Eigen::Index>(v));
+      if (j == kLeftWrist || j == kRightWrist || j == kLeftHand || j == kRightHand)
+        hands.push_back(static_cast<Eigen::Index>(v));
+    }
+  }
+
+  double depth(const smpl::Vertices& v, const smpl::Faces& faces) {
+    const smpl::Vertices normals = smpl::vertex_normals(v, faces);
+    // Body vertices near the hands only (a box around them, grown by the search distance).
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e9), hi = -lo;
+    for (Eigen::Index h : hands) {
+      lo = lo.cwiseMin(v.row(h).transpose());
+      hi = hi.cwiseMax(v.row(h).transpose());
+    }
+    lo.array() -= kSearch;
+    hi.array() += kSearch;
+    std::vector<Eigen::Index> near;
+    for (Eigen::Index t : body) {
+      const Eigen::Vector3d q = v.row(t).transpose();
+      if ((q.array() >= lo.array()).all() && (q.array() <= hi.array()).all()) near.push_back(t);
+    }
+    double deepest = -1e9;
+    for (Eigen::Index h : hands) {
+      const Eigen::Vector3d x = v.row(h).transpose();
+      double best = kSearch * kSearch;
+      Eigen::Index nearest = -1;
+      for (Eigen::Index t : near) {
+        const double d2 = (v.row(t).transpose() - x).squaredNorm();
+        if (d2 < best) {
+          best = d2;
+          nearest = t;
+        }
+      }
+      if (nearest < 0) continue;
+      closest = std::min(closest, std::sqrt(best));
+      deepest = std::max(
+          deepest,
+          -(x - v.row(nearest).transpose()).dot(normals.row(nearest).transpose().normalized()));
+    }
+    return deepest;
+  }
+};
+
+TEST(BodyIk, HandsStayOutsideTheBodyOverTheScriptedMotions) {
+  // The "hands never inside the torso", on the mesh the user sees: the simulator's
+  // motions (wave, reach up, cross arms, squat, turn) at 90 Hz on the open female model, as
+  // `caliper-vr --simulate --motions` makes them; each frame's pose is skinned as the app does
+  // (no pose correctives) and no hand vertex may be inside the trunk (or the legs, or the head).
+  const std::string assets = std::string(CALIPER_SOURCE_DIR) + "/assets";
+  smpl::BodyModel model = smpl::load_model(assets + "/models/caliper-female.npz");
+  Eigen::VectorXd betas = Eigen::VectorXd::Zero(model.num_betas());
+  betas.head(4) << 0.8, -0.6, 0.4, 0.2;
+  const SimulatedPerson person = person_from_model(model, betas, 61.5, "female");
+  SimulatorOptions so;
+  so.motions = true;
+  const SimulatedSession sim =
+      simulate_session(read_protocol(assets + "/protocol/virtual-caliper.json"), person, so);
+  ASSERT_GT(sim.motion_end, sim.motion_begin + 1500) << "about 20 s of motions at 90 Hz";
+  BodyIk ik(make_ik_rig(model, betas, eyes_below_head_top(person.landmarks.at("head_top"))));
+  model.posedirs.resize(model.posedirs.rows(), 0);
+  HandsInsideCheck check(model);
+  ASSERT_GT(check.body.size(), 3000u);
+  ASSERT_GT(check.hands.size(), 100u);
+  // A point on a curved surface is up to the sag of one edge behind a neighbouring vertex's
+  // tangent plane (edges under 3 cm, radii over 8 cm: (1.5 cm)^2 / (2 x 8 cm) = 1.4 mm); a hand
+  // resting on the body is not inside it.
+  constexpr double kSurfaceSag = 0.002;  // m
+  smpl::Workspace ws;
+  smpl::Body body;
+  double deepest = -1e9;
+  size_t frames_inside = 0, frames = 0;
+  IkInput in;
+  for (size_t i = sim.motion_begin; i < sim.motion_end; ++i) {
+    const PoseFrame& f = sim.log.frames[i];
+    in.head = {f.device(Device::Head).position, f.device(Device::Head).orientation};
+    for (int h = 0; h < 2; ++h) {
+      const DevicePose& d = f.device(h == 0 ? Device::Left : Device::Right);
+      in.grips[static_cast<size_t>(h)] = RigidPose{d.position, d.orientation};
+    }
+    in.floor = so.runtime_floor_offset;
+    in.time = f.time;
+    const IkPose& p = ik.solve(in);
+    smpl::evaluate(model, betas, p.axis_angle(), p.translation, ws, body);
+    const double d = check.depth(body.vertices, model.faces);
+    deepest = std::max(deepest, d);
+    frames_inside += d > kSurfaceSag ? 1 : 0;
+    ++frames;
+  }
+  std::printf(
+      "hands over %zu frames: nearest hand vertex to a body vertex %.1f mm; deepest behind the "
+      "body's surface %.1f mm (negative: in front); %zu frames inside\n",
+      frames, 1e3 * check.closest, 1e3 * deepest, frames_inside);
+  EXPECT_EQ(frames_inside, 0u) << "deepest " << deepest << " m";
+
+  // The check finds a hand that is inside: the left wrist sent to the middle of the chest.
+  const IkPose& last = ik.pose();
+  const Eigen::Vector3d chest = last.joints[kSpine3];
+  in.grips[0]->position = chest - in.grips[0]->orientation * ik.options().grip.wrist_in_grip;
+  in.time += 1.0;
+  const IkPose& p = ik.solve(in);
+  ASSERT_LT((p.joints[kLeftWrist] - chest).norm(), kWristBound);
+  smpl::evaluate(model, betas, p.axis_angle(), p.translation, ws, body);
+  EXPECT_GT(check.depth(body.vertices, model.faces), 0.02);
 }
 
 }  // namespace

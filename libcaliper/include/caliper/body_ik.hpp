@@ -7,8 +7,9 @@
 /// The pieces, each usable and tested on its own:
 /// - solve_two_bone(): analytic two-bone IK (law of cosines) with a pole direction; the middle
 ///   joint bends one way only (elbows and knees never bend backwards).
-/// - follow_heading(): the body's heading follows the head's only beyond a neck limit, so turning
-///   the head alone does not turn the body.
+/// - follow_heading(), hands_yaw(): the body's heading follows the head's only beyond a neck
+///   limit, and the line between the hands when they agree with the head, so turning the head
+///   alone does not turn the body, while turning round does.
 /// - BodyIk: the whole body. Head joint and orientation from the headset (rigid offset from the
 ///   eyes); spine and neck bend in equal parts towards the head's offset over the pelvis; the
 ///   pelvis is where that chain ends (so crouching lowers it); feet stay planted on the
@@ -103,6 +104,12 @@ Eigen::Quaterniond align_two_directions(const Eigen::Vector3d& a_rest,
 /// (the head's up vector then gives the direction).
 double headset_yaw(const Eigen::Quaterniond& headset);
 
+/// Heading of the chest from the two wrists (the left one on the body's +X side): the
+/// horizontal direction perpendicular to the right-to-left line; nullopt when they are less than
+/// `min_apart` apart horizontally. Radians, 0 = facing +Z.
+std::optional<double> hands_yaw(const Eigen::Vector3d& left_wrist,
+                                const Eigen::Vector3d& right_wrist, double min_apart);
+
 /// The body's new heading: unchanged while the head is turned at most `max_neck_yaw` from it,
 /// otherwise turned just enough to bring the head back to that limit. Radians.
 double follow_heading(double body_yaw, double head_yaw, double max_neck_yaw);
@@ -121,11 +128,18 @@ struct JointLimits {
 struct BodyIkOptions {
   HandGrip grip;
   JointLimits limits;
-  double max_neck_yaw = 0.79;   ///< rad (45 degrees): head turns beyond this turn the body
-  double step_distance = 0.22;  ///< m: a foot steps when its target is this far from it
-  double step_turn = 0.52;      ///< rad (30 degrees): ... or the body turned this much from it
-  double step_seconds = 0.35;   ///< duration of one step
-  double step_height = 0.06;    ///< m, foot lift at mid-step
+  double max_neck_yaw = 0.79;  ///< rad (45 degrees): head turns beyond this turn the body
+  /// m: with both hands tracked at least this far apart sideways, the line between them gives
+  /// the chest's heading when it is within the neck's range of the head's; the body turns towards
+  /// it, but only in the direction of the head's turn and not past the head (a whole-body turn
+  /// turns the body fully; a head turn alone leaves the hands, and so the body, where they were;
+  /// a hand moving while the head looks ahead does not twist it).
+  double min_hands_apart = 0.2;
+  double max_body_turn_speed = 3.0;  ///< rad/s towards the hands' heading
+  double step_distance = 0.22;       ///< m: a foot steps when its target is this far from it
+  double step_turn = 0.52;           ///< rad (30 degrees): ... or the body turned this much from it
+  double step_seconds = 0.35;        ///< duration of one step
+  double step_height = 0.06;         ///< m, foot lift at mid-step
   /// Share of the head's horizontal offset (from the standing posture over the feet) that the
   /// pelvis follows; the rest is spine bending (leaning forward bends, it does not slide).
   double pelvis_follow = 0.35;
