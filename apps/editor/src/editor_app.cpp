@@ -38,13 +38,6 @@ std::vector<float> to_floats(const smpl::Vertices& v) {
   return out;
 }
 
-std::string display(const app::EditorCore& core, const std::string& id, double si) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.1f %s", app::to_display(id, si, core.view().units),
-                app::unit_label(id, core.view().units).c_str());
-  return buf;
-}
-
 /// Colour-map range of each mode, metres.
 constexpr float kPlausibilityRange = 0.02f;   // 2 cm of displacement from components beyond 2 SD
 constexpr float kUncertaintyRange = 0.02f;    // 2 cm positional SD
@@ -275,16 +268,17 @@ render::Scene EditorApp::build_scene(bool comparison_side) const {
     auto shown = core_.shown_value(id);
     if (shown) {
       render::Label label;
-      label.text = id + " " + display(core_, id, *shown);
+      label.text = app::measurement_text(id, *shown, core_.view().units);
       label.anchor = ((l.a + l.b) / 2);
       label.colour = {0.05f, 0.1f, 0.4f, 1};
       label.scale = 1.6f;
+      label.keep_clear = true;  // arm span and arm length have anchors a few pixels apart
       s.labels.push_back(label);
     }
   }
   if (auto w = core_.shown_value("weight")) {
     render::Label label;
-    label.text = "weight " + display(core_, "weight", *w);
+    label.text = app::measurement_text("weight", *w, core_.view().units);
     label.screen = true;
     label.anchor = {12, 34, 0};
     s.labels.push_back(label);
@@ -448,11 +442,12 @@ void EditorApp::draw_measurements() {
     const std::string unit = app::unit_label(id, units);
     double shown = app::to_display(id, *value, units);
     if (!can_edit) {
-      ImGui::TextDisabled("%-20s %7.1f %s (avatar)", id.c_str(), shown, unit.c_str());
+      ImGui::TextDisabled("%s: %.1f %s (avatar)", app::measurement_name(id).c_str(), shown,
+                          unit.c_str());
       ImGui::PopID();
       continue;
     }
-    ImGui::Text("%s", id.c_str());
+    ImGui::Text("%s", app::measurement_name(id).c_str());
     MeasurementRange r = measurement_range(id);
     float f = static_cast<float>(shown);
     const float lo = static_cast<float>(app::to_display(id, r.warning_min, units));
@@ -518,6 +513,23 @@ void EditorApp::draw_files() {
   ImGui::SameLine();
   if (ImGui::Button("Open session")) core_.open_session(path_buffer_);
   if (ImGui::Button("Export")) core_.export_mesh(path_buffer_);
+  ImGui::SameLine();
+  // Every export format: choosing one puts its extension on the file name.
+  ImGui::SetNextItemWidth(70);
+  if (ImGui::BeginCombo("##format", "as...")) {
+    for (const auto& f : app::export_formats()) {
+      if (ImGui::Selectable((f.extension + "  " + f.description).c_str())) {
+        std::string path = path_buffer_;
+        const size_t slash = path.find_last_of('/'), dot = path.find_last_of('.');
+        if (dot != std::string::npos && (slash == std::string::npos || dot > slash)) {
+          path.erase(dot);
+        }
+        path += f.extension;
+        std::snprintf(path_buffer_, sizeof path_buffer_, "%s", path.c_str());
+      }
+    }
+    ImGui::EndCombo();
+  }
   ImGui::SameLine();
   if (ImGui::Button("Screenshot")) screenshot_request_ = path_buffer_;
   ImGui::SameLine();
