@@ -14,6 +14,7 @@
 #include "caliper_test/matrix_compare.hpp"
 #include "caliper_test/random_model.hpp"
 #include "smpl/evaluate.hpp"
+#include "smpl/export.hpp"
 #include "smpl/fbx.hpp"
 #include "smpl/io.hpp"
 
@@ -71,13 +72,17 @@ std::vector<std::string> sorted(std::vector<std::string> v) {
 
 // Vertices of `read` put back in the model's order through the faces (Assimp joins identical
 // vertices in its own order but keeps the polygon order). Fails the test on a mismatch.
-smpl::Vertices in_model_order(const smpl::FbxAvatar& read, const smpl::Faces& faces) {
-  smpl::Vertices v = smpl::Vertices::Constant(read.vertices.rows(), 3, std::nan(""));
+smpl::Vertices in_model_order(const smpl::FbxAvatar& read, const smpl::Faces& faces,
+                              const smpl::Vertices& per_vertex) {
+  smpl::Vertices v = smpl::Vertices::Constant(per_vertex.rows(), 3, std::nan(""));
   EXPECT_EQ(read.faces.rows(), faces.rows());
   for (Eigen::Index f = 0; f < std::min(read.faces.rows(), faces.rows()); ++f) {
-    for (int i = 0; i < 3; ++i) v.row(faces(f, i)) = read.vertices.row(read.faces(f, i));
+    for (int i = 0; i < 3; ++i) v.row(faces(f, i)) = per_vertex.row(read.faces(f, i));
   }
   return v;
+}
+smpl::Vertices in_model_order(const smpl::FbxAvatar& read, const smpl::Faces& faces) {
+  return in_model_order(read, faces, read.vertices);
 }
 
 TEST(Fbx, OpenModelReadsBackWith24BonesWeightsAndHeight) {
@@ -116,6 +121,10 @@ TEST(Fbx, OpenModelReadsBackWith24BonesWeightsAndHeight) {
   // Every vertex where it was, and the bind pose at the rest joints.
   EXPECT_MATRIX_NEAR(in_model_order(a, m.faces), body.vertices, kFloatTol);
   EXPECT_MATRIX_NEAR(by_name(a, m.joint_names), body.joints, 1e-5);
+  // Per-vertex normals, as libsmpl computes them (unit vectors stored as double, read as float).
+  ASSERT_EQ(a.normals.rows(), a.vertices.rows());
+  EXPECT_MATRIX_NEAR(in_model_order(a, m.faces, a.normals),
+                     smpl::vertex_normals(body.vertices, m.faces), kFloatTol);
   std::printf("FBX: %zu bones, %lld vertices, height %.4f m (avatar %.4f m), unit scale %g\n",
               a.bone_names.size(), static_cast<long long>(a.vertices.rows()), read_height, height,
               a.unit_scale_factor);
