@@ -453,6 +453,12 @@ FbxAvatar read_fbx(const std::string& path) {
   for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
     for (unsigned c = 0; c < 3; ++c) out.vertices(v, c) = mesh->mVertices[v][c];
   }
+  if (mesh->HasNormals()) {
+    out.normals.resize(mesh->mNumVertices, 3);
+    for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+      for (unsigned c = 0; c < 3; ++c) out.normals(v, c) = mesh->mNormals[v][c];
+    }
+  }
   out.faces.resize(mesh->mNumFaces, 3);
   for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
     if (mesh->mFaces[f].mNumIndices != 3) {

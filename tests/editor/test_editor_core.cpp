@@ -11,6 +11,7 @@
 #include "app/editor_core.hpp"
 #include "app/units.hpp"
 #include "caliper/json.hpp"
+#include "caliper/measurements.hpp"
 #include "caliper_test/random_model.hpp"
 
 namespace ca = caliper::app;
@@ -74,6 +75,22 @@ TEST(Units, SuffixesFitTheQuantity) {
   EXPECT_FALSE(ca::to_si_with_suffix("weight", 70, "cm"));
   EXPECT_FALSE(ca::to_si_with_suffix("height", 70, "kg"));
   EXPECT_FALSE(ca::parse_unit_system("furlongs"));
+}
+
+TEST(Units, MeasurementsReadAsHumanNamesWithUnits) {
+  EXPECT_EQ(ca::measurement_text("arm_span_fingertips", 1.918, ca::UnitSystem::Metric),
+            "Arm span (fingertips) 191.8 cm");
+  EXPECT_EQ(ca::measurement_text("height", 1.778, ca::UnitSystem::Imperial),
+            "Overall height 70.0 in");
+  EXPECT_EQ(ca::measurement_text("weight", 90.3, ca::UnitSystem::Metric), "Weight 90.3 kg");
+  EXPECT_EQ(ca::measurement_name("arm_length"), "Arm length (shoulder to wrist)");
+  EXPECT_EQ(ca::measurement_name("volume"), "Volume");
+  EXPECT_EQ(ca::measurement_name("not_a_measurement"), "not_a_measurement");
+  // Every paper measurement has a name of its own (no id shown to the user).
+  for (const caliper::MeasurementDef& d : caliper::paper_measurements()) {
+    EXPECT_NE(ca::measurement_name(d.id), d.id);
+    EXPECT_EQ(ca::measurement_name(d.id).find('_'), std::string::npos) << d.id;
+  }
 }
 
 // ---- Inputs and hierarchy -----------------------------------------------------------------------

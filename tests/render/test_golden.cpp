@@ -142,3 +142,38 @@ TEST(Golden, HeatMapLegendLinesLandmarksLabels) {
   o.labels.push_back(label);
   check_golden(cr::render_mesh_image(m.v, m.f, o), "figure_heatmap_overlay.png");
 }
+
+// Measurement labels as the editor draws them: human names with units, anchored at the middle
+// of their lines, keep_clear. Arm span and arm length have anchors a few pixels apart; the
+// renderer moves the second label below the first instead of drawing one over the other.
+TEST(Golden, MeasurementLabelsNeverOverlap) {
+  const Figure m = figure();
+  cr::RenderOptions o;
+  o.width = 640;
+  o.height = 300;
+  o.view = "front";
+  auto measurement = [&](Eigen::Vector3f a, Eigen::Vector3f b, const std::string& text) {
+    cr::Line l;
+    l.a = a;
+    l.b = b;
+    l.colour = {0.1f, 0.3f, 0.85f, 1};
+    o.lines.push_back(l);
+    o.points.push_back({l.a, {0.85f, 0.15f, 0.1f, 1}, 7});
+    o.points.push_back({l.b, {0.85f, 0.15f, 0.1f, 1}, 7});
+    cr::Label label;
+    label.text = text;
+    label.anchor = (a + b) / 2;
+    label.colour = {0.05f, 0.1f, 0.4f, 1};
+    label.scale = 1.6f;
+    label.keep_clear = true;
+    o.labels.push_back(label);
+  };
+  measurement({-0.9f, 1.32f, 0.15f}, {0.3f, 1.32f, 0.15f}, "Arm span (fingertips) 191.8 cm");
+  measurement({-0.7f, 1.3f, 0.15f}, {-0.1f, 1.3f, 0.15f}, "Arm length (shoulder to wrist) 60.3 cm");
+  cr::Label weight;
+  weight.text = "Weight 90.3 kg";
+  weight.screen = true;
+  weight.anchor = {12, 34, 0};
+  o.labels.push_back(weight);
+  check_golden(cr::render_mesh_image(m.v, m.f, o), "figure_measurement_labels.png");
+}

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "render/camera.hpp"
 #include "render/colour_map.hpp"
@@ -130,6 +131,31 @@ TEST(Text, WidthGrowsWithLengthAndScale) {
   cr::text_triangles("A", 0, 0, 1, xy);
   EXPECT_GT(xy.size(), 0u);
   EXPECT_EQ(xy.size() % 6, 0u);
+}
+
+TEST(Text, SeparateBoxesMovesOverlappingLabelsDownUntilClear) {
+  const float gap = 2;
+  auto overlap = [](const cr::TextBox& a, const cr::TextBox& b) {
+    return a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1;
+  };
+  // The editor's case: arm span and arm length anchored a few pixels apart.
+  std::vector<cr::TextBox> b = {{100, 50, 400, 70}, {200, 55, 450, 75}, {500, 52, 600, 72}};
+  cr::separate_boxes(b, gap);
+  EXPECT_FLOAT_EQ(b[0].y0, 50);  // the first stays
+  EXPECT_FLOAT_EQ(b[1].y0, 72);  // below the first, 2 px apart, same height
+  EXPECT_FLOAT_EQ(b[1].y1, 92);
+  EXPECT_FLOAT_EQ(b[1].x0, 200);  // never moved sideways
+  EXPECT_FLOAT_EQ(b[2].y0, 52);   // overlapped nothing: stays
+  // A fixed (screen) box stays and pushes a later one down; a chain of three clears each other.
+  std::vector<cr::TextBox> c = {{0, 10, 100, 30}, {0, 0, 100, 20}, {0, 5, 100, 25}};
+  c[1].fixed = true;
+  cr::separate_boxes(c, gap);
+  EXPECT_FLOAT_EQ(c[1].y0, 0);
+  for (size_t i = 0; i < c.size(); ++i) {
+    for (size_t j = i + 1; j < c.size(); ++j) EXPECT_FALSE(overlap(c[i], c[j])) << i << " " << j;
+  }
+  EXPECT_FLOAT_EQ(c[0].y0, 22);
+  EXPECT_FLOAT_EQ(c[2].y0, 44);
 }
 
 TEST(Renderer, BackgroundOutsideAndMeshColourInsideABox) {

@@ -14,6 +14,7 @@
 #include "caliper_test/matrix_compare.hpp"
 #include "caliper_test/random_model.hpp"
 #include "smpl/evaluate.hpp"
+#include "smpl/export.hpp"
 #include "smpl/fbx.hpp"
 #include "smpl/io.hpp"
 
@@ -71,13 +72,17 @@ std::vector<std::string> sorted(std::vector<std::string> v) {
 
 // Vertices of `read` put back in the model's order through the faces (Assimp joins identical
 // vertices in its own order but keeps the polygon order). Fails the test on a mismatch.
-smpl::Vertices in_model_order(const smpl::FbxAvatar& read, const smpl::Faces& faces) {
-  smpl::Vertices v = smpl::Vertices::Constant(read.vertices.rows(), 3, std::nan(""));
+smpl::Vertices in_model_order(const smpl::FbxAvatar& read, const smpl::Faces& faces,
+                              const smpl::Vertices& per_vertex) {
+  smpl::Vertices v = smpl::Vertices::Constant(per_vertex.rows(), 3, std::nan(""));
   EXPECT_EQ(read.faces.rows(), faces.rows());
   for (Eigen::Index f = 0; f < std::min(read.faces.rows(), faces.rows()); ++f) {
-    for (int i = 0; i < 3; ++i) v.row(faces(f, i)) = read.vertices.row(read.faces(f, i));
+    for (int i = 0; i < 3; ++i) v.row(faces(f, i)) = per_vertex.row(read.faces(f, i));
   }
   return v;
+}
+smpl::Vertices in_model_order(const smpl::FbxAvatar& read, const smpl::Faces& faces) {
+  return in_model_order(read, faces, read.vertices);
 }
 
 TEST(Fbx, OpenModelReadsBackWith24BonesWeightsAndHeight) {
@@ -116,6 +121,10 @@ TEST(Fbx, OpenModelReadsBackWith24BonesWeightsAndHeight) {
   // Every vertex where it was, and the bind pose at the rest joints.
   EXPECT_MATRIX_NEAR(in_model_order(a, m.faces), body.vertices, kFloatTol);
   EXPECT_MATRIX_NEAR(by_name(a, m.joint_names), body.joints, 1e-5);
+  // Per-vertex normals, as libsmpl computes them (unit vectors stored as double, read as float).
+  ASSERT_EQ(a.normals.rows(), a.vertices.rows());
+  EXPECT_MATRIX_NEAR(in_model_order(a, m.faces, a.normals),
+                     smpl::vertex_normals(body.vertices, m.faces), kFloatTol);
   std::printf("FBX: %zu bones, %lld vertices, height %.4f m (avatar %.4f m), unit scale %g\n",
               a.bone_names.size(), static_cast<long long>(a.vertices.rows()), read_height, height,
               a.unit_scale_factor);
@@ -173,11 +182,62 @@ TEST(Fbx, EveryNestedListIsClosedAsBlenderRequires) {
   EXPECT_EQ(blender_structure_check(cut, output), 1) << output;
 }
 
+// Sizes in binary FBX 7.5: the 27-byte file header, and a node record's header (end offset,
+// property count, property bytes: 8 bytes each, then the 1-byte name length), which is also
+// the size of a null record.
+constexpr std::uint64_t kFileHeader = 27;
+constexpr std::uint64_t kRecordHeader = 25;
+
+// A binary FBX 7.5 file as Assimp 5.2 writes it: node "Objects" with one child "Model" and no
+// null record closing the child list; then the top-level null record and a footer.
+std::string fbx_without_nested_null_record() {
+  auto u64 = [](std::uint64_t v) { return std::string(reinterpret_cast<const char*>(&v), 8); };
+  std::string b = std::string("Kaydara FBX Binary  ") + '\0' + '\x1a' + '\0';
+  const std::uint32_t version = 7500;
+  b.append(reinterpret_cast<const char*>(&version), 4);
+  const std::uint64_t child_at = kFileHeader + kRecordHeader + 7;
+  const std::uint64_t child_end = child_at + kRecordHeader + 5;
+  b += u64(child_end) + u64(0) + u64(0) + '\x07' + "Objects";  // ends with its child
+  b += u64(child_end) + u64(0) + u64(0) + '\x05' + "Model";
+  b.append(kRecordHeader, '\0');  // top-level null record
+  b += std::string(16, '\xfa') + std::string(4, '\0');
+  b.append(16 - b.size() % 16, '\0');  // padding to a multiple of 16
+  b.append(reinterpret_cast<const char*>(&version), 4);
+  b.append(120, '\0');
+  b += std::string(16, '\xf8');
+  return b;
+}
+
 TEST(Fbx, RepairAddsTheNullRecordsBlenderNeeds) {
+  const std::string broken = fbx_without_nested_null_record();
+  const fs::path before = out_dir() / "assimp52_like.fbx";
+  std::ofstream(before, std::ios::binary)
+      .write(broken.data(), static_cast<std::streamsize>(broken.size()));
+  std::string output;
+  EXPECT_EQ(blender_structure_check(before, output), 1) << output;
+  EXPECT_NE(output.find("/Objects: the nested list does not end with a null record"),
+            std::string::npos)
+      << output;
+
+  const std::string fixed = smpl::fix_fbx_null_records(broken);
+  const fs::path after = out_dir() / "assimp52_like_fixed.fbx";
+  std::ofstream(after, std::ios::binary)
+      .write(fixed.data(), static_cast<std::streamsize>(fixed.size()));
+  output.clear();
+  EXPECT_EQ(blender_structure_check(after, output), 0) << output;
+  EXPECT_NE(output.find("2 nodes, every nested list closed"), std::string::npos) << output;
+  // The footer follows Objects, Model, the null record now closing Objects' list and the
+  // top-level null record; it is padded to 16 bytes after its id, as the FBX SDK writes it.
+  const size_t footer = kFileHeader + (kRecordHeader + 7) + (kRecordHeader + 5) + 2 * kRecordHeader;
+  EXPECT_EQ(fixed.substr(footer, 16), std::string(16, '\xfa'));
+  const size_t version_at = fixed.size() - 16 - 120 - 4;
+  EXPECT_EQ(version_at % 16, 0u);
+  EXPECT_GT(version_at, footer + 16 + 4);
+
+  // Our own files already have them: the repair changes nothing.
   const auto m = caliper::test::make_random_model(2, 4, false, 32);
   const auto bytes = smpl::fbx_bytes(m, Eigen::VectorXd::Zero(2));
   const std::string s(bytes.begin(), bytes.end());
-  // Already repaired bytes come out the same: the repair is idempotent.
   EXPECT_EQ(smpl::fix_fbx_null_records(s), s);
   EXPECT_THROW(smpl::fix_fbx_null_records("not an fbx file at all, just some text......"),
                smpl::ModelError);

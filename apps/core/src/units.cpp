@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
+
+#include "caliper/measurements.hpp"
 
 namespace caliper::app {
 
@@ -81,6 +84,21 @@ std::optional<double> to_si_with_suffix(const std::string& id, double value,
     if (s == "lb" || s == "lbs") return value * kKilogramsPerPound;
   }
   return std::nullopt;
+}
+
+std::string measurement_name(const std::string& id) {
+  if (id == "weight") return "Weight";
+  if (id == "volume") return "Volume";
+  for (const MeasurementDef& d : paper_measurements()) {
+    if (d.id == id) return d.label;
+  }
+  return id;
+}
+
+std::string measurement_text(const std::string& id, double value_si, UnitSystem units) {
+  char value[32];
+  std::snprintf(value, sizeof value, "%.1f", to_display(id, value_si, units));
+  return measurement_name(id) + " " + value + " " + unit_label(id, units);
 }
 
 }  // namespace caliper::app

@@ -358,6 +358,10 @@ void Renderer::release_texture(TextureHandle handle) {
 // Per-frame drawing
 namespace {
 
+/// Space kept between two labels' boxes: enough to tell the boxes apart (2 px is the width of a
+/// glyph stroke at the editor's scale), little enough to keep a label next to its line.
+constexpr float kLabelGapPx = 2;
+
 void push_flat(std::vector<float>& v, const Vec3& p, const Rgba& c, float u = 0, float w = 0) {
   v.insert(v.end(), {p.x(), p.y(), p.z(), c.r, c.g, c.b, c.a, u, w});
 }
@@ -583,18 +587,27 @@ void Renderer::draw(const Scene& scene, const View& view) {
   }
   end_batch();
   begin_batch(0);
+  // Labels: boxes (text and background margin) on the screen; keep_clear labels that would
+  // cover another label move down until they are clear of it.
+  std::vector<const Label*> shown;
+  std::vector<TextBox> boxes;
   for (const Label& l : scene.labels) {
     float x = l.anchor.x(), y = l.anchor.y();
     if (!l.screen && !project(vp_m, l.anchor, w, h, x, y)) continue;
+    const float tw = text_width(l.text, l.scale), th = text_height(l.text, l.scale);
     if (!l.screen) {  // centre world labels vertically on their anchor, a little to the right
       x += 6;
-      y -= text_height(l.text, l.scale) / 2;
+      y -= th / 2;
     }
-    if (l.background) {
-      const float tw = text_width(l.text, l.scale), th = text_height(l.text, l.scale);
-      overlay_rect(ov, x - 3, y - 3, x + tw + 3, y + th + 1, Rgba{1, 1, 1, 0.8f});
-    }
-    overlay_text(ov, l.text, x, y, l.scale, l.colour);
+    shown.push_back(&l);
+    boxes.push_back({x - 3, y - 3, x + tw + 3, y + th + 1, !l.keep_clear});
+  }
+  separate_boxes(boxes, kLabelGapPx);
+  for (size_t i = 0; i < shown.size(); ++i) {
+    const Label& l = *shown[i];
+    const TextBox& b = boxes[i];
+    if (l.background) overlay_rect(ov, b.x0, b.y0, b.x1, b.y1, Rgba{1, 1, 1, 0.8f});
+    overlay_text(ov, l.text, b.x0 + 3, b.y0 + 3, l.scale, l.colour);
   }
   if (scene.legend.visible) {
     const Legend& lg = scene.legend;

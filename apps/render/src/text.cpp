@@ -60,4 +60,31 @@ float text_height(const std::string& text, float scale) {
   return static_cast<float>(stb_easy_font_height(s.data())) * scale;
 }
 
+void separate_boxes(std::vector<TextBox>& boxes, float gap) {
+  std::vector<size_t> placed;
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    if (boxes[i].fixed) placed.push_back(i);
+  }
+  auto too_close = [gap](const TextBox& a, const TextBox& b) {
+    return a.x0 < b.x1 + gap && b.x0 < a.x1 + gap && a.y0 < b.y1 + gap && b.y0 < a.y1 + gap;
+  };
+  for (size_t i = 0; i < boxes.size(); ++i) {
+    if (boxes[i].fixed) continue;
+    TextBox& b = boxes[i];
+    // Each move puts b below the box it met, which it then never meets again: this ends after
+    // at most placed.size() moves.
+    for (bool moved = true; moved;) {
+      moved = false;
+      for (size_t j : placed) {
+        if (!too_close(b, boxes[j])) continue;
+        const float height = b.y1 - b.y0;
+        b.y0 = boxes[j].y1 + gap;  // exactly the bound too_close() tests against
+        b.y1 = b.y0 + height;
+        moved = true;
+      }
+    }
+    placed.push_back(i);
+  }
+}
+
 }  // namespace caliper::render

@@ -39,6 +39,7 @@ std::vector<std::uint8_t> fbx_bytes(const BodyModel& model,
 struct FbxAvatar {
   Vertices vertices;  ///< file units (metres for our files), in Assimp's order (not the model's).
   Faces faces;        ///< triangles in the file's polygon order.
+  Vertices normals;   ///< per vertex, as `vertices`; 0 rows when the file has no normals.
   /// Bone names and, per vertex, the sum of its weights over all bones (1 for a clean skin).
   std::vector<std::string> bone_names;
   Eigen::VectorXd weight_sums;

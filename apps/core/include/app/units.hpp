@@ -30,6 +30,12 @@ double to_display(const std::string& id, double value_si, UnitSystem units);
 double from_display(const std::string& id, double shown, UnitSystem units);
 /// "cm", "in", "kg", "lb", "L", "ft3".
 std::string unit_label(const std::string& id, UnitSystem units);
+/// The name people read for a measurement id: the paper measurement's label ("Arm span
+/// (fingertips)", "Overall height"), "Weight", "Volume"; any other id is returned as it is.
+std::string measurement_name(const std::string& id);
+/// The measurement as the editor shows it: name, value in `units` with one decimal, unit
+/// ("Arm span (fingertips) 191.8 cm", "Weight 90.3 kg").
+std::string measurement_text(const std::string& id, double value_si, UnitSystem units);
 /// Unit of a typed suffix: "cm", "mm", "m", "in", "kg", "lb"; converts `value` in that unit to
 /// SI. Returns std::nullopt for an unknown suffix or one that does not fit the id's quantity.
 std::optional<double> to_si_with_suffix(const std::string& id, double value,

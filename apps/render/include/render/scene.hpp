@@ -68,6 +68,10 @@ struct Label {
   Rgba colour{0, 0, 0, 1};
   float scale = 2.0f;      ///< glyph scale: 1 = 7 px tall letters
   bool background = true;  ///< a translucent white box behind the text
+  /// Moved down, when needed, so as not to cover any other label (earlier labels with
+  /// keep_clear, and every label without it, which stays where it is): values beside
+  /// measurement lines. Off for labels whose place is their meaning (VR floor-target numbers).
+  bool keep_clear = false;
 };
 
 /// A solid box (controllers, markers): unit cube scaled by `half_extents` then `transform`.

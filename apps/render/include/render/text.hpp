@@ -17,4 +17,16 @@ void text_triangles(const std::string& text, float x, float y, float scale,
 float text_width(const std::string& text, float scale);
 float text_height(const std::string& text, float scale);
 
+/// A label's box on the screen in pixels (y grows downwards). `fixed` boxes never move.
+struct TextBox {
+  float x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  bool fixed = false;
+};
+
+/// Moves labels apart so that no two boxes overlap: every box that is not `fixed` is taken in
+/// order and moved straight down, below each fixed or earlier box it overlaps, until at least
+/// `gap` pixels separate it from all of them. Boxes that overlap nothing stay where they are;
+/// fixed boxes may still overlap each other. At most one move per earlier box, so O(n^2).
+void separate_boxes(std::vector<TextBox>& boxes, float gap);
+
 }  // namespace caliper::render
