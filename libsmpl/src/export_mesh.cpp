@@ -1,5 +1,5 @@
 // Mesh export: Wavefront OBJ (text) and PLY 1.0 (binary little endian), with per-vertex normals.
-#include <cerrno>
+#include <cstdarg>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -10,33 +10,27 @@
 
 #include <Eigen/Geometry>
 
+#include "smpl/atomic_file.hpp"
 #include "smpl/export.hpp"
 
 namespace smpl {
 namespace {
 
-struct FileCloser {
-  void operator()(std::FILE* f) const {
-    if (f) std::fclose(f);
+/// Appends printf-formatted text to `out`.
+__attribute__((format(printf, 2, 3))) void appendf(std::string& out, const char* format, ...) {
+  std::va_list args;
+  va_start(args, format);
+  std::va_list again;
+  va_copy(again, args);
+  const int n = std::vsnprintf(nullptr, 0, format, args);
+  va_end(args);
+  if (n > 0) {
+    const size_t old = out.size();
+    out.resize(old + static_cast<size_t>(n) + 1);
+    std::vsnprintf(&out[old], static_cast<size_t>(n) + 1, format, again);
+    out.resize(old + static_cast<size_t>(n));
   }
-};
-using File = std::unique_ptr<std::FILE, FileCloser>;
-
-File open_for_writing(const std::string& path) {
-  File f(std::fopen(path.c_str(), "wb"));
-  if (!f) {
-    throw ModelError(path + ": cannot open for writing (" + std::strerror(errno) +
-                     "); check that the folder exists and is writable");
-  }
-  return f;
-}
-
-void finish(File f, const std::string& path) {
-  const bool bad = std::ferror(f.get()) != 0;
-  std::FILE* raw = f.release();
-  if (std::fclose(raw) != 0 || bad) {
-    throw ModelError(path + ": writing failed (" + std::strerror(errno) + "); is the disk full?");
-  }
+  va_end(again);
 }
 
 void check_mesh(const Vertices& vertices, const Faces& faces, const std::string& path) {
@@ -71,38 +65,38 @@ Vertices vertex_normals(const Vertices& vertices, const Faces& faces) {
 void write_obj(const std::string& path, const Vertices& vertices, const Faces& faces) {
   check_mesh(vertices, faces, path);
   const Vertices normals = vertex_normals(vertices, faces);
-  File f = open_for_writing(path);
-  std::fprintf(f.get(), "# The Virtual Caliper mesh export: %lld vertices, %lld faces, metres\n",
-               static_cast<long long>(vertices.rows()), static_cast<long long>(faces.rows()));
+  std::string out;
+  appendf(out, "# The Virtual Caliper mesh export: %lld vertices, %lld faces, metres\n",
+          static_cast<long long>(vertices.rows()), static_cast<long long>(faces.rows()));
   for (Eigen::Index v = 0; v < vertices.rows(); ++v) {
-    std::fprintf(f.get(), "v %.9g %.9g %.9g\n", vertices(v, 0), vertices(v, 1), vertices(v, 2));
+    appendf(out, "v %.9g %.9g %.9g\n", vertices(v, 0), vertices(v, 1), vertices(v, 2));
   }
   for (Eigen::Index v = 0; v < normals.rows(); ++v) {
-    std::fprintf(f.get(), "vn %.6f %.6f %.6f\n", normals(v, 0), normals(v, 1), normals(v, 2));
+    appendf(out, "vn %.6f %.6f %.6f\n", normals(v, 0), normals(v, 1), normals(v, 2));
   }
   for (Eigen::Index i = 0; i < faces.rows(); ++i) {
     const int a = faces(i, 0) + 1, b = faces(i, 1) + 1, c = faces(i, 2) + 1;
-    std::fprintf(f.get(), "f %d//%d %d//%d %d//%d\n", a, a, b, b, c, c);
+    appendf(out, "f %d//%d %d//%d %d//%d\n", a, a, b, b, c, c);
   }
-  finish(std::move(f), path);
+  write_file_atomic(path, out);
 }
 
 void write_ply(const std::string& path, const Vertices& vertices, const Faces& faces) {
   check_mesh(vertices, faces, path);
   const Vertices normals = vertex_normals(vertices, faces);
-  File f = open_for_writing(path);
-  std::fprintf(f.get(),
-               "ply\nformat binary_little_endian 1.0\ncomment The Virtual Caliper mesh export, "
-               "metres\nelement vertex %lld\nproperty float x\nproperty float y\nproperty float "
-               "z\nproperty float nx\nproperty float ny\nproperty float nz\nelement face "
-               "%lld\nproperty list uchar int vertex_indices\nend_header\n",
-               static_cast<long long>(vertices.rows()), static_cast<long long>(faces.rows()));
+  std::string header;
+  appendf(header,
+          "ply\nformat binary_little_endian 1.0\ncomment The Virtual Caliper mesh export, "
+          "metres\nelement vertex %lld\nproperty float x\nproperty float y\nproperty float "
+          "z\nproperty float nx\nproperty float ny\nproperty float nz\nelement face "
+          "%lld\nproperty list uchar int vertex_indices\nend_header\n",
+          static_cast<long long>(vertices.rows()), static_cast<long long>(faces.rows()));
   static_assert(sizeof(float) == 4, "PLY float is 4 bytes");
-  std::vector<unsigned char> buf;
-  buf.reserve(static_cast<size_t>(vertices.rows() * 24 + faces.rows() * 13));
+  std::string buf = header;
+  buf.reserve(header.size() + static_cast<size_t>(vertices.rows() * 24 + faces.rows() * 13));
   auto put = [&buf](const void* p, size_t n) {
-    const auto* c = static_cast<const unsigned char*>(p);
-    buf.insert(buf.end(), c, c + n);  // x86 and ARM Linux are little endian, as PLY asks here
+    buf.append(static_cast<const char*>(p),
+               n);  // x86 and ARM Linux are little endian, as PLY asks here
   };
   for (Eigen::Index v = 0; v < vertices.rows(); ++v) {
     const float xyz[6] = {static_cast<float>(vertices(v, 0)), static_cast<float>(vertices(v, 1)),
@@ -116,8 +110,7 @@ void write_ply(const std::string& path, const Vertices& vertices, const Faces& f
     put(&three, 1);
     put(ids, sizeof ids);
   }
-  std::fwrite(buf.data(), 1, buf.size(), f.get());
-  finish(std::move(f), path);
+  write_file_atomic(path, buf);
 }
 
 }  // namespace smpl

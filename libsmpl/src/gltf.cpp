@@ -7,6 +7,7 @@
 // Sections: 1. buffer building helpers  2. avatar -> tinygltf::Model  3. write_gltf / glb_bytes
 //           4. accessor reading  5. read_gltf
 #include "smpl/gltf.hpp"
+#include "smpl/atomic_file.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -320,16 +321,7 @@ void write_gltf(const std::string& path, const BodyModel& model,
     throw ModelError(path + ": unknown glTF file extension; use .glb (binary) or .gltf (JSON)");
   }
   const std::string bytes = serialise(build_model(model, betas, options, path), binary, path);
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f) {
-    throw ModelError(path + ": cannot open for writing (" + std::strerror(errno) +
-                     "); check that the folder exists and is writable");
-  }
-  const size_t written = std::fwrite(bytes.data(), 1, bytes.size(), f);
-  const int err = errno;
-  if (std::fclose(f) != 0 || written != bytes.size()) {
-    throw ModelError(path + ": writing failed (" + std::strerror(err) + "); is the disk full?");
-  }
+  write_file_atomic(path, bytes);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -466,4 +466,56 @@ TEST(VrApp, GoldenImages) {
   }
 }
 
+// Issue 10: a new session never wipes an earlier journal; --resume refuses a journal of another
+// protocol; --force starts over.
+TEST(VrApp, ExistingJournalIsNeverWiped) {
+  const std::string dir = work_dir("existing_journal");
+  simulate(dir, "log.jsonl", "--role self");
+  ASSERT_EQ(run_vr(dir, "--replay log.jsonl --no-audio --out out --draw-every 0 --max-frames 900")
+                .exit_code,
+            3);
+  const std::string journal = read_file(dir + "/out/journal.jsonl");
+  ASSERT_FALSE(journal.empty());
+  const RunResult again = run_vr(dir, "--replay log.jsonl --no-audio --out out --draw-every 0");
+  EXPECT_EQ(again.exit_code, 1) << again.err;
+  EXPECT_NE(again.err.find("out/journal.jsonl already holds a session journal"), std::string::npos)
+      << again.err;
+  EXPECT_NE(again.err.find("caliper-vr --replay log.jsonl --resume out/journal.jsonl --out out"),
+            std::string::npos)
+      << again.err;
+  EXPECT_NE(again.err.find("--force"), std::string::npos) << again.err;
+  EXPECT_EQ(read_file(dir + "/out/journal.jsonl"), journal) << "the journal must be untouched";
+
+  // A journal of another protocol is refused by --resume, naming both protocols.
+  std::string other = journal;
+  const size_t p = other.find("\"protocol\":\"");
+  ASSERT_NE(p, std::string::npos) << journal.substr(0, 200);
+  other.insert(p + 12, "another ");
+  std::ofstream(dir + "/other.jsonl") << other;
+  const RunResult resumed =
+      run_vr(dir, "--replay log.jsonl --no-audio --draw-every 0 --resume other.jsonl");
+  EXPECT_EQ(resumed.exit_code, 1) << resumed.err;
+  EXPECT_NE(resumed.err.find("the journal was written with the protocol \"another "),
+            std::string::npos)
+      << resumed.err;
+
+  const RunResult forced =
+      run_vr(dir, "--replay log.jsonl --no-audio --out out --draw-every 0 --force");
+  EXPECT_EQ(forced.exit_code, 0) << forced.err;
+}
+
+TEST(VrApp, OddOptionsAreUsageErrors) {
+  const std::string dir = work_dir("odd_options");
+  simulate(dir, "log.jsonl", "--role self");
+  for (const char* eye : {"1500000000x2", "2x1500000000", "0x10", "10x", "-5x10", "10x10junk"}) {
+    const RunResult r = run_vr(dir, std::string("--replay log.jsonl --no-audio --eye-size ") + eye);
+    EXPECT_EQ(r.exit_code, 2) << eye << ": " << r.err;
+    EXPECT_NE(r.err.find("--eye-size"), std::string::npos) << r.err;
+  }
+  const RunResult frames = run_vr(dir, "--replay log.jsonl --no-audio --max-frames 1e300");
+  EXPECT_EQ(frames.exit_code, 2) << frames.err;
+  EXPECT_NE(frames.err.find("--max-frames needs a whole number"), std::string::npos) << frames.err;
+  EXPECT_FALSE(fs::exists(dir + "/caliper-journal.jsonl")) << "refused before any work";
+}
+
 }  // namespace

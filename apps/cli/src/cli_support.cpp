@@ -257,20 +257,31 @@ double parse_with_units(const std::string& text, const std::string& what, bool i
     if (unit.empty()) {
       throw UsageError(what + " '" + text + "': no unit given; state it, " + examples);
     }
-    const auto scale = unit_scale(unit);
-    const bool unit_is_length = scale && unit != "kg" && unit != "g" && unit != "lb" &&
-                                unit != "lbs" && unit != "KG" && unit != "Kg";
+    std::string u;  // units are case-insensitive: "5FT6IN" is "5ft6in"
+    for (char ch : unit) u += static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    const auto scale = unit_scale(u);
+    const bool unit_is_length = scale && u != "kg" && u != "g" && u != "lb" && u != "lbs";
     if (!scale || unit_is_length != is_length) {
       throw UsageError(what + " '" + text + "': unknown unit '" + unit + "' (" + examples + ")");
     }
-    // Only feet followed by inches may be combined ("5ft6in", "5'6\"").
-    if (parts == 1 && !(last_unit == "ft" || last_unit == "'" || last_unit == "feet")) {
-      throw UsageError(what + " '" + text + "': only feet and inches may be combined (" + examples +
-                       ")");
-    }
+    const auto is_feet = [](const std::string& x) {
+      return x == "ft" || x == "'" || x == "feet" || x == "foot";
+    };
+    const bool is_inches = u == "in" || u == "inch" || u == "inches" || u == "\"";
     if (parts >= 2) throw UsageError(what + " '" + text + "': too many parts (" + examples + ")");
+    // Only feet followed by inches may be combined ("5ft6in", "5'6\""), both not negative and
+    // the inches under 12: "5ft60cm" and "6ft-6in" are refused, not guessed.
+    if (parts == 1) {
+      if (!is_feet(last_unit) || !is_inches)
+        throw UsageError(what + " '" + text + "': only feet followed by inches may be combined (" +
+                         examples + ")");
+      if (total < 0.0 || v < 0.0 || v >= 12.0)
+        throw UsageError(what + " '" + text +
+                         "': in feet and inches, both are positive and the inches under 12 (" +
+                         examples + ")");
+    }
     total += v * *scale;
-    last_unit = unit;
+    last_unit = u;
     ++parts;
   }
   if (parts == 0) throw UsageError(what + ": empty value (" + examples + ")");
@@ -304,7 +315,7 @@ int CsvTable::column(const std::string& name) const {
   return -1;
 }
 
-CsvTable parse_csv(const std::string& text, const std::string& source) {
+CsvTable parse_csv(const std::string& text, const std::string& source, bool per_row_errors) {
   CsvTable t;
   std::vector<std::string> row;
   std::string cell;
@@ -322,13 +333,17 @@ CsvTable parse_csv(const std::string& text, const std::string& source) {
       if (t.header.empty()) {
         t.header = row;
       } else {
+        std::string error;
         if (row.size() != t.header.size()) {
-          throw RuntimeError(source + ":" + std::to_string(row_line) + ": " +
-                             std::to_string(row.size()) + " cells, but the header has " +
-                             std::to_string(t.header.size()) + "; check for a missing comma");
+          error = source + ":" + std::to_string(row_line) + ": " + std::to_string(row.size()) +
+                  " cells, but the header has " + std::to_string(t.header.size()) +
+                  "; check for a missing comma";
+          if (!per_row_errors) throw RuntimeError(error);
+          row.resize(t.header.size());
         }
         t.rows.push_back(row);
         t.line_numbers.push_back(row_line);
+        t.row_errors.push_back(error);
       }
     }
     row.clear();
@@ -377,12 +392,12 @@ CsvTable parse_csv(const std::string& text, const std::string& source) {
   return t;
 }
 
-CsvTable read_csv(const std::string& path) {
+CsvTable read_csv(const std::string& path, bool per_row_errors) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw RuntimeError(path + ": cannot open the CSV file (does it exist?)");
   std::ostringstream s;
   s << in.rdbuf();
-  return parse_csv(s.str(), path);
+  return parse_csv(s.str(), path, per_row_errors);
 }
 
 std::string csv_escape(const std::string& cell) {

@@ -10,7 +10,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <numeric>
@@ -30,6 +29,7 @@
 #include "render/context.hpp"
 #include "render/glfw_context.hpp"
 #include "render/renderer.hpp"
+#include "smpl/atomic_file.hpp"
 #include "smpl/io.hpp"
 #include "vr_app.hpp"
 
@@ -60,6 +60,8 @@ const char* kUsage =
     "  --journal FILE       session journal (default: OUT/journal.jsonl, or "
     "./caliper-journal.jsonl)\n"
     "  --resume FILE        continue the session of this journal where it stopped\n"
+    "  --force              start a new session even when the journal file exists (it is\n"
+    "                       overwritten; without --force caliper-vr refuses and names --resume)\n"
     "  --out DIR            write DIR/session.json and DIR/avatar.glb at the end\n"
     "  --record FILE        record every frame's poses and buttons as a pose log\n"
     "  --weight KG --sex female|male   typed values (else from the operator window or the log)\n"
@@ -89,8 +91,8 @@ struct Args {
 };
 
 Args parse_args(int argc, char** argv) {
-  static const std::vector<std::string> kFlags = {"--no-audio", "--operator-window", "--help",
-                                                  "-h"};
+  static const std::vector<std::string> kFlags = {"--no-audio", "--operator-window", "--force",
+                                                  "--help", "-h"};
   static const std::vector<std::string> kValues = {
       "--replay",     "--simulate",    "--calibrate-tip", "--protocol",      "--controllers",
       "--role",       "--journal",     "--resume",        "--out",           "--record",
@@ -124,6 +126,34 @@ double number(const Args& a, const std::string& k, double fallback) {
   } catch (const std::exception&) {
     throw std::invalid_argument(k + " needs a number, got \"" + a.get(k) + "\"");
   }
+}
+
+/// "WxH" with 1 <= W, H <= 16384 (a GL framebuffer's practical limit; both eyes side by side
+/// make 2W): no overflow of 2 * W or W * H, no stray characters.
+void parse_eye_size(const std::string& s, int& w, int& h) {
+  constexpr long kMaxSide = 16384;
+  const size_t x = s.find('x');
+  const auto side = [&](const std::string& t) {
+    if (t.empty() || t.size() > 6 || t.find_first_not_of("0123456789") != std::string::npos)
+      return -1L;
+    return std::stol(t);
+  };
+  const long pw = x == std::string::npos ? -1 : side(s.substr(0, x));
+  const long ph = x == std::string::npos ? -1 : side(s.substr(x + 1));
+  if (pw < 1 || ph < 1 || pw > kMaxSide || ph > kMaxSide)
+    throw std::invalid_argument("--eye-size \"" + s +
+                                "\": needs WxH with each side 1 to 16384 pixels, e.g. 1440x1600");
+  w = static_cast<int>(pw);
+  h = static_cast<int>(ph);
+}
+
+/// An integer option in [lo, hi] (checked before any cast: no undefined behaviour for 1e300).
+long integer(const Args& a, const std::string& k, long fallback, long lo, long hi) {
+  const double v = number(a, k, static_cast<double>(fallback));
+  if (v != std::floor(v) || v < static_cast<double>(lo) || v > static_cast<double>(hi))
+    throw std::invalid_argument(k + " needs a whole number from " + std::to_string(lo) + " to " +
+                                std::to_string(hi) + ", got \"" + a.get(k) + "\"");
+  return static_cast<long>(v);
 }
 
 std::string assets_dir(const Args& a) {
@@ -174,6 +204,17 @@ VrAppOptions app_options(const Args& a, const std::string& role, const std::stri
   } else {
     o.journal_path = a.get("--journal", o.output_dir.empty() ? "caliper-journal.jsonl"
                                                              : o.output_dir + "/journal.jsonl");
+    // A new session never wipes the journal of an earlier one by accident.
+    std::error_code ec;
+    if (std::filesystem::exists(o.journal_path, ec) && !a.has("--force")) {
+      std::string resume = "caliper-vr";
+      if (a.has("--replay")) resume += " --replay " + a.get("--replay");
+      resume += " --resume " + o.journal_path;
+      if (!o.output_dir.empty()) resume += " --out " + o.output_dir;
+      throw std::runtime_error(
+          o.journal_path + " already holds a session journal; continue that session with:\n  " +
+          resume + "\nor start a new one with --force (the old journal is then overwritten)");
+    }
     if (!o.output_dir.empty()) std::filesystem::create_directories(o.output_dir);
   }
   return o;
@@ -222,12 +263,11 @@ int run_replay(const Args& a) {
   PoseLog log = read_pose_log(log_path);
   const std::string role = a.get("--role", log.header.role.empty() ? "self" : log.header.role);
   const std::string profile = log.header.interaction_profile;
-  VrAppOptions o = app_options(a, role, profile);
   int eye_w = 320, eye_h = 356;
-  if (a.has("--eye-size") && std::sscanf(a.get("--eye-size").c_str(), "%dx%d", &eye_w, &eye_h) != 2)
-    throw std::invalid_argument("--eye-size needs WxH, e.g. 1440x1600");
-  const int draw_every = static_cast<int>(number(a, "--draw-every", 1));
-  const long max_frames = static_cast<long>(number(a, "--max-frames", -1));
+  if (a.has("--eye-size")) parse_eye_size(a.get("--eye-size"), eye_w, eye_h);
+  VrAppOptions o = app_options(a, role, profile);
+  const int draw_every = static_cast<int>(integer(a, "--draw-every", 1, 0, 1000000));
+  const long max_frames = integer(a, "--max-frames", -1, -1, 1000000000000L);
   const std::string frames_dir = a.get("--frames-dir");
   if (!frames_dir.empty()) std::filesystem::create_directories(frames_dir);
 
@@ -322,9 +362,10 @@ int run_replay(const Args& a) {
       n, 1e3 * median(app_cpu), 1e3 * percentile(app_cpu, 0.95), 1e3 * median(draw_wall), 2 * eye_w,
       eye_h);
   if (a.has("--timing")) {
-    std::ofstream t(a.get("--timing"));
+    std::ostringstream t;
     t << "frame,app_cpu_ms\n";
     for (size_t i = 0; i < app_cpu.size(); ++i) t << i << "," << 1e3 * app_cpu[i] << "\n";
+    smpl::write_file_atomic(a.get("--timing"), t.str());
   }
   return finish(app, *audio, journal_path);
 }
@@ -383,7 +424,7 @@ int run_simulate(const Args& a) {
   }
   const SimulatedPerson person = person_from_model(model, betas, number(a, "--weight", 65.0), sex);
   SimulatorOptions o;
-  o.seed = static_cast<std::uint64_t>(number(a, "--seed", 1));
+  o.seed = static_cast<std::uint64_t>(integer(a, "--seed", 1, 0, 1000000000000000L));
   o.role = a.get("--role", "self");
   o.frame_rate = number(a, "--frame-rate", 90.0);
   o.tip_noise = number(a, "--noise", 0.0);

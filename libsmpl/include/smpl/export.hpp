@@ -4,14 +4,17 @@
 
 #include <string>
 
+#include "smpl/atomic_file.hpp"
 #include "smpl/body_model.hpp"
 
 namespace smpl {
 
-/// Writes a Wavefront OBJ (v, vn, f lines; 1-based indices). Throws ModelError on I/O failure.
+/// Writes a Wavefront OBJ (v, vn, f lines; 1-based indices), atomically
+/// (smpl/atomic_file.hpp). Throws ModelError for a bad mesh, WriteError when writing fails.
 void write_obj(const std::string& path, const Vertices& vertices, const Faces& faces);
 
-/// Writes a binary little-endian PLY (float xyz, int32 triangles). Throws ModelError on failure.
+/// Writes a binary little-endian PLY (float xyz, int32 triangles), atomically.
+/// Throws ModelError for a bad mesh, WriteError when writing fails.
 void write_ply(const std::string& path, const Vertices& vertices, const Faces& faces);
 
 /// Per-vertex unit normals (area-weighted face normals), V x 3.

@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 
+#include "smpl/atomic_file.hpp"
 #include "smpl/body_model.hpp"
 
 namespace smpl {
@@ -31,8 +32,9 @@ struct GltfOptions {
 /// joint named from model.joint_names, translated relative to its parent; inverse bind matrices
 /// translation(-J_shaped); with options.pose_correctives, 9 (K - 1) morph targets (posedirs
 /// columns, named in mesh.extras.targetNames; target weight = (R_k - I)(r, c), may be negative).
-/// `.glb` writes binary glTF, `.gltf` writes JSON with an embedded buffer. Throws ModelError on
-/// failure.
+/// `.glb` writes binary glTF, `.gltf` writes JSON with an embedded buffer, atomically
+/// (write_file_atomic). Throws ModelError for an unknown extension or a model that cannot be
+/// serialised, WriteError when writing fails (the previous file is then unchanged).
 void write_gltf(const std::string& path, const BodyModel& model,
                 const Eigen::Ref<const Eigen::VectorXd>& betas, const GltfOptions& options = {});
 
