@@ -169,6 +169,38 @@ TEST_F(Reliability, BatchMalformedRowIsAPerRowError) {
   EXPECT_EQ(t.rows[3][status], "ok");
 }
 
+TEST_F(Reliability, BatchRowWithAStrayQuoteIsAPerRowError) {
+  // A quote opened and never closed used to swallow the rest of the file and end the batch.
+  std::ofstream(path("people.csv")) << "id,height_cm,weight_kg\n"
+                                       "a,170,62\n"
+                                       "b,\"171,63\n"
+                                       "\"c,d\",172,64\n"
+                                       "e,173,65\n"
+                                       "f,174,\"66\n";  // the last line, no line break
+  const CliRun r = run(
+      {"batch", path("people.csv"), "--model", model_, "--force", "--out", path("results.csv")});
+  EXPECT_EQ(r.code, kExitRuntime) << r.err;
+  EXPECT_TRUE(contains(r.err, "3 ok, 0 refused, 2 errors")) << r.err;
+  const CsvTable t = read_csv(path("results.csv"));
+  ASSERT_EQ(t.rows.size(), 5u);
+  const auto status = static_cast<size_t>(t.column("status"));
+  const auto id = static_cast<size_t>(t.column("id"));
+  const std::vector<std::string> ids = {"a", "b", "c,d", "e", "f"};
+  const std::vector<std::string> statuses = {"ok", "error", "ok", "ok", "error"};
+  for (size_t i = 0; i < ids.size(); ++i) {
+    EXPECT_EQ(t.rows[i][id], ids[i]);
+    EXPECT_EQ(t.rows[i][status], statuses[i]) << ids[i];
+  }
+  EXPECT_TRUE(contains(t.rows[1].back(), ":3: a quoted cell is not closed on this line"))
+      << t.rows[1].back();
+  EXPECT_TRUE(contains(t.rows[4].back(), ":6: a quoted cell is not closed")) << t.rows[4].back();
+  // Without per-row errors (other tables) a quoted cell may still span lines (RFC 4180).
+  const CsvTable multi = parse_csv("a,b\n\"x\ny\",1\n", "t.csv");
+  ASSERT_EQ(multi.rows.size(), 1u);
+  EXPECT_EQ(multi.rows[0][0], "x\ny");
+  EXPECT_THROW(parse_csv("a,b\n\"x,1\n", "t.csv"), RuntimeError);
+}
+
 TEST_F(Reliability, BatchChecksItsOutputsBeforeWorking) {
   std::ofstream(path("people.csv")) << "height_cm,weight_kg\n170,62\n";
   std::ofstream(path("a-file")) << "x";

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "caliper/avatar.hpp"
+#include "caliper/journal.hpp"
 #include "caliper/json.hpp"
 #include "caliper/pose_log.hpp"
 #include "caliper/regressor.hpp"
@@ -504,6 +505,71 @@ TEST(VrApp, ExistingJournalIsNeverWiped) {
   EXPECT_EQ(forced.exit_code, 0) << forced.err;
 }
 
+// Issue 10: older builds journalled a height take below the calibrated floor and then stopped
+// with exit 1, on every --resume again. That journal now resumes at the height step (the bad take
+// is skipped) and the rest of the session completes with the true measurements.
+TEST(VrApp, TheOldFailingJournalResumes) {
+  const std::string dir = work_dir("old_failing_journal");
+  const Json truth = simulate(dir, "log.jsonl", "--role self --noise 0.0");
+  ASSERT_EQ(run_vr(dir, "--replay log.jsonl --no-audio --out full --draw-every 0").exit_code, 0);
+  const caliper::JournalContents full = caliper::read_journal(dir + "/full/journal.jsonl");
+  // The old journal: the floor calibration, then the first height take, 5 cm below the floor.
+  std::vector<caliper::JournalRecord> old;
+  double floor_done = -1.0, bad_take = -1.0;
+  for (const caliper::JournalRecord& r : full.records) {
+    if (r.type == "floor_sample") floor_done = r.time;
+    if (r.type == "sample" && r.step == "height") {
+      caliper::JournalRecord bad = r;
+      bad.points.at(0).y() = -0.05;
+      bad.value = -0.05;
+      old.push_back(bad);
+      bad_take = r.time;
+      break;
+    }
+    old.push_back(r);
+  }
+  ASSERT_GT(floor_done, 0.0);
+  ASSERT_GT(bad_take, floor_done);
+  fs::create_directories(dir + "/out");
+  {
+    caliper::JournalWriter w =
+        caliper::JournalWriter::create(dir + "/out/journal.jsonl", full.header);
+    for (const caliper::JournalRecord& r : old) w.append(r);
+  }
+  // The pose source after the crash: from the first quiet frame after the floor calibration,
+  // so that both height takes are in it.
+  caliper::PoseLog log = caliper::read_pose_log(dir + "/log.jsonl");
+  size_t from = 0;
+  for (const double q : truth.at("quiet_frames").as_numbers()) {
+    from = static_cast<size_t>(q);
+    if (log.frames.at(from).time > floor_done) break;
+  }
+  ASSERT_LT(log.frames.at(from).time, bad_take) << "no quiet frame before the height take";
+  log.frames.erase(log.frames.begin(), log.frames.begin() + static_cast<long>(from));
+  caliper::write_pose_log(dir + "/rest.jsonl", log);
+
+  const RunResult r = run_vr(dir, "--replay rest.jsonl --resume out/journal.jsonl" + kReplayArgs);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  expect_session_matches(dir, truth);
+}
+
+// Issue 10: a second run with the same --record file does not replace the first recording.
+TEST(VrApp, ExistingRecordingIsNeverReplaced) {
+  const std::string dir = work_dir("existing_recording");
+  simulate(dir, "log.jsonl", "--role self");
+  const std::string args = "--replay log.jsonl --no-audio --draw-every 0 --max-frames 200 ";
+  ASSERT_EQ(run_vr(dir, args + "--out a --record rec.jsonl").exit_code, 3);
+  const std::string recording = read_file(dir + "/rec.jsonl");
+  ASSERT_FALSE(recording.empty());
+  const RunResult again = run_vr(dir, args + "--out b --record rec.jsonl");
+  EXPECT_EQ(again.exit_code, 1) << again.err;
+  EXPECT_NE(again.err.find("rec.jsonl already exists"), std::string::npos) << again.err;
+  EXPECT_NE(again.err.find("--force"), std::string::npos) << again.err;
+  EXPECT_EQ(read_file(dir + "/rec.jsonl"), recording) << "the recording must be untouched";
+  EXPECT_FALSE(fs::exists(dir + "/b")) << "refused before any work";
+  EXPECT_EQ(run_vr(dir, args + "--out c --record rec.jsonl --force").exit_code, 3);
+}
+
 TEST(VrApp, OddOptionsAreUsageErrors) {
   const std::string dir = work_dir("odd_options");
   simulate(dir, "log.jsonl", "--role self");
@@ -515,6 +581,15 @@ TEST(VrApp, OddOptionsAreUsageErrors) {
   const RunResult frames = run_vr(dir, "--replay log.jsonl --no-audio --max-frames 1e300");
   EXPECT_EQ(frames.exit_code, 2) << frames.err;
   EXPECT_NE(frames.err.find("--max-frames needs a whole number"), std::string::npos) << frames.err;
+  for (const char* weight : {"1e308", "-5", "0.5", "nan"}) {
+    const RunResult r =
+        run_vr(dir, std::string("--replay log.jsonl --no-audio --weight ") + weight);
+    EXPECT_EQ(r.exit_code, 2) << weight << ": " << r.err;
+    EXPECT_NE(r.err.find("--weight"), std::string::npos) << r.err;
+  }
+  const RunResult sim = run_vr(dir, "--simulate s.jsonl --weight 1e308");
+  EXPECT_EQ(sim.exit_code, 2) << sim.err;
+  EXPECT_FALSE(fs::exists(dir + "/s.jsonl"));
   EXPECT_FALSE(fs::exists(dir + "/caliper-journal.jsonl")) << "refused before any work";
 }
 

@@ -326,6 +326,7 @@ CsvTable parse_csv(const std::string& text, const std::string& source, bool per_
   size_t i = 0;
   // Skip a UTF-8 byte order mark.
   if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) i = 3;
+  size_t row_start = i;  // first byte of the current row's line
   auto end_row = [&]() {
     row.push_back(cell);
     cell.clear();
@@ -349,9 +350,39 @@ CsvTable parse_csv(const std::string& text, const std::string& source, bool per_
     row.clear();
     row_has_content = false;
   };
+  // With per-row errors, a data row whose quoted cell is not closed on its own line (a stray ")
+  // is an error row of that line alone, its cells split at commas; reading goes on at the next
+  // line, so one typo never swallows the rows after it.
+  auto unclosed_quote_row = [&](size_t line_end) {
+    std::string text_line = text.substr(row_start, line_end - row_start);
+    if (!text_line.empty() && text_line.back() == '\r') text_line.pop_back();
+    std::vector<std::string> cells(1);
+    for (char ch : text_line) {
+      if (ch == ',')
+        cells.emplace_back();
+      else if (ch != '"')
+        cells.back() += ch;
+    }
+    cells.resize(t.header.size());
+    t.rows.push_back(std::move(cells));
+    t.line_numbers.push_back(row_line);
+    t.row_errors.push_back(source + ":" + std::to_string(row_line) +
+                           ": a quoted cell is not closed on this line; check for a stray \"");
+    row.clear();
+    cell.clear();
+    in_quotes = false;
+    row_has_content = false;
+  };
   for (; i < text.size(); ++i) {
     const char c = text[i];
     if (in_quotes) {
+      if (c == '\n' && per_row_errors && !t.header.empty()) {
+        unclosed_quote_row(i);
+        ++line;
+        row_line = line;
+        row_start = i + 1;
+        continue;
+      }
       if (c == '"') {
         if (i + 1 < text.size() && text[i + 1] == '"') {
           cell += '"';
@@ -378,10 +409,12 @@ CsvTable parse_csv(const std::string& text, const std::string& source, bool per_
       end_row();
       ++line;
       row_line = line;
+      row_start = i + 1;
     } else {
       cell += c;
     }
   }
+  if (in_quotes && per_row_errors && !t.header.empty()) unclosed_quote_row(text.size());
   if (in_quotes) throw RuntimeError(source + ":" + std::to_string(row_line) + ": unclosed quote");
   if (!cell.empty() || !row.empty() || row_has_content) end_row();
   if (t.header.empty()) throw RuntimeError(source + ": empty CSV file (no header row)");

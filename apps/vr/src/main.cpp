@@ -60,11 +60,13 @@ const char* kUsage =
     "  --journal FILE       session journal (default: OUT/journal.jsonl, or "
     "./caliper-journal.jsonl)\n"
     "  --resume FILE        continue the session of this journal where it stopped\n"
-    "  --force              start a new session even when the journal file exists (it is\n"
-    "                       overwritten; without --force caliper-vr refuses and names --resume)\n"
+    "  --force              start a new session even when the journal (or the --record) file\n"
+    "                       exists (it is overwritten; without --force caliper-vr refuses and\n"
+    "                       names --resume)\n"
     "  --out DIR            write DIR/session.json and DIR/avatar.glb at the end\n"
     "  --record FILE        record every frame's poses and buttons as a pose log\n"
-    "  --weight KG --sex female|male   typed values (else from the operator window or the log)\n"
+    "  --weight KG --sex female|male   typed values (else from the operator window or the log;\n"
+    "                       weight 10 to 300 kg)\n"
     "  --model FILE | --models-dir DIR  body model (default: DIR/caliper-<sex>.npz)\n"
     "  --regressor R2|R4|R5|R6 (default R5)  --regressors FILE  --mapping FILE\n"
     "  --eye-size WxH       replay: size of each eye's image (default 320x356)\n"
@@ -156,6 +158,31 @@ long integer(const Args& a, const std::string& k, long fallback, long lo, long h
   return static_cast<long>(v);
 }
 
+/// --weight in kg, refused before any work when outside the human range (the range the
+/// session applies to a typed weight): a weight of 1e308 kg is a usage error, not a session that
+/// waits for a weight that never comes.
+double typed_weight(const Args& a, double fallback) {
+  const double kg = number(a, "--weight", fallback);
+  const caliper::MeasurementRange r = caliper::measurement_range("weight");
+  if (kg < r.error_min || kg > r.error_max) {
+    std::ostringstream s;
+    s << "--weight \"" << a.get("--weight") << "\" is not a plausible weight; give kilograms from "
+      << r.error_min << " to " << r.error_max << ", e.g. --weight 65";
+    throw std::invalid_argument(s.str());
+  }
+  return kg;
+}
+
+/// A recording never replaces an earlier one by accident (as the journal, app_options()).
+void check_record_path(const Args& a) {
+  if (!a.has("--record") || a.has("--force")) return;
+  std::error_code ec;
+  if (std::filesystem::exists(a.get("--record"), ec))
+    throw std::runtime_error(a.get("--record") +
+                             " already exists; record to another file, or add --force to "
+                             "overwrite it");
+}
+
 std::string assets_dir(const Args& a) {
   if (a.has("--assets")) return a.get("--assets");
   if (const auto found = caliper::find_assets_dir()) return *found;  // $CALIPER_ASSETS, ...
@@ -190,7 +217,7 @@ VrAppOptions app_options(const Args& a, const std::string& role, const std::stri
   const std::string controllers = a.get("--controllers", assets + "/protocol/controllers.json");
   o.tips = read_controller_config(controllers).offsets(profile);
   o.session.role = role;
-  if (a.has("--weight")) o.session.weight = number(a, "--weight", 0.0);
+  if (a.has("--weight")) o.session.weight = typed_weight(a, 0.0);
   if (a.has("--sex")) o.session.sex = a.get("--sex");
   o.avatar.model_path = a.get("--model");
   o.avatar.models_dir = a.get("--models-dir", assets + "/models");
@@ -260,6 +287,7 @@ int finish(VrApp& app, Audio& audio, const std::string& journal_path) {
 
 int run_replay(const Args& a) {
   const std::string log_path = a.get("--replay");
+  check_record_path(a);
   PoseLog log = read_pose_log(log_path);
   const std::string role = a.get("--role", log.header.role.empty() ? "self" : log.header.role);
   const std::string profile = log.header.interaction_profile;
@@ -422,7 +450,7 @@ int run_simulate(const Args& a) {
       betas[i++] = b;
     }
   }
-  const SimulatedPerson person = person_from_model(model, betas, number(a, "--weight", 65.0), sex);
+  const SimulatedPerson person = person_from_model(model, betas, typed_weight(a, 65.0), sex);
   SimulatorOptions o;
   o.seed = static_cast<std::uint64_t>(integer(a, "--seed", 1, 0, 1000000000000000L));
   o.role = a.get("--role", "self");
@@ -457,6 +485,7 @@ int run_simulate(const Args& a) {
 }
 
 int run_live(const Args& a) {
+  check_record_path(a);
   const std::string assets = assets_dir(a);
   LiveOptions live;
   live.role = a.get("--role", "self");
