@@ -8,9 +8,12 @@
 
 #include <gtest/gtest.h>
 
+#include "caliper_test/random_model.hpp"
 #include "caliper_test/write_fault.hpp"
 #include "smpl/atomic_file.hpp"
 #include "smpl/export.hpp"
+#include "smpl/gltf.hpp"
+#include "smpl/io.hpp"
 
 namespace {
 
@@ -87,6 +90,28 @@ TEST_F(AtomicFile, ExportersKeepThePreviousFileOnAFailedWrite) {
   EXPECT_EQ(file_bytes(obj), before);
   EXPECT_FALSE(fs::exists(dir_ / "m.ply"));
   EXPECT_TRUE(temporary_files_in(dir_).empty());
+}
+
+TEST_F(AtomicFile, ModelsAndAvatarsKeepThePreviousFileOnAFailedWrite) {
+  caliper::test::RandomModelOptions o;
+  o.num_betas = 4;
+  o.rings = 12;
+  o.segments = 12;
+  const smpl::BodyModel model = caliper::test::make_random_model(o);
+  const std::string previous = "the user's previous file\n";
+  const fs::path npz = dir_ / "model.npz", glb = dir_ / "avatar.glb";
+  std::ofstream(npz, std::ios::binary) << previous;
+  std::ofstream(glb, std::ios::binary) << previous;
+  {
+    const FileSizeLimit limit(previous.size() + 1);
+    EXPECT_THROW(smpl::save_model(model, npz.string()), smpl::WriteError);
+    EXPECT_THROW(smpl::write_gltf(glb.string(), model, Eigen::VectorXd::Zero(4)), smpl::WriteError);
+  }
+  EXPECT_EQ(file_bytes(npz), previous);
+  EXPECT_EQ(file_bytes(glb), previous);
+  EXPECT_TRUE(temporary_files_in(dir_).empty());
+  smpl::save_model(model, npz.string());  // the same writes succeed without the limit
+  EXPECT_GT(file_bytes(npz).size(), previous.size() + 1);
 }
 
 TEST_F(AtomicFile, AFullDeviceIsAnError) {
