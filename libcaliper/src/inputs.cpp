@@ -76,22 +76,38 @@ double parse_with_units(const std::string& typed, const std::string& what, bool 
     if (unit.empty()) {
       throw InvalidInputError(what + " '" + text + "': no unit given; state it, " + examples);
     }
-    const auto scale = unit_scale(unit);
-    const bool unit_is_length = scale && unit != "kg" && unit != "g" && unit != "lb" &&
-                                unit != "lbs" && unit != "KG" && unit != "Kg";
+    std::string u;  // units are case-insensitive: "5FT6IN" is "5ft6in"
+    for (char ch : unit) u += static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    const auto scale = unit_scale(u);
+    const bool unit_is_length = scale && u != "kg" && u != "g" && u != "lb" && u != "lbs";
     if (!scale || unit_is_length != is_length) {
       throw InvalidInputError(what + " '" + text + "': unknown unit '" + unit + "' (" + examples +
                               ")");
     }
-    // Only feet followed by inches may be combined ("5ft6in", "5'6\"").
-    if (parts == 1 && !(last_unit == "ft" || last_unit == "'" || last_unit == "feet")) {
-      throw InvalidInputError(what + " '" + text + "': only feet and inches may be combined (" +
-                              examples + ")");
-    }
-    if (parts >= 2)
+    const auto is_feet = [](const std::string& x) {
+      return x == "ft" || x == "'" || x == "feet" || x == "foot";
+    };
+    const bool is_inches = u == "in" || u == "inch" || u == "inches" || u == "\"";
+    if (parts >= 2) {
       throw InvalidInputError(what + " '" + text + "': too many parts (" + examples + ")");
+    }
+    // Only feet followed by inches may be combined ("5ft6in", "5'6\""), both not negative and
+    // the inches under 12: "5ft60cm" and "6ft-6in" are refused, not guessed.
+    if (parts == 1) {
+      if (!is_feet(last_unit) || !is_inches) {
+        throw InvalidInputError(what + " '" + text +
+                                "': only feet followed by inches may be combined (" + examples +
+                                ")");
+      }
+      if (total < 0.0 || v < 0.0 || v >= 12.0) {
+        throw InvalidInputError(what + " '" + text +
+                                "': in feet and inches, both are positive and the inches under "
+                                "12 (" +
+                                examples + ")");
+      }
+    }
     total += v * *scale;
-    last_unit = unit;
+    last_unit = u;
     ++parts;
   }
   if (parts == 0) throw InvalidInputError(what + ": empty value (" + examples + ")");

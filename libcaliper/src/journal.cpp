@@ -77,6 +77,11 @@ JournalContents parse_journal(const std::string& text, const std::string& name) 
             j.at("format").as_string() != kJournalFormat)
           throw JournalError(name + ":1: not a session journal (expected {\"format\": \"" +
                              std::string(kJournalFormat) + "\", ...})");
+        const Json* version = j.find("version");
+        if (!version || !version->is_number() || version->as_number() != 1.0)
+          throw JournalError(name + ":1: session journal version " +
+                             (version ? version->dump() : std::string("(none)")) +
+                             " is not supported (this build reads version 1)");
         c.header = j;
         c.has_header = true;
       } else {
@@ -108,6 +113,17 @@ JournalContents read_journal(const std::string& path) {
   std::ostringstream ss;
   ss << in.rdbuf();
   return parse_journal(ss.str(), path);
+}
+
+void check_journal_protocol(const JournalContents& contents, const std::string& protocol_name,
+                            const std::string& path) {
+  if (!contents.has_header) return;
+  const Json* p = contents.header.find("protocol");
+  if (!p) return;
+  if (!p->is_string() || p->as_string() != protocol_name)
+    throw JournalError(path + ": the journal was written with the protocol " + p->dump() +
+                       ", this session uses \"" + protocol_name +
+                       "\"; resume with the same --protocol, or start a new session");
 }
 
 JournalWriter JournalWriter::create(const std::string& path, Json header) {

@@ -1,6 +1,8 @@
 // A small JSON reader and writer (RFC 8259) for the project's own files.
 #include "caliper/json.hpp"
 
+#include "smpl/atomic_file.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -389,8 +391,26 @@ std::vector<double> Json::as_numbers() const {
   return out;
 }
 
+Json::Json(const Json& o)
+    : type_(o.type_),
+      bool_(o.bool_),
+      number_(o.number_),
+      string_(o.string_),
+      array_(o.array_),
+      object_(o.object_),
+      index_(o.index_ ? std::make_unique<Index>(*o.index_) : nullptr) {}
+
+Json& Json::operator=(const Json& o) {
+  if (this != &o) *this = Json(o);
+  return *this;
+}
+
 const Json* Json::find(const std::string& key) const {
   if (type_ != Type::Object) return nullptr;
+  if (index_) {
+    const auto it = index_->find(key);
+    return it == index_->end() ? nullptr : &object_[it->second].second;
+  }
   for (const auto& [k, v] : object_) {
     if (k == key) return &v;
   }
@@ -405,13 +425,18 @@ const Json& Json::at(const std::string& key) const {
 Json& Json::set(const std::string& key, Json value) {
   if (type_ == Type::Null) type_ = Type::Object;
   if (type_ != Type::Object) type_error("an object", type_);
-  for (auto& [k, v] : object_) {
-    if (k == key) {
-      v = std::move(value);
-      return v;
-    }
+  if (Json* existing = const_cast<Json*>(find(key))) {  // a duplicate key: the last one wins
+    *existing = std::move(value);
+    return *existing;
   }
   object_.emplace_back(key, std::move(value));
+  if (index_) {
+    index_->emplace(key, object_.size() - 1);
+  } else if (object_.size() >= kIndexFrom) {
+    index_ = std::make_unique<Index>();
+    index_->reserve(2 * object_.size());
+    for (size_t i = 0; i < object_.size(); ++i) index_->emplace(object_[i].first, i);
+  }
   return object_.back().second;
 }
 void Json::push_back(Json value) {
@@ -505,18 +530,7 @@ Json read_json_file(const std::string& path) {
 }
 
 void write_json_file(const std::string& path, const Json& value) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw JsonError(path + ": cannot open the file for writing");
-    out << value.dump(2) << '\n';
-    out.flush();
-    if (!out) throw JsonError(path + ": writing failed (disk full?)");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw JsonError(path + ": cannot replace the file");
-  }
+  smpl::write_file_atomic(path, value.dump(2) + "\n");
 }
 
 }  // namespace caliper

@@ -81,10 +81,10 @@ const LandmarkTable& smpl_landmarks() {
   static const LandmarkTable table = {
       {"head_top", {411}},        {"left_fingertip", {2445}}, {"right_fingertip", {5905}},
       {"left_wrist", {2241}},     {"right_wrist", {5702}},    {"left_shoulder", {3011}},
-      {"right_shoulder", {5290}}, {"left_elbow", {1657}},     {"right_elbow", {5129}},
+      {"right_shoulder", {5290}}, {"left_elbow", {1657}},     {"right_elbow", {5126}},
       {"crotch", {1209}},         {"left_hip", {3129}},       {"right_hip", {6550}},
-      {"left_nipple", {3042}},    {"right_nipple", {6488}},   {"navel", {3500}},
-      {"left_heel", {3387}},      {"right_heel", {6787}},     {"left_sole", {3264}},
+      {"left_nipple", {3042}},    {"right_nipple", {6489}},   {"navel", {3501}},
+      {"left_heel", {3387}},      {"right_heel", {6786}},     {"left_sole", {3264}},
       {"right_sole", {6664}},
   };
   return table;
@@ -228,9 +228,11 @@ MeasurementMap measure_all(const smpl::BodyModel& model, const smpl::Vertices& v
   }
   const LandmarkTable landmarks = landmarks_for(model);
   MeasurementMap out = measure(vertices, landmarks);
-  const double volume = mesh_volume(vertices, model.faces);
-  out["volume"] = volume;
-  out["weight"] = weight_from_volume(volume, weight_formula_for(model.meta.gender));
+  if (open_edge_count(model.faces) == 0) {  // a volume needs a closed surface
+    const double volume = mesh_volume(vertices, model.faces);
+    out["volume"] = volume;
+    out["weight"] = weight_from_volume(volume, weight_formula_for(model.meta.gender));
+  }
   if (options.circumferences) {
     for (const auto& [id, value] :
          circumferences(vertices, model.faces, landmarks, options.convex_hull)) {

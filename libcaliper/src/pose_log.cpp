@@ -7,6 +7,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "smpl/atomic_file.hpp"
+
 namespace caliper {
 namespace {
 
@@ -126,11 +128,11 @@ PoseLogHeader parse_header(const Json& j, const std::string& name) {
   PoseLogHeader h;
   const Json* v = j.find("version");
   if (!v || !v->is_number()) fail(name, 1, "the header has no \"version\"");
-  h.version = static_cast<int>(v->as_number());
-  if (h.version != kFormatVersion)
+  // Compared as a number before any cast: a version of 1e300 must not be cast to int (UB).
+  if (v->as_number() != static_cast<double>(kFormatVersion))
     fail(name, 1,
-         "pose log version " + std::to_string(h.version) +
-             " is not supported (this build reads version 1)");
+         "pose log version " + v->dump() + " is not supported (this build reads version 1)");
+  h.version = kFormatVersion;
   if (const Json* u = j.find("units"); u && (!u->is_string() || u->as_string() != "metres"))
     fail(name, 1, "\"units\" must be \"metres\"");
   if (const Json* s = j.find("reference_space"); s && s->is_string())
@@ -384,17 +386,27 @@ void PoseLogWriter::write(const PoseFrame& frame) {
     throw PoseLogError(path_ + ": cannot append to the pose log (disk full?)", 0);
 }
 
-void PoseLogWriter::write_lost(const std::string& reason) {
+namespace {
+
+// The record that ends a log whose pose source was lost.
+std::string pose_log_lost_line(const std::string& reason) {
   Json j = Json::object();
   j.set("lost", reason.empty() ? std::string("the source was lost") : reason);
-  if (!file_.append_line(j.dump()))
+  return j.dump();
+}
+
+}  // namespace
+
+void PoseLogWriter::write_lost(const std::string& reason) {
+  if (!file_.append_line(pose_log_lost_line(reason)))
     throw PoseLogError(path_ + ": cannot append to the pose log (disk full?)", 0);
 }
 
 void write_pose_log(const std::string& path, const PoseLog& log) {
-  PoseLogWriter w(path, log.header);
-  for (const PoseFrame& f : log.frames) w.write(f);
-  if (!log.lost.empty()) w.write_lost(log.lost);
+  std::string text = pose_log_header_line(log.header) + "\n";
+  for (const PoseFrame& f : log.frames) text += pose_log_frame_line(f) + "\n";
+  if (!log.lost.empty()) text += pose_log_lost_line(log.lost) + "\n";
+  smpl::write_file_atomic(path, text);
 }
 
 }  // namespace caliper

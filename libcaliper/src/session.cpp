@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 #include "caliper/errors.hpp"
+#include "caliper/measurements.hpp"
 #include "caliper/protocol.hpp"
 
 namespace caliper {
@@ -14,8 +16,13 @@ namespace {
 
 std::string fmt(double v, int decimals) {
   std::ostringstream s;
-  s.setf(std::ios::fixed);
-  s.precision(decimals);
+  if (std::abs(v) < 1e9) {
+    s.setf(std::ios::fixed);  // an absurd value is printed short: 1e308 as 1.000e+308
+    s.precision(decimals);
+  } else {
+    s.setf(std::ios::scientific);
+    s.precision(3);
+  }
   s << v;
   return s.str();
 }
@@ -226,6 +233,15 @@ std::vector<SessionEvent> MeasuringSession::update(const SessionFrame& frame) {
       return events;
     }
   }
+  if (view_.phase == Phase::Steps) {
+    // A take must be a length: a tip below the calibrated floor (the floor moved, or was
+    // calibrated on a raised surface) is a rejected sample to retake, never the end of the session.
+    const std::string why = bad_take(*current_step(), means);
+    if (!why.empty()) {
+      reject(why, false);
+      return events;
+    }
+  }
   hold_state_ = HoldState::WaitRelease;
   view_.holding = false;
   view_.hold_progress = 0.0;
@@ -234,6 +250,17 @@ std::vector<SessionEvent> MeasuringSession::update(const SessionFrame& frame) {
   else
     append(events, accept_step(means, frame.time, view_.hold_hand));
   return events;
+}
+
+std::string MeasuringSession::bad_take(const ProtocolStep& step,
+                                       const std::vector<Eigen::Vector3d>& tips) const {
+  const double value = step_value(step, tips);
+  if (std::isfinite(value) && value > 0.0) return "";
+  if (step.kind == StepKind::Height)
+    return "The tip was " + fmt(-value * 1000.0, 1) +
+           " mm below the calibrated floor; put it on the top of the head and take it again (if "
+           "this repeats, redo the floor calibration).";
+  return "The two tips were at the same point; put them on the two landmarks and take it again.";
 }
 
 std::vector<SessionEvent> MeasuringSession::accept_floor(const Eigen::Vector3d& point, double time,
@@ -406,6 +433,18 @@ std::vector<SessionEvent> MeasuringSession::set_typed(const std::string& measure
       view_.message = s.title + ": type a positive number.";
       return events;
     }
+    // A typed value outside the human range (a weight of 1e308 kg) is refused like a bad take.
+    std::optional<MeasurementRange> range;
+    try {
+      range = measurement_range(measurement);
+    } catch (const InvalidInputError&) {
+    }
+    if (range && (value.as_number() < range->error_min || value.as_number() > range->error_max)) {
+      view_.message = s.title + ": " + fmt(value.as_number(), 1) + " " + s.unit +
+                      " is not a plausible value (expected " + fmt(range->error_min, 1) + " to " +
+                      fmt(range->error_max, 1) + " " + s.unit + "); type it again.";
+      return events;
+    }
     st.value = value.as_number();
     shown = fmt(value.as_number(), 1) + " " + s.unit;
   } else if (s.kind == StepKind::TypedChoice) {
@@ -559,7 +598,9 @@ void MeasuringSession::apply(const JournalRecord& r) {
     const ProtocolStep* s = current_step();
     if (!s || s->id != r.step) mismatch("the session is not at that step");
     if (r.points.size() != s->tips.size()) mismatch("wrong number of tip positions");
-    accept_step(r.points, r.time, Tip::Right);
+    // A take that is rejected today (journalled by an older build: a tip below the floor) is
+    // skipped, so that such a journal still resumes, at that step.
+    if (bad_take(*s, r.points).empty()) accept_step(r.points, r.time, Tip::Right);
   } else if (r.type == "typed") {
     const int i = protocol_.find_step(r.step);
     if (i < 0) mismatch("no such step");

@@ -93,6 +93,14 @@ ShapeMeasurer::ShapeMeasurer(const smpl::BodyModel& model, const LandmarkTable& 
                             std::to_string(model.shapedirs.rows()) + " rows, expected 3 x " +
                             std::to_string(V));
   }
+  // A model whose shape blend shapes are all zero cannot change shape: a broken model file,
+  // not an implausible input (issue 10).
+  if (model.shapedirs.leftCols(num_betas_).cwiseAbs().maxCoeff() == 0.0) {
+    throw smpl::ModelError("model '" + model.meta.name + "': its shape blend shapes (shapedirs, " +
+                           std::to_string(num_betas_) +
+                           " components) are all zero, so no body shape can be made or fitted; "
+                           "the model file is broken or was saved without them");
+  }
   const int k = num_betas_;
   // Landmarks as affine maps of beta.
   std::map<std::string, int> index;

@@ -2,7 +2,9 @@
 #include "caliper/volume.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <string>
+#include <unordered_map>
 
 #include <Eigen/Geometry>
 
@@ -34,6 +36,27 @@ double mesh_volume(const smpl::Vertices& vertices, const smpl::Faces& faces) {
     sum += a.dot(b.cross(c));
   }
   return sum / 6.0;
+}
+
+long open_edge_count(const smpl::Faces& faces) {
+  // Directed edge (a, b) as one 64-bit key; a closed surface has each directed edge once and
+  // its reverse once.
+  std::unordered_map<std::uint64_t, int> directed;
+  directed.reserve(static_cast<size_t>(faces.rows()) * 3);
+  const auto key = [](std::uint32_t a, std::uint32_t b) {
+    return (static_cast<std::uint64_t>(a) << 32) | b;
+  };
+  for (Eigen::Index f = 0; f < faces.rows(); ++f)
+    for (int k = 0; k < 3; ++k)
+      ++directed[key(static_cast<std::uint32_t>(faces(f, k)),
+                     static_cast<std::uint32_t>(faces(f, (k + 1) % 3)))];
+  long open = 0;
+  for (const auto& [e, n] : directed) {
+    const auto a = static_cast<std::uint32_t>(e >> 32), b = static_cast<std::uint32_t>(e);
+    const auto reverse = directed.find(key(b, a));
+    if (n != 1 || reverse == directed.end() || reverse->second != 1) ++open;
+  }
+  return open;
 }
 
 }  // namespace caliper

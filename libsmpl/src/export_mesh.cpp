@@ -1,9 +1,7 @@
-// Export options shared by every format, atomic file writing, and mesh export: Wavefront OBJ
+// Export options shared by every format, and mesh export: Wavefront OBJ
 // (text) and PLY 1.0 (binary little endian), with per-vertex normals, an axis convention and
 // the avatar's metadata in a comment.
 #include <algorithm>
-#include <atomic>
-#include <cerrno>
 #include <cmath>
 #include <cstdarg>
 #include <cstdint>
@@ -13,10 +11,9 @@
 #include <utility>
 #include <vector>
 
-#include <unistd.h>
-
 #include <Eigen/Geometry>
 
+#include "smpl/atomic_file.hpp"
 #include "smpl/export.hpp"
 
 namespace smpl {
@@ -140,35 +137,6 @@ Vertices from_up_axis(const Vertices& vertices, UpAxis up) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Atomic file writing
-// ---------------------------------------------------------------------------------------------
-
-void write_file_atomically(const std::string& path, const std::string& bytes) {
-  static std::atomic<unsigned> counter{0};
-  const std::string tmp =
-      path + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter.fetch_add(1));
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) {
-    throw ModelError(path + ": cannot open for writing (" + std::strerror(errno) +
-                     "); check that the folder exists and is writable");
-  }
-  const size_t written = bytes.empty() ? 0 : std::fwrite(bytes.data(), 1, bytes.size(), f);
-  int err = written == bytes.size() ? 0 : errno;
-  if (std::fflush(f) != 0 && err == 0) err = errno;
-  if (std::fclose(f) != 0 && err == 0) err = errno;
-  if (written != bytes.size() || err != 0) {
-    std::remove(tmp.c_str());
-    throw ModelError(path + ": writing failed (" + std::strerror(err ? err : EIO) +
-                     "); is the disk full? The previous file, if any, is unchanged");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    err = errno;
-    std::remove(tmp.c_str());
-    throw ModelError(path + ": cannot replace the file (" + std::strerror(err) + ")");
-  }
-}
-
-// ---------------------------------------------------------------------------------------------
 // OBJ and PLY
 // ---------------------------------------------------------------------------------------------
 
@@ -214,7 +182,7 @@ void write_obj(const std::string& path, const Vertices& vertices_y_up, const Fac
     const int a = faces(i, 0) + 1, b = faces(i, 1) + 1, c = faces(i, 2) + 1;
     appendf(out, "f %d//%d %d//%d %d//%d\n", a, a, b, b, c, c);
   }
-  write_file_atomically(path, out);
+  write_file_atomic(path, out);
 }
 
 void write_ply(const std::string& path, const Vertices& vertices_y_up, const Faces& faces,
@@ -250,7 +218,7 @@ void write_ply(const std::string& path, const Vertices& vertices_y_up, const Fac
     put(&three, 1);
     put(ids, sizeof ids);
   }
-  write_file_atomically(path, buf);
+  write_file_atomic(path, buf);
 }
 
 void write_mesh_avatar(const std::string& path, const BodyModel& model,

@@ -22,6 +22,7 @@
 #include <assimp/Importer.hpp>
 #pragma GCC diagnostic pop
 
+#include "smpl/atomic_file.hpp"
 #include "smpl/evaluate.hpp"
 
 namespace smpl {
@@ -431,7 +432,7 @@ std::vector<std::uint8_t> fbx_bytes(const BodyModel& model,
 void write_fbx(const std::string& path, const BodyModel& model,
                const Eigen::Ref<const Eigen::VectorXd>& betas, const ExportOptions& options) {
   if (!ends_with_ci(path, ".fbx")) throw ModelError(path + ": an FBX file name must end in .fbx");
-  write_file_atomically(path, export_fbx(model, betas, options, path));
+  write_file_atomic(path, export_fbx(model, betas, options, path));
 }
 
 // ---------------------------------------------------------------------------------------------

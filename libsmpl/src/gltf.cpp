@@ -8,6 +8,7 @@
 // Sections: 1. buffer building helpers  2. avatar -> tinygltf::Model  3. write_gltf / glb_bytes
 //           4. VRM  5. reading limits  6. accessor reading  7. read_gltf
 #include "smpl/gltf.hpp"
+#include "smpl/atomic_file.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -376,7 +377,7 @@ void write_gltf(const std::string& path, const BodyModel& model,
   if (!binary && !ends_with(path, ".gltf")) {
     throw ModelError(path + ": unknown glTF file extension; use .glb (binary) or .gltf (JSON)");
   }
-  write_file_atomically(path, serialise(build_model(model, betas, options, path), binary, path));
+  write_file_atomic(path, serialise(build_model(model, betas, options, path), binary, path));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -517,7 +518,7 @@ std::vector<std::uint8_t> vrm_bytes(const BodyModel& model,
 void write_vrm(const std::string& path, const BodyModel& model,
                const Eigen::Ref<const Eigen::VectorXd>& betas, const ExportOptions& options) {
   if (!ends_with(path, ".vrm")) throw ModelError(path + ": a VRM file name must end in .vrm");
-  write_file_atomically(path, serialise(build_vrm(model, betas, options, path), true, path));
+  write_file_atomic(path, serialise(build_vrm(model, betas, options, path), true, path));
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -13,8 +13,9 @@
 namespace smpl {
 namespace {
 
+// `what` may carry keys, dtypes and type names read from the file: escaped (pickle.hpp).
 [[noreturn]] void fail(const std::string& context, const std::string& what) {
-  throw ModelError(context + ": " + what);
+  throw ModelError(context + ": " + printable(what));
 }
 
 constexpr std::uint64_t kUint32Minus1 = 0xFFFFFFFFull;
@@ -352,6 +353,7 @@ bool starts_with(const std::uint8_t* bytes, std::size_t size, const char* magic,
 
 BodyModel load_model_from_memory(const std::uint8_t* bytes, std::size_t size,
                                  const std::string& context, const LoadOptions& options) {
+  if (is_git_lfs_pointer(bytes, size)) fail(context, kLfsPointerMessage);
   if (starts_with(bytes, size, "PK\x03\x04", 4) || starts_with(bytes, size, "PK\x05\x06", 4)) {
     const NpzReader npz(bytes, size, context);
     return build_model(Source(npz, context), options);

@@ -157,12 +157,37 @@ class Unpickler {
   PickleDict run();
 
  private:
+  // Error paths. Names taken from the file (keys, class names, dtypes) are escaped by
+  // printable(): a message never carries raw bytes or terminal escapes.
   [[noreturn]] void fail(const std::string& what) const {
-    throw ModelError(context_ + ": " + what + " (pickle byte " + std::to_string(op_pos_) + ")");
+    throw ModelError(context_ + ": " + printable(what) + " (pickle byte " +
+                     std::to_string(op_pos_) + ")");
   }
-  [[noreturn]] void truncated() const {
-    throw ModelError(context_ + ": truncated pickle: the data ends at byte " +
-                     std::to_string(size_) + " in the middle of an opcode or before STOP");
+  /// The file ends although `need` more bytes were expected at pos_: names the top-level key
+  /// being read and the bytes missing.
+  [[noreturn]] void truncated(std::size_t need) const {
+    const std::size_t have = size_ - pos_;
+    const std::string key = key_being_read();
+    throw ModelError(context_ + ": truncated pickle: the file ends at byte " +
+                     std::to_string(size_) + ", " + std::to_string(need - have) +
+                     (op_pos_ + 1 == pos_ && need == 1 ? " or more bytes" : " bytes") +
+                     " short of the opcode at byte " + std::to_string(op_pos_) +
+                     (key.empty() ? std::string(" (before the first key)")
+                                  : " (while reading key '" + printable(key) + "')") +
+                     "; the download or copy was cut: fetch the file again");
+  }
+  /// The last top-level key on the stack: the strings at even offsets above the outermost MARK
+  /// (the model dict's SETITEMS batch holds key, value, key, value, ...). "" when none.
+  std::string key_being_read() const {
+    if (marks_.empty()) return "";
+    const std::size_t end = marks_.size() > 1 ? marks_[1] : stack_.size();
+    std::string key;
+    for (std::size_t i = marks_[0]; i < end && i < stack_.size(); i += 2) {
+      const std::size_t id = stack_[i];
+      if (id < objs_.size() && (objs_[id].type == Type::kStr || objs_[id].type == Type::kBytes))
+        key = objs_[id].text;
+    }
+    return key;
   }
 
   // Charges `bytes` made or visited for `what`; refuses the file when the total passes the budget.
@@ -181,7 +206,7 @@ class Unpickler {
   }
 
   const std::uint8_t* take(std::size_t n) {
-    if (n > size_ - pos_) truncated();
+    if (n > size_ - pos_) truncated(n);
     const std::uint8_t* q = p_ + pos_;
     pos_ += n;
     return q;
@@ -343,7 +368,7 @@ PickleDict Unpickler::run() {
       }
       case 0x95: {  // FRAME: only a hint for buffered readers
         const std::uint64_t n = le(8);
-        if (n > size_ - pos_) truncated();
+        if (n > size_ - pos_) truncated(static_cast<std::size_t>(n));
         break;
       }
       case '.': {  // STOP
@@ -862,8 +887,38 @@ PickleValue Unpickler::convert(std::size_t id, const std::string& key, int depth
 
 }  // namespace
 
+const char* const kLfsPointerMessage =
+    "this is a Git LFS pointer file, not the model: the real file was never downloaded; run "
+    "`git lfs pull` in the repository it came from (or download the model again)";
+
+std::string printable(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (const char ch : text) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c == '\\') {
+      out += "\\\\";
+    } else if (c >= 0x20 && c < 0x7f) {
+      out += ch;
+    } else {
+      const char* digits = "0123456789abcdef";
+      out += "\\x";
+      out += digits[c >> 4];
+      out += digits[c & 15];
+    }
+  }
+  return out;
+}
+
+bool is_git_lfs_pointer(const std::uint8_t* bytes, std::size_t size) {
+  static const char kMagic[] = "version https://git-lfs.github.com/spec/";
+  const std::size_t n = sizeof kMagic - 1;
+  return size >= n && size < 1024 && std::memcmp(bytes, kMagic, n) == 0;
+}
+
 PickleDict parse_pickle(const std::uint8_t* bytes, std::size_t size, const std::string& context,
                         const PickleLimits& limits) {
+  if (is_git_lfs_pointer(bytes, size)) throw ModelError(context + ": " + kLfsPointerMessage);
   return Unpickler(bytes, size, context, limits).run();
 }
 

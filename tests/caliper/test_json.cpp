@@ -80,4 +80,41 @@ TEST(Json, DumpRefusesNaN) {
   EXPECT_THROW(Json(std::numeric_limits<double>::quiet_NaN()).dump(), JsonError);
 }
 
+// Issue 10: objects of many keys are read and built in linear time (the timing is in
+// tests/bench/bench_json.cpp); here the behaviour that the key index must keep.
+TEST(Json, ManyKeysKeepOrderLookupAndDuplicates) {
+  constexpr int kKeys = 5000;  // well above the size from which objects keep a key index
+  std::string text = "{";
+  for (int i = 0; i < kKeys; ++i)
+    text += (i ? ",\"k" : "\"k") + std::to_string(i) + "\":" + std::to_string(i);
+  text += ",\"k17\":-1}";  // a duplicate key: the last value wins, in the first position
+  const Json j = parse_json(text);
+  ASSERT_EQ(j.size(), static_cast<size_t>(kKeys));
+  for (int i = 0; i < kKeys; ++i)
+    ASSERT_EQ(j.at("k" + std::to_string(i)).as_number(), i == 17 ? -1.0 : i) << i;
+  EXPECT_EQ(j.find("k5000"), nullptr);
+  EXPECT_EQ(j.as_object()[17].first, "k17");
+  EXPECT_EQ(j.as_object()[kKeys - 1].first, "k" + std::to_string(kKeys - 1));
+  EXPECT_EQ(parse_json(j.dump()).dump(), j.dump());
+}
+
+TEST(Json, CopiesOfLargeObjectsAreIndependent) {
+  Json a = Json::object();
+  for (int i = 0; i < 40; ++i) a.set("k" + std::to_string(i), i);
+  Json b = a;
+  b.set("k3", "changed");
+  b.set("new", true);
+  EXPECT_EQ(a.at("k3").as_number(), 3.0);
+  EXPECT_EQ(a.find("new"), nullptr);
+  EXPECT_EQ(b.at("k3").as_string(), "changed");
+  EXPECT_TRUE(b.at("new").as_bool());
+  Json c;
+  c = b;
+  b.set("k0", "b only");
+  EXPECT_EQ(c.at("k0").as_number(), 0.0);
+  const Json moved = std::move(c);
+  EXPECT_TRUE(moved.at("new").as_bool());
+  EXPECT_EQ(moved.size(), 41u);
+}
+
 }  // namespace

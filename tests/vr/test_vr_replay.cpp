@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "caliper/avatar.hpp"
+#include "caliper/journal.hpp"
 #include "caliper/json.hpp"
 #include "caliper/pose_log.hpp"
 #include "caliper/regressor.hpp"
@@ -671,6 +672,132 @@ TEST(VrApp, EmbodimentGoldenImages) {
     EXPECT_LE(d.mean_abs, kGoldenMaxMeanAbs) << name;
     EXPECT_LE(d.fraction_over, kGoldenMaxFractionOver) << name;
   }
+}
+
+// Issue 10: a new session never wipes an earlier journal; --resume refuses a journal of another
+// protocol; --force starts over.
+TEST(VrApp, ExistingJournalIsNeverWiped) {
+  const std::string dir = work_dir("existing_journal");
+  simulate(dir, "log.jsonl", "--role self");
+  ASSERT_EQ(run_vr(dir, "--replay log.jsonl --no-audio --out out --draw-every 0 --max-frames 900")
+                .exit_code,
+            3);
+  const std::string journal = read_file(dir + "/out/journal.jsonl");
+  ASSERT_FALSE(journal.empty());
+  const RunResult again = run_vr(dir, "--replay log.jsonl --no-audio --out out --draw-every 0");
+  EXPECT_EQ(again.exit_code, 1) << again.err;
+  EXPECT_NE(again.err.find("out/journal.jsonl already holds a session journal"), std::string::npos)
+      << again.err;
+  EXPECT_NE(again.err.find("caliper-vr --replay log.jsonl --resume out/journal.jsonl --out out"),
+            std::string::npos)
+      << again.err;
+  EXPECT_NE(again.err.find("--force"), std::string::npos) << again.err;
+  EXPECT_EQ(read_file(dir + "/out/journal.jsonl"), journal) << "the journal must be untouched";
+
+  // A journal of another protocol is refused by --resume, naming both protocols.
+  std::string other = journal;
+  const size_t p = other.find("\"protocol\":\"");
+  ASSERT_NE(p, std::string::npos) << journal.substr(0, 200);
+  other.insert(p + 12, "another ");
+  std::ofstream(dir + "/other.jsonl") << other;
+  const RunResult resumed =
+      run_vr(dir, "--replay log.jsonl --no-audio --draw-every 0 --resume other.jsonl");
+  EXPECT_EQ(resumed.exit_code, 1) << resumed.err;
+  EXPECT_NE(resumed.err.find("the journal was written with the protocol \"another "),
+            std::string::npos)
+      << resumed.err;
+
+  const RunResult forced =
+      run_vr(dir, "--replay log.jsonl --no-audio --out out --draw-every 0 --force");
+  EXPECT_EQ(forced.exit_code, 0) << forced.err;
+}
+
+// Issue 10: older builds journalled a height take below the calibrated floor and then stopped
+// with exit 1, on every --resume again. That journal now resumes at the height step (the bad take
+// is skipped) and the rest of the session completes with the true measurements.
+TEST(VrApp, TheOldFailingJournalResumes) {
+  const std::string dir = work_dir("old_failing_journal");
+  const Json truth = simulate(dir, "log.jsonl", "--role self --noise 0.0");
+  ASSERT_EQ(run_vr(dir, "--replay log.jsonl --no-audio --out full --draw-every 0").exit_code, 0);
+  const caliper::JournalContents full = caliper::read_journal(dir + "/full/journal.jsonl");
+  // The old journal: the floor calibration, then the first height take, 5 cm below the floor.
+  std::vector<caliper::JournalRecord> old;
+  double floor_done = -1.0, bad_take = -1.0;
+  for (const caliper::JournalRecord& r : full.records) {
+    if (r.type == "floor_sample") floor_done = r.time;
+    if (r.type == "sample" && r.step == "height") {
+      caliper::JournalRecord bad = r;
+      bad.points.at(0).y() = -0.05;
+      bad.value = -0.05;
+      old.push_back(bad);
+      bad_take = r.time;
+      break;
+    }
+    old.push_back(r);
+  }
+  ASSERT_GT(floor_done, 0.0);
+  ASSERT_GT(bad_take, floor_done);
+  fs::create_directories(dir + "/out");
+  {
+    caliper::JournalWriter w =
+        caliper::JournalWriter::create(dir + "/out/journal.jsonl", full.header);
+    for (const caliper::JournalRecord& r : old) w.append(r);
+  }
+  // The pose source after the crash: from the first quiet frame after the floor calibration,
+  // so that both height takes are in it.
+  caliper::PoseLog log = caliper::read_pose_log(dir + "/log.jsonl");
+  size_t from = 0;
+  for (const double q : truth.at("quiet_frames").as_numbers()) {
+    from = static_cast<size_t>(q);
+    if (log.frames.at(from).time > floor_done) break;
+  }
+  ASSERT_LT(log.frames.at(from).time, bad_take) << "no quiet frame before the height take";
+  log.frames.erase(log.frames.begin(), log.frames.begin() + static_cast<long>(from));
+  caliper::write_pose_log(dir + "/rest.jsonl", log);
+
+  const RunResult r = run_vr(dir, "--replay rest.jsonl --resume out/journal.jsonl" + kReplayArgs);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  expect_session_matches(dir, truth);
+}
+
+// Issue 10: a second run with the same --record file does not replace the first recording.
+TEST(VrApp, ExistingRecordingIsNeverReplaced) {
+  const std::string dir = work_dir("existing_recording");
+  simulate(dir, "log.jsonl", "--role self");
+  const std::string args = "--replay log.jsonl --no-audio --draw-every 0 --max-frames 200 ";
+  ASSERT_EQ(run_vr(dir, args + "--out a --record rec.jsonl").exit_code, 3);
+  const std::string recording = read_file(dir + "/rec.jsonl");
+  ASSERT_FALSE(recording.empty());
+  const RunResult again = run_vr(dir, args + "--out b --record rec.jsonl");
+  EXPECT_EQ(again.exit_code, 1) << again.err;
+  EXPECT_NE(again.err.find("rec.jsonl already exists"), std::string::npos) << again.err;
+  EXPECT_NE(again.err.find("--force"), std::string::npos) << again.err;
+  EXPECT_EQ(read_file(dir + "/rec.jsonl"), recording) << "the recording must be untouched";
+  EXPECT_FALSE(fs::exists(dir + "/b")) << "refused before any work";
+  EXPECT_EQ(run_vr(dir, args + "--out c --record rec.jsonl --force").exit_code, 3);
+}
+
+TEST(VrApp, OddOptionsAreUsageErrors) {
+  const std::string dir = work_dir("odd_options");
+  simulate(dir, "log.jsonl", "--role self");
+  for (const char* eye : {"1500000000x2", "2x1500000000", "0x10", "10x", "-5x10", "10x10junk"}) {
+    const RunResult r = run_vr(dir, std::string("--replay log.jsonl --no-audio --eye-size ") + eye);
+    EXPECT_EQ(r.exit_code, 2) << eye << ": " << r.err;
+    EXPECT_NE(r.err.find("--eye-size"), std::string::npos) << r.err;
+  }
+  const RunResult frames = run_vr(dir, "--replay log.jsonl --no-audio --max-frames 1e300");
+  EXPECT_EQ(frames.exit_code, 2) << frames.err;
+  EXPECT_NE(frames.err.find("--max-frames needs a whole number"), std::string::npos) << frames.err;
+  for (const char* weight : {"1e308", "-5", "0.5", "nan"}) {
+    const RunResult r =
+        run_vr(dir, std::string("--replay log.jsonl --no-audio --weight ") + weight);
+    EXPECT_EQ(r.exit_code, 2) << weight << ": " << r.err;
+    EXPECT_NE(r.err.find("--weight"), std::string::npos) << r.err;
+  }
+  const RunResult sim = run_vr(dir, "--simulate s.jsonl --weight 1e308");
+  EXPECT_EQ(sim.exit_code, 2) << sim.err;
+  EXPECT_FALSE(fs::exists(dir + "/s.jsonl"));
+  EXPECT_FALSE(fs::exists(dir + "/caliper-journal.jsonl")) << "refused before any work";
 }
 
 }  // namespace

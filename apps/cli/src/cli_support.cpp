@@ -250,7 +250,7 @@ int CsvTable::column(const std::string& name) const {
   return -1;
 }
 
-CsvTable parse_csv(const std::string& text, const std::string& source) {
+CsvTable parse_csv(const std::string& text, const std::string& source, bool per_row_errors) {
   CsvTable t;
   std::vector<std::string> row;
   std::string cell;
@@ -261,6 +261,7 @@ CsvTable parse_csv(const std::string& text, const std::string& source) {
   size_t i = 0;
   // Skip a UTF-8 byte order mark.
   if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) i = 3;
+  size_t row_start = i;  // first byte of the current row's line
   auto end_row = [&]() {
     row.push_back(cell);
     cell.clear();
@@ -268,21 +269,55 @@ CsvTable parse_csv(const std::string& text, const std::string& source) {
       if (t.header.empty()) {
         t.header = row;
       } else {
+        std::string error;
         if (row.size() != t.header.size()) {
-          throw RuntimeError(source + ":" + std::to_string(row_line) + ": " +
-                             std::to_string(row.size()) + " cells, but the header has " +
-                             std::to_string(t.header.size()) + "; check for a missing comma");
+          error = source + ":" + std::to_string(row_line) + ": " + std::to_string(row.size()) +
+                  " cells, but the header has " + std::to_string(t.header.size()) +
+                  "; check for a missing comma";
+          if (!per_row_errors) throw RuntimeError(error);
+          row.resize(t.header.size());
         }
         t.rows.push_back(row);
         t.line_numbers.push_back(row_line);
+        t.row_errors.push_back(error);
       }
     }
     row.clear();
     row_has_content = false;
   };
+  // With per-row errors, a data row whose quoted cell is not closed on its own line (a stray ")
+  // is an error row of that line alone, its cells split at commas; reading goes on at the next
+  // line, so one typo never swallows the rows after it.
+  auto unclosed_quote_row = [&](size_t line_end) {
+    std::string text_line = text.substr(row_start, line_end - row_start);
+    if (!text_line.empty() && text_line.back() == '\r') text_line.pop_back();
+    std::vector<std::string> cells(1);
+    for (char ch : text_line) {
+      if (ch == ',')
+        cells.emplace_back();
+      else if (ch != '"')
+        cells.back() += ch;
+    }
+    cells.resize(t.header.size());
+    t.rows.push_back(std::move(cells));
+    t.line_numbers.push_back(row_line);
+    t.row_errors.push_back(source + ":" + std::to_string(row_line) +
+                           ": a quoted cell is not closed on this line; check for a stray \"");
+    row.clear();
+    cell.clear();
+    in_quotes = false;
+    row_has_content = false;
+  };
   for (; i < text.size(); ++i) {
     const char c = text[i];
     if (in_quotes) {
+      if (c == '\n' && per_row_errors && !t.header.empty()) {
+        unclosed_quote_row(i);
+        ++line;
+        row_line = line;
+        row_start = i + 1;
+        continue;
+      }
       if (c == '"') {
         if (i + 1 < text.size() && text[i + 1] == '"') {
           cell += '"';
@@ -309,10 +344,12 @@ CsvTable parse_csv(const std::string& text, const std::string& source) {
       end_row();
       ++line;
       row_line = line;
+      row_start = i + 1;
     } else {
       cell += c;
     }
   }
+  if (in_quotes && per_row_errors && !t.header.empty()) unclosed_quote_row(text.size());
   if (in_quotes) throw RuntimeError(source + ":" + std::to_string(row_line) + ": unclosed quote");
   if (!cell.empty() || !row.empty() || row_has_content) end_row();
   if (t.header.empty()) throw RuntimeError(source + ": empty CSV file (no header row)");
@@ -323,12 +360,12 @@ CsvTable parse_csv(const std::string& text, const std::string& source) {
   return t;
 }
 
-CsvTable read_csv(const std::string& path) {
+CsvTable read_csv(const std::string& path, bool per_row_errors) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw RuntimeError(path + ": cannot open the CSV file (does it exist?)");
   std::ostringstream s;
   s << in.rdbuf();
-  return parse_csv(s.str(), path);
+  return parse_csv(s.str(), path, per_row_errors);
 }
 
 std::string csv_escape(const std::string& cell) {

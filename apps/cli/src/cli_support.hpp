@@ -115,15 +115,22 @@ struct CsvTable {
   std::vector<std::string> header;
   std::vector<std::vector<std::string>> rows;
   std::vector<int> line_numbers;  ///< 1-based file line of each row (for error messages)
+  /// Per row: "" when fine, else what is wrong with it (only with `per_row_errors`: a row with
+  /// another number of cells than the header, padded or cut to the header's width; a row whose
+  /// quoted cell is not closed on its own line, split at commas, reading going on at the next
+  /// line).
+  std::vector<std::string> row_errors;
   /// Column index of `name` (exact, then case-insensitive), or -1.
   int column(const std::string& name) const;
 };
 
 /// Reads a CSV file. Throws RuntimeError naming the file (and line) when it cannot be read, is
-/// empty, or a row has a different number of cells than the header.
-CsvTable read_csv(const std::string& path);
-/// Parses CSV text (`source` names it in errors).
-CsvTable parse_csv(const std::string& text, const std::string& source);
+/// empty, or (without `per_row_errors`) a row has a different number of cells than the header or
+/// a quote is never closed; with `per_row_errors` such a data row is kept with its problem in
+/// `row_errors` instead (and a quoted cell may then not span lines: measurement tables have none).
+CsvTable read_csv(const std::string& path, bool per_row_errors = false);
+/// Parses CSV text (`source` names it in errors); `per_row_errors` as for read_csv().
+CsvTable parse_csv(const std::string& text, const std::string& source, bool per_row_errors = false);
 /// Quotes a cell when it contains a comma, quote or line break.
 std::string csv_escape(const std::string& cell);
 

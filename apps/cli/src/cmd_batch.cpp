@@ -6,8 +6,9 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
-#include <fstream>
 #include <ostream>
+#include <set>
+#include <sstream>
 #include <thread>
 
 #include "caliper/errors.hpp"
@@ -18,6 +19,7 @@
 #include "inputs.hpp"
 #include "mesh_io.hpp"
 #include "report.hpp"
+#include "smpl/atomic_file.hpp"
 
 namespace caliper::cli {
 
@@ -39,13 +41,54 @@ std::string file_safe(const std::string& id) {
   for (char c : id)
     s +=
         (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.') ? c : '_';
-  return s.empty() ? "person" : s;
+  if (s.size() > 200) s.resize(200);  // file names are limited to 255 bytes
+  if (s.empty() || s.find_first_not_of('.') == std::string::npos) s = "person" + s;
+  return s;
+}
+
+/// One avatar file name per person, in row order: ids that map to the same name ("a b", "a_b",
+/// "a/b", repeated ids, empty ids) get "-2", "-3", ... so that no avatar overwrites another.
+/// Names are compared without case, for case-insensitive file systems.
+std::vector<std::string> avatar_file_names(const std::vector<Person>& people,
+                                           const std::string& format) {
+  std::set<std::string> taken;
+  std::vector<std::string> names;
+  names.reserve(people.size());
+  auto lower = [](std::string s) {
+    for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+  };
+  for (const Person& p : people) {
+    const std::string base = file_safe(p.id);
+    std::string name = base + "." + format;
+    for (int n = 2; taken.count(lower(name)); ++n)
+      name = base + "-" + std::to_string(n) + "." + format;
+    taken.insert(lower(name));
+    names.push_back(name);
+  }
+  return names;
 }
 
 std::string num(double v, int decimals) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
+  return format_number(v, decimals);
+}
+
+/// Fails before any work when `dir` cannot hold new files: creates it, then writes and removes
+/// a probe file.
+void check_writable_folder(const std::filesystem::path& dir, const std::string& what) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec || !std::filesystem::is_directory(dir))
+    throw RuntimeError(what + " " + dir.string() + ": cannot create the folder (" +
+                       (ec ? ec.message() : std::string("a file of that name exists")) + ")");
+  const std::filesystem::path probe = dir / ".caliper-write-check";
+  try {
+    smpl::write_file_atomic(probe.string(), "ok\n");
+  } catch (const smpl::WriteError& e) {
+    throw RuntimeError(what + " " + dir.string() + ": the folder is not writable (" + e.what() +
+                       "); nothing was computed");
+  }
+  std::filesystem::remove(probe, ec);
 }
 
 /// Betas, measurements (paper's 13 available on the model, volume, weight) and plausibility of
@@ -73,6 +116,15 @@ void fast_avatar(const ModelBundle& b, const ShapeMeasurer& measurer, const std:
   plaus = plausibility(k_betas);
   betas = Eigen::VectorXd::Zero(b.model.num_betas());
   betas.head(k_betas.size()) = k_betas;
+}
+
+/// Says in the row's message that the avatar was made but its shape is implausible.
+void add_implausible_note(Outcome& o) {
+  const std::string note = "implausible avatar: Mahalanobis distance " +
+                           format_number(o.plausibility.mahalanobis, 2) + ", " +
+                           std::to_string(o.plausibility.beyond_3sd.size()) +
+                           " components beyond 3 SD; check the measurements";
+  o.message += (o.message.empty() ? "" : "; ") + note;
 }
 
 }  // namespace
@@ -108,7 +160,10 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
               "arm_span_fingertips_cm, inseam_height_cm, hip_width_cm, arm_length_cm; also _mm,\n"
               "_m, _in, _lb) and optional id and sex columns. Results CSV: one row per person\n"
               "with status (ok, refused, error), the achieved measurements (cm, kg, L),\n"
-              "plausibility and betas. Exit code 1 when any row was refused or failed.\n\n"
+              "plausibility, betas and (with --out-dir) the avatar's file; ids that give the\n"
+              "same file name get -2, -3, ... The outputs are checked before the work starts\n"
+              "and written atomically. Exit code 1 when any row was refused or failed, or a\n"
+              "file could not be written.\n\n"
            << format_options(specs)
            << "\nexample:\n  caliper batch people.csv -j 2 --out results.csv --out-dir avatars\n";
     return kExitOk;
@@ -140,8 +195,24 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
     const int n = parse_int(*l, "limit", 0, 100000000);
     if (static_cast<size_t>(n) < people.size()) people.resize(static_cast<size_t>(n));
   }
+  // Outputs are checked before the work starts, so that a long batch does not end in an error.
   const std::optional<std::string> out_dir = a.get("out-dir");
-  if (out_dir) std::filesystem::create_directories(*out_dir);
+  if (out_dir) check_writable_folder(*out_dir, "--out-dir");
+  if (auto path = a.get("out")) {
+    const std::filesystem::path p(*path);
+    std::error_code ec;
+    if (std::filesystem::is_directory(p, ec))
+      throw RuntimeError("--out " + *path + ": is a folder; give a file name for the results CSV");
+    const std::filesystem::path parent = p.parent_path().empty() ? "." : p.parent_path();
+    if (!std::filesystem::is_directory(parent, ec))
+      throw RuntimeError("--out " + *path + ": the folder " + parent.string() +
+                         " does not exist; create it first");
+    // A device or FIFO (e.g. /dev/stdout) is written in place and cannot be probed.
+    if (std::filesystem::is_regular_file(p, ec) || !std::filesystem::exists(p, ec))
+      check_writable_folder(parent, "--out");
+  }
+  const std::vector<std::string> file_names =
+      out_dir ? avatar_file_names(people, format) : std::vector<std::string>{};
   const bool circumferences = a.flags.count("circumferences") > 0;
   // Without avatar files or circumferences no mesh is needed: the measurements, volume and
   // weight come from the betas through ShapeMeasurer's exact precomputed maps (fast path).
@@ -239,6 +310,7 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
         if (!need_mesh) {
           fast_avatar(b, *measurers.at(&b), o.regressor, p.inputs, mapping ? &*mapping : nullptr,
                       o.betas, o.achieved, o.plausibility);
+          if (!o.plausibility.plausible) add_implausible_note(o);
           done.fetch_add(1);
           continue;
         }
@@ -247,8 +319,7 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
         Avatar av = make_avatar(b, o.regressor, p.inputs, mapping ? &*mapping : nullptr,
                                 circumferences, exact_inputs, /*check_model=*/c == checked.end());
         if (out_dir) {
-          const std::string path =
-              (std::filesystem::path(*out_dir) / (file_safe(p.id) + "." + format)).string();
+          const std::string path = (std::filesystem::path(*out_dir) / file_names[i]).string();
           const auto skin = skins.find(&b);
           write_avatar(path, b.model, av.betas, av.vertices,
                        {{"generator", version_string()}, {"regressor", o.regressor}},
@@ -257,6 +328,7 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
         o.achieved = std::move(av.achieved);
         o.betas = std::move(av.betas);
         o.plausibility = av.plausibility;
+        if (!o.plausibility.plausible) add_implausible_note(o);
       } catch (const std::exception& e) {
         o.status = "error";
         o.message = e.what();
@@ -296,13 +368,9 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
   for (const auto& id : report_ids()) {
     if (circumferences || id.find("circumference") == std::string::npos) result_ids.push_back(id);
   }
-  std::ofstream file;
-  std::ostream* out = &io.out;
-  if (auto path = a.get("out")) {
-    file.open(*path, std::ios::binary);
-    if (!file) throw RuntimeError(*path + ": cannot write the results CSV");
-    out = &file;
-  }
+  // The results CSV is made in memory and written atomically: never a file cut mid-row.
+  std::ostringstream csv;
+  std::ostream* out = &csv;
   const auto& inputs = regressor_inputs(RegressorKind::R6);
   auto col = [](const std::string& id) { return id + "_" + display_unit(id).first; };
   *out << "id,sex,status,regressor";
@@ -310,6 +378,7 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
   for (const auto& id : result_ids) *out << "," << col(id);
   *out << ",mahalanobis,p_value,beyond_2sd,beyond_3sd,plausible";
   for (int b = 0; b < max_betas; ++b) *out << ",beta" << b;
+  if (out_dir) *out << ",file";
   *out << ",message\n";
   int ok = 0, refused = 0, errors = 0;
   for (size_t i = 0; i < people.size(); ++i) {
@@ -340,9 +409,16 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
       *out << ",";
       if (b < o.betas.size()) *out << num(o.betas[b], 5);
     }
+    if (out_dir) *out << "," << (o.status == "ok" ? csv_escape(file_names[i]) : "");
     *out << "," << csv_escape(o.message) << "\n";
   }
-  out->flush();
+  if (auto path = a.get("out")) {
+    smpl::write_file_atomic(*path, csv.str());
+  } else {
+    io.out << csv.str();
+    io.out.flush();
+    if (!io.out) throw RuntimeError("cannot write the results to standard output");
+  }
   char buf[256];
   std::snprintf(buf, sizeof buf,
                 " in %.3f s (%.0f per second, %s; models loaded and regressors trained in %.3f "

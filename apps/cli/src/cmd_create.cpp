@@ -212,7 +212,7 @@ int cmd_create(const std::vector<std::string>& args, Io& io) {
   const double create_s = seconds_since(t_create);
   if (!avatar.plausibility.plausible) {
     const std::string w = "the avatar's shape is implausible (Mahalanobis distance " +
-                          std::to_string(avatar.plausibility.mahalanobis).substr(0, 5) + ", " +
+                          format_number(avatar.plausibility.mahalanobis, 2) + ", " +
                           std::to_string(avatar.plausibility.beyond_3sd.size()) +
                           " components beyond 3 SD): check the measurements" +
                           (regressor == "noise-aware" ? "" : " or try --regressor noise-aware");

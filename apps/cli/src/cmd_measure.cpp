@@ -3,7 +3,9 @@
 #include <optional>
 #include <ostream>
 
+#include "caliper/errors.hpp"
 #include "caliper/measurements.hpp"
+#include "caliper/volume.hpp"
 #include "command_common.hpp"
 #include "commands.hpp"
 #include "inputs.hpp"
@@ -95,6 +97,37 @@ int cmd_measure(const std::vector<std::string>& args, Io& io) {
   mo.circumferences = a.flags.count("no-circumferences") == 0;
   const MeasurementMap m = measure_all(model, vertices, mo);
 
+  // Notes: what was left out and why; warnings: the measurement sanity checks (the same as for
+  // typed inputs) and the orientation, so that an odd mesh is never reported without a word.
+  std::vector<std::string> notes, warnings;
+  if (!m.count("volume")) {
+    notes.push_back("volume and weight left out: the mesh is not closed (" +
+                    std::to_string(open_edge_count(model.faces)) +
+                    " open edges, e.g. a hand cut at the wrist); a volume needs a closed surface");
+  }
+  const LandmarkTable lm = landmarks_for(model);
+  if (auto head = lm.find("head_top"); head != lm.end() && vertices.rows() > 0) {
+    const double top = landmark_point(vertices, head->second).y();
+    const double mid = 0.5 * (vertices.col(1).minCoeff() + vertices.col(1).maxCoeff());
+    if (top < mid)
+      warnings.push_back(
+          "the top of the head is in the lower half of the mesh: is it upside "
+          "down? (+Y must point up, the feet on the floor)");
+  }
+  MeasurementMap checked;  // the ids with a plausible range (not volume)
+  for (const auto& [id, v] : m) {
+    try {
+      (void)measurement_range(id);
+      checked[id] = v;
+    } catch (const InvalidInputError&) {
+    }
+  }
+  for (const ValidationMessage& v : validate_measurements(checked))
+    warnings.push_back(
+        (v.severity == Severity::Error ? "implausible measurement: " : "unusual measurement: ") +
+        v.message);
+  for (const auto& w : warnings) io.err << "caliper: warning: " << w << "\n";
+
   if (a.flags.count("json")) {
     Json j = Json::object();
     j.set("command", "measure");
@@ -105,6 +138,11 @@ int cmd_measure(const std::vector<std::string>& args, Io& io) {
     j.set("units",
           json_object({{"length", Json("m")}, {"weight", Json("kg")}, {"volume", Json("m3")}}));
     j.set("measurements", measurements_json(m));
+    Json jn = Json::array(), jw = Json::array();
+    for (const auto& n : notes) jn.push_back(n);
+    for (const auto& w : warnings) jw.push_back(w);
+    j.set("notes", jn);
+    j.set("warnings", jw);
     io.out << j.dump(2) << "\n";
     return kExitOk;
   }
@@ -113,6 +151,7 @@ int cmd_measure(const std::vector<std::string>& args, Io& io) {
          << (a.get("model") ? "" : "; open model chosen by " + sex_from) << "\n";
   if (betas.size() > 0) io.out << "betas: " << format_betas(betas) << "\n";
   io.out << "\n" << measurement_table({}, m);
+  for (const auto& n : notes) io.out << "note: " << n << "\n";
   return kExitOk;
 }
 

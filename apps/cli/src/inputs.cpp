@@ -76,7 +76,7 @@ bool parse_cell(const std::string& cell, double& out) {
 }  // namespace
 
 std::vector<Person> read_people_csv(const std::string& path) {
-  const CsvTable t = read_csv(path);
+  const CsvTable t = read_csv(path, /*per_row_errors=*/true);
   std::vector<std::pair<int, std::pair<std::string, double>>> cols;
   for (size_t c = 0; c < t.header.size(); ++c) {
     if (auto m = measurement_column(t.header[c])) cols.emplace_back(static_cast<int>(c), *m);
@@ -94,10 +94,11 @@ std::vector<Person> read_people_csv(const std::string& path) {
     Person p;
     p.line = t.line_numbers[r];
     p.id = id_col >= 0 ? t.rows[r][static_cast<size_t>(id_col)] : std::to_string(r + 1);
+    p.error = t.row_errors[r];
     try {
       if (sex_col >= 0) p.sex = normalise_sex(t.rows[r][static_cast<size_t>(sex_col)]);
     } catch (const UsageError& e) {
-      p.error = e.what();
+      if (p.error.empty()) p.error = e.what();
     }
     for (const auto& [c, m] : cols) {
       const std::string& cell = t.rows[r][static_cast<size_t>(c)];
@@ -116,7 +117,7 @@ std::vector<Person> read_people_csv(const std::string& path) {
 }
 
 std::vector<Person> read_ansur_csv(const std::string& path) {
-  const CsvTable t = read_csv(path);
+  const CsvTable t = read_csv(path, /*per_row_errors=*/true);
   auto need = [&](const char* name) {
     const int c = t.column(name);
     if (c < 0) {
@@ -139,6 +140,7 @@ std::vector<Person> read_ansur_csv(const std::string& path) {
     Person p;
     p.line = t.line_numbers[r];
     p.id = id_col >= 0 ? row[static_cast<size_t>(id_col)] : std::to_string(r + 1);
+    p.error = t.row_errors[r];
     if (gender_col >= 0) {
       const std::string g = row[static_cast<size_t>(gender_col)];
       p.sex = (g == "Male" || g == "male" || g == "M")       ? "male"

@@ -38,7 +38,8 @@ std::string normalise_sex(const std::string& value);
 
 /// Reads people from a CSV with units in the header (see measurement_column), plus optional
 /// `id` and `sex`/`gender` columns. Throws RuntimeError naming the file when the header has no
-/// measurement column; bad cells give that person an `error` instead of stopping the batch.
+/// measurement column; bad cells and rows with a wrong number of cells give that person an
+/// `error` instead of stopping the batch.
 std::vector<Person> read_people_csv(const std::string& path);
 
 /// Reads an ANSUR II public CSV (male file Latin-1, female ASCII; ids `subjectid`/`SubjectId`):

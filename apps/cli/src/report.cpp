@@ -1,5 +1,6 @@
 #include "report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iomanip>
@@ -40,20 +41,29 @@ std::pair<std::string, double> display_unit(const std::string& id) {
   return {"cm", 100.0};
 }
 
+std::string format_number(double v, int decimals) {
+  char buf[64];
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  if (std::abs(v) < 1e9) {
+    std::snprintf(buf, sizeof buf, "%.*f", std::clamp(decimals, 0, 17), v);
+  } else {
+    std::snprintf(buf, sizeof buf, "%.3e", v);
+  }
+  return buf;
+}
+
 std::string format_value(const std::string& id, double si_value, int decimals) {
   const auto [unit, factor] = display_unit(id);
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f %s", decimals, si_value * factor, unit.c_str());
-  return buf;
+  return format_number(si_value * factor, decimals) + " " + unit;
 }
 
 std::string format_difference(const std::string& id, double si_difference, int decimals) {
   const auto [unit, factor] = display_unit(id);
-  char buf[64];
   double v = si_difference * factor;
   if (std::abs(v) < 0.5 * std::pow(10.0, -decimals)) v = 0.0;  // no "-0.0"
-  std::snprintf(buf, sizeof buf, "%+.*f %s", decimals, v, unit.c_str());
-  return buf;
+  const std::string n = format_number(v, decimals);
+  return (v >= 0.0 || std::isnan(v) ? "+" : "") + n + " " + unit;
 }
 
 bool is_imperial_text(const std::string& text) {
@@ -146,8 +156,8 @@ std::string index_list(const std::vector<int>& v) {
 
 std::string format_plausibility(const Plausibility& p) {
   std::ostringstream s;
-  s << std::fixed << std::setprecision(2) << "Mahalanobis distance " << p.mahalanobis << " over "
-    << p.dof << " components, chi-square p = " << std::setprecision(3) << p.p_value
+  s << "Mahalanobis distance " << format_number(p.mahalanobis, 2) << " over " << p.dof
+    << " components, chi-square p = " << std::fixed << std::setprecision(3) << p.p_value
     << (p.plausible ? " (plausible)" : " (IMPLAUSIBLE)") << "\n"
     << "components beyond 2 SD: " << index_list(p.beyond_2sd)
     << "; beyond 3 SD: " << index_list(p.beyond_3sd) << "\n"

@@ -23,10 +23,15 @@ const std::vector<std::string>& report_ids();
 /// Human-readable label of an id ("Arm span (fingertips)", "Chest circumference", "Volume").
 std::string label_of(const std::string& id);
 
+/// `v` with `decimals` decimals ("%.*f") while |v| < 1e9; larger values in exponent notation
+/// with 4 significant digits ("5.000e+31"), so that an absurd value never prints as hundreds
+/// of digits or is cut short; "nan", "inf", "-inf" for the others.
+std::string format_number(double v, int decimals);
+
 /// A value for people: "168.0 cm", "62.0 kg", "60.2 L" (volume). `decimals` for the number.
-std::string format_value(const std::string& id, double si_value, int decimals = 1);
+std::string format_value(const std::string& id, double value_si, int decimals = 1);
 /// A signed difference in the same display unit: "+0.0 cm".
-std::string format_difference(const std::string& id, double si_difference, int decimals = 1);
+std::string format_difference(const std::string& id, double difference_si, int decimals = 1);
 
 /// The table "measurement | input | achieved | difference" for `ids` (inputs may be empty).
 /// `imperial`: lengths in inches and weight in pounds, each with the metric value beside it

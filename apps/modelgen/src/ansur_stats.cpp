@@ -8,6 +8,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "smpl/atomic_file.hpp"
+
 namespace modelgen {
 
 const std::array<const char*, kNumDims>& dim_columns() {
@@ -166,10 +168,7 @@ SurveyStats stats_from_survey(const std::string& dir) {
 }
 
 void write_stats_table(const SurveyStats& stats, const std::string& path) {
-  std::ofstream out(path, std::ios::binary);
-  if (!out) {
-    throw std::runtime_error("cannot write '" + path + "'");
-  }
+  std::ostringstream out;  // written atomically at the end (smpl/atomic_file.hpp)
   out << "# ANSUR II (2012) statistics used by caliper-modelgen; metres, weight in kg.\n"
          "# Recompute: caliper-modelgen --stats-from <ansur2 dir> --stats-out <this file>\n";
   out << "sex,dim,count,mean,sd";
@@ -190,9 +189,7 @@ void write_stats_table(const SurveyStats& stats, const std::string& path) {
       out << "\n";
     }
   }
-  if (!out) {
-    throw std::runtime_error("error writing '" + path + "'");
-  }
+  smpl::write_file_atomic(path, out.str());
 }
 
 SurveyStats read_stats_table(const std::string& path) {

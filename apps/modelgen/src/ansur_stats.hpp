@@ -89,7 +89,8 @@ SexStats stats_from_survey_file(const std::string& csv_path, const std::string& 
 SurveyStats stats_from_survey(const std::string& dir);
 
 /// Writes the table: one line per (sex, dim) with count, mean, sd and the correlation row, values
-/// printed with 9 significant digits so that the file is the same on every machine.
+/// printed with 9 significant digits so that the file is the same on every machine; written
+/// atomically (smpl::WriteError when it cannot be).
 void write_stats_table(const SurveyStats& stats, const std::string& path);
 
 /// Reads the table written by write_stats_table(). Throws std::runtime_error naming the file and

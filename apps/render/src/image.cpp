@@ -6,10 +6,9 @@
 
 #include <algorithm>
 #include <cstdlib>
-#include <filesystem>
-#include <system_error>
 
 #include "render/gl_functions.hpp"
+#include "smpl/atomic_file.hpp"
 
 namespace caliper::render {
 
@@ -18,10 +17,14 @@ void write_png(const Image& image, const std::string& path) {
       image.rgba.size() != 4 * static_cast<size_t>(image.width) * image.height) {
     throw RenderError("write_png " + path + ": the image is empty or its size is inconsistent");
   }
-  // Written next to the target and renamed over it: a reader never sees half a picture.
-  const std::string tmp = path + ".tmp";
   bool opaque = true;
   for (size_t i = 3; i < image.rgba.size(); i += 4) opaque = opaque && image.rgba[i] == 255;
+  // Encoded in memory, then written atomically (smpl/atomic_file.hpp).
+  std::string png;
+  const auto append = [](void* context, void* data, int size) {
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data),
+                                               static_cast<size_t>(size));
+  };
   int ok = 0;
   if (opaque) {
     std::vector<std::uint8_t> rgb(3 * static_cast<size_t>(image.width) * image.height);
@@ -30,18 +33,14 @@ void write_png(const Image& image, const std::string& path) {
       rgb[3 * p + 1] = image.rgba[4 * p + 1];
       rgb[3 * p + 2] = image.rgba[4 * p + 2];
     }
-    ok = stbi_write_png(tmp.c_str(), image.width, image.height, 3, rgb.data(), image.width * 3);
+    ok = stbi_write_png_to_func(append, &png, image.width, image.height, 3, rgb.data(),
+                                image.width * 3);
   } else {
-    ok = stbi_write_png(tmp.c_str(), image.width, image.height, 4, image.rgba.data(),
-                        image.width * 4);
+    ok = stbi_write_png_to_func(append, &png, image.width, image.height, 4, image.rgba.data(),
+                                image.width * 4);
   }
-  std::error_code ec;
-  if (ok) std::filesystem::rename(tmp, path, ec);
-  if (!ok || ec) {
-    std::filesystem::remove(tmp, ec);
-    throw RenderError("could not write PNG " + path +
-                      ": check that the folder exists and is writable");
-  }
+  if (!ok) throw RenderError("could not encode PNG " + path);
+  smpl::write_file_atomic(path, png);
 }
 
 Image read_png(const std::string& path) {

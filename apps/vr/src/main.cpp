@@ -10,7 +10,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <numeric>
@@ -30,6 +29,7 @@
 #include "render/context.hpp"
 #include "render/glfw_context.hpp"
 #include "render/renderer.hpp"
+#include "smpl/atomic_file.hpp"
 #include "smpl/io.hpp"
 #include "vr_app.hpp"
 
@@ -60,9 +60,13 @@ const char* kUsage =
     "  --journal FILE       session journal (default: OUT/journal.jsonl, or "
     "./caliper-journal.jsonl)\n"
     "  --resume FILE        continue the session of this journal where it stopped\n"
+    "  --force              start a new session even when the journal (or the --record) file\n"
+    "                       exists (it is overwritten; without --force caliper-vr refuses and\n"
+    "                       names --resume)\n"
     "  --out DIR            write DIR/session.json and DIR/avatar.glb at the end\n"
     "  --record FILE        record every frame's poses and buttons as a pose log\n"
-    "  --weight KG --sex female|male   typed values (else from the operator window or the log)\n"
+    "  --weight KG --sex female|male   typed values (else from the operator window or the log;\n"
+    "                       weight 10 to 300 kg)\n"
     "  --model FILE | --models-dir DIR  body model (default: DIR/caliper-<sex>.npz)\n"
     "  --regressor R2|R4|R5|R6 (default R5)  --regressors FILE  --mapping FILE\n"
     "  --eye-size WxH       replay: size of each eye's image (default 320x356)\n"
@@ -94,8 +98,8 @@ struct Args {
 };
 
 Args parse_args(int argc, char** argv) {
-  static const std::vector<std::string> kFlags = {"--no-audio", "--operator-window", "--motions",
-                                                  "--help", "-h"};
+  static const std::vector<std::string> kFlags = {
+      "--no-audio", "--operator-window", "--motions", "--force", "--help", "-h"};
   static const std::vector<std::string> kValues = {
       "--replay",     "--simulate",      "--calibrate-tip",
       "--protocol",   "--controllers",   "--role",
@@ -137,6 +141,59 @@ double number(const Args& a, const std::string& k, double fallback) {
   }
 }
 
+/// "WxH" with 1 <= W, H <= 16384 (a GL framebuffer's practical limit; both eyes side by side
+/// make 2W): no overflow of 2 * W or W * H, no stray characters.
+void parse_eye_size(const std::string& s, int& w, int& h) {
+  constexpr long kMaxSide = 16384;
+  const size_t x = s.find('x');
+  const auto side = [&](const std::string& t) {
+    if (t.empty() || t.size() > 6 || t.find_first_not_of("0123456789") != std::string::npos)
+      return -1L;
+    return std::stol(t);
+  };
+  const long pw = x == std::string::npos ? -1 : side(s.substr(0, x));
+  const long ph = x == std::string::npos ? -1 : side(s.substr(x + 1));
+  if (pw < 1 || ph < 1 || pw > kMaxSide || ph > kMaxSide)
+    throw std::invalid_argument("--eye-size \"" + s +
+                                "\": needs WxH with each side 1 to 16384 pixels, e.g. 1440x1600");
+  w = static_cast<int>(pw);
+  h = static_cast<int>(ph);
+}
+
+/// An integer option in [lo, hi] (checked before any cast: no undefined behaviour for 1e300).
+long integer(const Args& a, const std::string& k, long fallback, long lo, long hi) {
+  const double v = number(a, k, static_cast<double>(fallback));
+  if (v != std::floor(v) || v < static_cast<double>(lo) || v > static_cast<double>(hi))
+    throw std::invalid_argument(k + " needs a whole number from " + std::to_string(lo) + " to " +
+                                std::to_string(hi) + ", got \"" + a.get(k) + "\"");
+  return static_cast<long>(v);
+}
+
+/// --weight in kg, refused before any work when outside the human range (the range the
+/// session applies to a typed weight): a weight of 1e308 kg is a usage error, not a session that
+/// waits for a weight that never comes.
+double typed_weight(const Args& a, double fallback) {
+  const double kg = number(a, "--weight", fallback);
+  const caliper::MeasurementRange r = caliper::measurement_range("weight");
+  if (kg < r.error_min || kg > r.error_max) {
+    std::ostringstream s;
+    s << "--weight \"" << a.get("--weight") << "\" is not a plausible weight; give kilograms from "
+      << r.error_min << " to " << r.error_max << ", e.g. --weight 65";
+    throw std::invalid_argument(s.str());
+  }
+  return kg;
+}
+
+/// A recording never replaces an earlier one by accident (as the journal, app_options()).
+void check_record_path(const Args& a) {
+  if (!a.has("--record") || a.has("--force")) return;
+  std::error_code ec;
+  if (std::filesystem::exists(a.get("--record"), ec))
+    throw std::runtime_error(a.get("--record") +
+                             " already exists; record to another file, or add --force to "
+                             "overwrite it");
+}
+
 std::string assets_dir(const Args& a) {
   if (a.has("--assets")) return a.get("--assets");
   if (const auto found = caliper::find_assets_dir()) return *found;  // $CALIPER_ASSETS, ...
@@ -173,7 +230,7 @@ VrAppOptions app_options(const Args& a, const std::string& role, const std::stri
   const std::string controllers = a.get("--controllers", assets + "/protocol/controllers.json");
   o.tips = read_controller_config(controllers).offsets(profile);
   o.session.role = role;
-  if (a.has("--weight")) o.session.weight = number(a, "--weight", 0.0);
+  if (a.has("--weight")) o.session.weight = typed_weight(a, 0.0);
   if (a.has("--sex")) o.session.sex = a.get("--sex");
   if (recorded && !o.session.weight) o.session.weight = recorded->weight;
   if (recorded && o.session.sex.empty()) o.session.sex = recorded->sex;
@@ -189,6 +246,17 @@ VrAppOptions app_options(const Args& a, const std::string& role, const std::stri
   } else {
     o.journal_path = a.get("--journal", o.output_dir.empty() ? "caliper-journal.jsonl"
                                                              : o.output_dir + "/journal.jsonl");
+    // A new session never wipes the journal of an earlier one by accident.
+    std::error_code ec;
+    if (std::filesystem::exists(o.journal_path, ec) && !a.has("--force")) {
+      std::string resume = "caliper-vr";
+      if (a.has("--replay")) resume += " --replay " + a.get("--replay");
+      resume += " --resume " + o.journal_path;
+      if (!o.output_dir.empty()) resume += " --out " + o.output_dir;
+      throw std::runtime_error(
+          o.journal_path + " already holds a session journal; continue that session with:\n  " +
+          resume + "\nor start a new one with --force (the old journal is then overwritten)");
+    }
     if (!o.output_dir.empty()) std::filesystem::create_directories(o.output_dir);
   }
   return o;
@@ -308,6 +376,7 @@ int finish(VrApp& app, Audio& audio, const std::string& journal_path, const Args
 
 int run_replay(const Args& a) {
   const std::string log_path = a.get("--replay");
+  check_record_path(a);
   PoseLog log = read_pose_log(log_path);
   const std::string role = a.get("--role", log.header.role.empty() ? "self" : log.header.role);
   std::string profile = log.header.interaction_profile;
@@ -316,10 +385,9 @@ int run_replay(const Args& a) {
   const ControllerConfig controllers =
       read_controller_config(a.get("--controllers", assets_dir(a) + "/protocol/controllers.json"));
   int eye_w = 320, eye_h = 356;
-  if (a.has("--eye-size") && std::sscanf(a.get("--eye-size").c_str(), "%dx%d", &eye_w, &eye_h) != 2)
-    throw std::invalid_argument("--eye-size needs WxH, e.g. 1440x1600");
-  const int draw_every = static_cast<int>(number(a, "--draw-every", 1));
-  const long max_frames = static_cast<long>(number(a, "--max-frames", -1));
+  if (a.has("--eye-size")) parse_eye_size(a.get("--eye-size"), eye_w, eye_h);
+  const int draw_every = static_cast<int>(integer(a, "--draw-every", 1, 0, 1000000));
+  const long max_frames = integer(a, "--max-frames", -1, -1, 1000000000000L);
   const std::string frames_dir = a.get("--frames-dir");
   if (!frames_dir.empty()) std::filesystem::create_directories(frames_dir);
 
@@ -486,9 +554,10 @@ int run_replay(const Args& a) {
     write_json_file(a.get("--embodiment-report"), j);
   }
   if (a.has("--timing")) {
-    std::ofstream t(a.get("--timing"));
+    std::ostringstream t;
     t << "frame,app_cpu_ms\n";
     for (size_t i = 0; i < app_cpu.size(); ++i) t << i << "," << 1e3 * app_cpu[i] << "\n";
+    smpl::write_file_atomic(a.get("--timing"), t.str());
   }
   return finish(app, *audio, journal_path, a);
 }
@@ -545,9 +614,9 @@ int run_simulate(const Args& a) {
       betas[i++] = b;
     }
   }
-  const SimulatedPerson person = person_from_model(model, betas, number(a, "--weight", 65.0), sex);
+  const SimulatedPerson person = person_from_model(model, betas, typed_weight(a, 65.0), sex);
   SimulatorOptions o;
-  o.seed = static_cast<std::uint64_t>(number(a, "--seed", 1));
+  o.seed = static_cast<std::uint64_t>(integer(a, "--seed", 1, 0, 1000000000000000L));
   o.role = a.get("--role", "self");
   o.frame_rate = number(a, "--frame-rate", 90.0);
   o.tip_noise = number(a, "--noise", 0.0);
@@ -584,6 +653,7 @@ int run_simulate(const Args& a) {
 }
 
 int run_live(const Args& a) {
+  check_record_path(a);
   const std::string assets = assets_dir(a);
   LiveOptions live;
   live.role = a.get("--role", "self");

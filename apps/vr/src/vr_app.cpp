@@ -141,8 +141,10 @@ VrApp::VrApp(VrAppOptions options, Audio& audio, render::Renderer* renderer)
       audio_(audio),
       renderer_(renderer),
       session_(options_.protocol, options_.session) {
-  if (options_.resume)
+  if (options_.resume) {
+    check_journal_protocol(*options_.resume, options_.protocol.name, options_.journal_path);
     for (const JournalRecord& r : options_.resume->records) session_.apply(r);
+  }
   if (!options_.journal_path.empty()) {
     Json header = Json::object();
     header.set("protocol", options_.protocol.name);

@@ -62,11 +62,18 @@ struct JournalContents {
 
 /// Parses journal text. Never throws for a cut file: an incomplete or unparseable LAST line is
 /// ignored (torn_tail). Throws JournalError (naming `name` and the line) when a complete line in
-/// the middle is corrupt, or when a complete first line is not a journal header.
+/// the middle is corrupt, when a complete first line is not a journal header, or when the
+/// header's "version" is not 1 (another format version: never guessed).
 JournalContents parse_journal(const std::string& text, const std::string& name);
 
 /// Reads a journal file (see parse_journal). A missing file throws JournalError.
 JournalContents read_journal(const std::string& path);
+
+/// Checks that a journal read for `--resume` belongs to a session with protocol `protocol_name`:
+/// throws JournalError naming `path`, the journal's protocol and this one when they differ (a
+/// header without "protocol" is accepted: older journals of the self role).
+void check_journal_protocol(const JournalContents& contents, const std::string& protocol_name,
+                            const std::string& path);
 
 /// Appends records to a journal, one flushed line each.
 class JournalWriter {

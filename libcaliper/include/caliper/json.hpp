@@ -9,6 +9,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -30,7 +31,12 @@ class Json {
   using Array = std::vector<Json>;
   using Object = std::vector<std::pair<std::string, Json>>;
 
-  Json() = default;        ///< null
+  Json() = default;  ///< null
+  Json(const Json& other);
+  Json(Json&& other) noexcept = default;
+  Json& operator=(const Json& other);
+  Json& operator=(Json&& other) noexcept = default;
+  ~Json() = default;
   Json(std::nullptr_t) {}  ///< null
   Json(bool b) : type_(Type::Bool), bool_(b) {}
   Json(double d) : type_(Type::Number), number_(d) {}
@@ -73,6 +79,8 @@ class Json {
   std::vector<double> as_numbers() const;  ///< an array of numbers
 
   /// Object access. `at` throws JsonError naming the missing key; `find` returns nullptr.
+  /// Constant time on average: objects of kIndexFrom members or more keep a hash index, so that
+  /// reading or building an object of n keys is linear in n.
   const Json& at(const std::string& key) const;
   const Json* find(const std::string& key) const;
   bool contains(const std::string& key) const { return find(key) != nullptr; }
@@ -91,12 +99,16 @@ class Json {
 
  private:
   void dump_to(std::string& out, int indent, int depth) const;
+  /// Objects smaller than this are searched linearly (faster than hashing for a few keys).
+  static constexpr size_t kIndexFrom = 16;
+  using Index = std::unordered_map<std::string, size_t>;  ///< key -> position in object_
   Type type_ = Type::Null;
   bool bool_ = false;
   double number_ = 0.0;
   std::string string_;
   Array array_;
   Object object_;
+  std::unique_ptr<Index> index_;  ///< only for objects of kIndexFrom members or more
 };
 
 /// Parses one JSON text (surrounding white space allowed, nothing else after it). Throws
@@ -106,7 +118,9 @@ Json parse_json(const std::string& text);
 /// Reads and parses a whole file; errors name the file (and line, column).
 Json read_json_file(const std::string& path);
 
-/// Writes `value.dump(2)` to `path` atomically (temporary file, then rename). Throws JsonError.
+/// Writes `value.dump(2)` to `path` atomically (smpl::write_file_atomic: temporary file in the
+/// same folder, fsync, rename). Throws JsonError for NaN or infinity (nothing is written) and
+/// smpl::WriteError when writing fails (the previous file is then unchanged).
 void write_json_file(const std::string& path, const Json& value);
 
 }  // namespace caliper

@@ -145,7 +145,8 @@ class PoseLogWriter {
   LineFile file_;
 };
 
-/// Writes a whole log to `path` (header and frames).
+/// Writes a whole log to `path` (header and frames) atomically (smpl::write_file_atomic); throws
+/// smpl::WriteError when writing fails (the previous file is then unchanged).
 void write_pose_log(const std::string& path, const PoseLog& log);
 
 }  // namespace caliper

@@ -148,7 +148,8 @@ class MeasuringSession {
 
   /// Replays a journal record (resume after a crash); same effect as when it was made. Throws
   /// JournalError when the record does not fit the session state (e.g. a step id that is not in
-  /// the protocol).
+  /// the protocol). A sample that update() would reject today (a height at or below the floor,
+  /// journalled by an older build) is skipped, so that every journal can be resumed.
   void apply(const JournalRecord& record);
 
   const Protocol& protocol() const { return protocol_; }
@@ -175,6 +176,9 @@ class MeasuringSession {
   std::vector<SessionEvent> redo(double time);
   std::vector<Tip> hold_tips(Tip hand) const;
   double step_value(const ProtocolStep& step, const std::vector<Eigen::Vector3d>& tips) const;
+  /// Why `tips` cannot be a take of `step` (a height at or below the floor, two tips at one
+  /// point, NaN), in plain words for the person measuring; "" for a good take.
+  std::string bad_take(const ProtocolStep& step, const std::vector<Eigen::Vector3d>& tips) const;
 
   Protocol protocol_;
   SessionOptions options_;

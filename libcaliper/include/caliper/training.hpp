@@ -40,7 +40,8 @@ class ShapeMeasurer {
  public:
   /// `defs`: measurements to evaluate (those whose landmarks are missing throw LandmarkError
   /// here). `num_betas` <= 0 means min(10, model.num_betas()); more than model.num_betas() or
-  /// kMaxTrainingBetas throws InvalidInputError. Cost: one pass over the faces, about
+  /// kMaxTrainingBetas throws InvalidInputError; all-zero shapedirs (a broken model) throw
+  /// smpl::ModelError. Cost: one pass over the faces, about
   /// 10 M multiply-adds for SMPL with 10 betas.
   ShapeMeasurer(const smpl::BodyModel& model, const LandmarkTable& landmarks,
                 std::vector<MeasurementDef> defs = paper_measurements(), int num_betas = 0);

@@ -16,4 +16,11 @@ namespace caliper {
 /// is NaN or infinite.
 double mesh_volume(const smpl::Vertices& vertices, const smpl::Faces& faces);
 
+/// Number of edges of `faces` (#F x 3) that do not close the surface: an edge is closed when it
+/// is used exactly once in each direction (two consistently wound faces meet there). 0 means a
+/// closed, consistently oriented surface, the condition for mesh_volume() to be a volume; an open
+/// mesh (a hand cut at the wrist, a scan with holes) has its boundary edges counted here, a
+/// non-manifold or inconsistently wound edge is counted too. 0 for no faces. Linear time.
+long open_edge_count(const smpl::Faces& faces);
+
 }  // namespace caliper

@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include "smpl/atomic_file.hpp"
 #include "smpl/body_model.hpp"
 #include "smpl/evaluate.hpp"
 
@@ -76,14 +77,15 @@ Body export_rest_body(const BodyModel& model, const Eigen::Ref<const Eigen::Vect
                       const ExportOptions& options, const std::string& context);
 
 /// Writes a Wavefront OBJ (v, vn, f lines; 1-based indices; `# up: z` when up is Z) atomically
-/// (temporary file in the same folder, then rename). `metadata` (JSON text, one line) goes into a
-/// `# caliper-metadata` comment when not empty. Throws ModelError on I/O failure, leaving an
-/// existing file untouched.
+/// (write_file_atomic). `metadata` (JSON text, one line) goes into a
+/// `# caliper-metadata` comment when not empty. Throws ModelError for a bad mesh,
+/// WriteError when writing fails (an existing file is then untouched).
 void write_obj(const std::string& path, const Vertices& vertices, const Faces& faces,
                UpAxis up = UpAxis::Y, const std::string& metadata = {});
 
 /// Writes a binary little-endian PLY (float xyz and normals, int32 triangles; `comment up: z`
-/// when up is Z, `comment caliper-metadata ...` with `metadata`) atomically. Throws ModelError.
+/// when up is Z, `comment caliper-metadata ...` with `metadata`) atomically. Throws ModelError
+/// for a bad mesh, WriteError when writing fails.
 void write_ply(const std::string& path, const Vertices& vertices, const Faces& faces,
                UpAxis up = UpAxis::Y, const std::string& metadata = {});
 
@@ -100,10 +102,5 @@ Vertices from_up_axis(const Vertices& vertices, UpAxis up);
 
 /// Per-vertex unit normals (area-weighted face normals), V x 3.
 Vertices vertex_normals(const Vertices& vertices, const Faces& faces);
-
-/// Writes `bytes` to `path` atomically: a temporary file in the same folder, flushed and closed,
-/// then renamed over `path`. On any failure the temporary file is removed, an existing `path` is
-/// left as it was, and ModelError names the file and the reason.
-void write_file_atomically(const std::string& path, const std::string& bytes);
 
 }  // namespace smpl

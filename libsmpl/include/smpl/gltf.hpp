@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 
+#include "smpl/atomic_file.hpp"
 #include "smpl/body_model.hpp"
 #include "smpl/export.hpp"
 
@@ -44,7 +45,9 @@ using GltfOptions = ExportOptions;
 /// without them and their default weights are betas[0..N), so the default shape is the avatar);
 /// with options.pose_correctives, 9 (K - 1) targets (posedirs columns, weight (R_k - I)(r, c),
 /// may be negative; 0 in the rest pose). Names in mesh.extras.targetNames. `.glb` writes binary
-/// glTF, `.gltf` JSON with an embedded buffer, atomically. Throws ModelError on failure.
+/// glTF, `.gltf` JSON with an embedded buffer, atomically (write_file_atomic). Throws ModelError
+/// for an unknown extension or a model that cannot be serialised, WriteError when writing fails
+/// (the previous file is then unchanged).
 void write_gltf(const std::string& path, const BodyModel& model,
                 const Eigen::Ref<const Eigen::VectorXd>& betas, const GltfOptions& options = {});
 

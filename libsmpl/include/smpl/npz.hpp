@@ -197,7 +197,8 @@ void write_npz(const std::string& path, const NpzArchive& arrays, bool compress 
 
 /// Reads a whole file into memory. Throws ModelError naming `path` when it cannot be read.
 std::vector<std::uint8_t> read_file_bytes(const std::string& path);
-/// Writes `bytes` to `path` (replacing it). Throws ModelError naming `path` on failure.
+/// Writes `bytes` to `path` atomically (write_file_atomic). Throws WriteError naming `path` on
+/// failure; the previous file is then unchanged.
 void write_file_bytes(const std::string& path, const std::vector<std::uint8_t>& bytes);
 
 }  // namespace smpl

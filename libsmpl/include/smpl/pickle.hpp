@@ -79,4 +79,15 @@ PickleDict parse_pickle(const std::uint8_t* bytes, std::size_t size, const std::
 /// Reads and parses a pickle file; errors name `path`.
 PickleDict read_pickle(const std::string& path);
 
+/// `text` made safe to print: every byte outside printable ASCII (control characters, terminal
+/// escapes, DEL, non-ASCII) is written as \xNN and a backslash as \\. For names read from a
+/// file (keys, class names) before they go into an error message.
+std::string printable(const std::string& text);
+
+/// True when `bytes` is a Git LFS pointer file ("version https://git-lfs.github.com/spec/v1"
+/// and an oid) instead of the real file, which `git lfs pull` fetches.
+bool is_git_lfs_pointer(const std::uint8_t* bytes, std::size_t size);
+/// The error text for a Git LFS pointer given as a model ("... run `git lfs pull` ...").
+extern const char* const kLfsPointerMessage;
+
 }  // namespace smpl

@@ -21,8 +21,9 @@ struct Image {
   }
 };
 
-/// Writes a PNG (RGB when every alpha is 255, otherwise RGBA). Throws RenderError naming the
-/// path when it cannot be written.
+/// Writes a PNG (RGB when every alpha is 255, otherwise RGBA) atomically
+/// (smpl::write_file_atomic). Throws RenderError for an inconsistent image and smpl::WriteError
+/// naming the path when it cannot be written (the previous file is then unchanged).
 void write_png(const Image& image, const std::string& path);
 
 /// Reads a PNG as RGBA. Throws RenderError naming the path when it is missing or not a PNG.
