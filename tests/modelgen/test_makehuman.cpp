@@ -13,6 +13,7 @@
 #include "caliper/volume.hpp"
 #include "makehuman.hpp"
 #include "mesh_checks.hpp"
+#include "smpl/io.hpp"
 
 namespace {
 
@@ -408,6 +409,14 @@ TEST(MakeHumanRig, TemplateModelIsValidAndDeterministic) {
   const smpl::BodyModel m1 = mh::template_model(a, mh::default_regressor_targets());
   EXPECT_EQ(m1.num_joints(), 24);
   EXPECT_EQ(m1.num_betas(), 0);
+  EXPECT_TRUE(m1.has_uvs());
+  EXPECT_EQ(m1.uv_faces.rows(), m1.faces.rows());
+  // Round trip through the .npz format keeps the texture coordinates.
+  const std::string path = std::string(CALIPER_TEST_DATA_DIR) + "/mh_template.npz";
+  smpl::save_model(m1, path);
+  const smpl::BodyModel back = smpl::load_model(path);
+  EXPECT_TRUE(back.uvs == m1.uvs);
+  EXPECT_TRUE(back.uv_faces == m1.uv_faces);
   const smpl::Joints j = m1.j_regressor * m1.v_template;
   EXPECT_LT(j.row(0).norm(), 1e-12);  // origin at the pelvis joint
   const smpl::BodyModel m2 = mh::template_model(a, mh::default_regressor_targets());

@@ -445,6 +445,8 @@ smpl::BodyModel template_model(const Assets& assets, const std::vector<std::stri
   }
   model.v_template = v;
   model.faces = assets.skin.faces;
+  model.uvs = assets.skin.uvs;
+  model.uv_faces = assets.skin.uv_faces;
   model.shapedirs = Eigen::MatrixXd::Zero(3 * v.rows(), 0);
   model.posedirs = Eigen::MatrixXd::Zero(3 * v.rows(), 0);
   model.weights = merged_weights(assets);
