@@ -86,6 +86,20 @@ void validate(const BodyModel& m, const std::string& context) {
       }
     }
   }
+  if (m.uv_faces.rows() > 0 || m.uvs.rows() > 0) {
+    if (m.uv_faces.rows() != m.faces.rows()) {
+      fail(context, "'ft' has " + std::to_string(m.uv_faces.rows()) +
+                        " rows, expected one per face (" + std::to_string(m.faces.rows()) + ")");
+    }
+    if (!m.uvs.allFinite()) fail(context, "'vt' holds NaN or infinity");
+    for (Eigen::Index i = 0; i < m.uv_faces.size(); ++i) {
+      const int t = m.uv_faces.data()[i];
+      if (t < 0 || t >= m.uvs.rows()) {
+        fail(context, "'ft' refers to texture coordinate " + std::to_string(t) + " but 'vt' has " +
+                          std::to_string(m.uvs.rows()));
+      }
+    }
+  }
   if (!m.mirror.empty()) {
     if (static_cast<Eigen::Index>(m.mirror.size()) != V) {
       fail(context, "'vert_sym_idxs' has " + std::to_string(m.mirror.size()) +

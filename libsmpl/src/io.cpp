@@ -292,6 +292,23 @@ BodyModel build_model(const Source& src, const LoadOptions& options) {
     }
     m.mirror = int_vector(src, "vert_sym_idxs", a, 0, V - 1);
   }
+  if (src.has("vt") || src.has("ft")) {
+    const NpyArray& a = src.array("vt");
+    if (a.shape.size() != 2 || a.shape[1] != 2 || a.shape[0] == 0 ||
+        a.shape[0] > static_cast<std::size_t>(std::numeric_limits<int>::max() / 2)) {
+      src.bad_shape("vt", a, "(T, 2)");
+    }
+    const auto T = static_cast<Eigen::Index>(a.shape[0]);
+    const std::vector<double> uv = src.doubles("vt", a);
+    m.uvs = Eigen::Map<const TexCoords>(uv.data(), T, 2);
+    const NpyArray& ft = src.array("ft");
+    if (ft.shape.size() != 2 || ft.shape[1] != 3 ||
+        ft.shape[0] != static_cast<std::size_t>(m.faces.rows())) {
+      src.bad_shape("ft", ft, "(" + std::to_string(m.faces.rows()) + ", 3)");
+    }
+    const std::vector<int> ftv = int_vector(src, "ft", ft, 0, static_cast<int>(T) - 1);
+    m.uv_faces = Eigen::Map<const Faces>(ftv.data(), m.faces.rows(), 3);
+  }
   if (src.has("joint_names")) {
     m.joint_names = src.strings("joint_names");
   } else if (K == 24) {
@@ -400,6 +417,12 @@ NpzArchive model_arrays(const BodyModel& m) {
   if (!m.mirror.empty()) {
     out["vert_sym_idxs"] =
         make_npy(std::vector<std::int64_t>(m.mirror.begin(), m.mirror.end()), {m.mirror.size()});
+  }
+  if (m.has_uvs()) {
+    out["vt"] = make_npy(m.uvs);
+    const Eigen::Matrix<std::uint32_t, Eigen::Dynamic, 3, Eigen::RowMajor> ft =
+        m.uv_faces.cast<std::uint32_t>();
+    out["ft"] = make_npy(ft);
   }
   if (!m.joint_names.empty()) out["joint_names"] = make_npy_strings(m.joint_names);
   if (!m.landmarks.empty()) {

@@ -26,6 +26,15 @@ smpl::BodyModel model_with_everything() {
   m.meta.source = "test_save_model";
   m.meta.extra["licence"] = "CC0 \xe2\x80\x94 test data";
   m.meta.extra["version"] = "1";
+  // Texture coordinates per corner, with a seam: corner c of face f gets coordinate 3 f + c.
+  m.uvs.resize(3 * m.faces.rows(), 2);
+  m.uv_faces.resize(m.faces.rows(), 3);
+  for (Eigen::Index f = 0; f < m.faces.rows(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      m.uv_faces(f, c) = static_cast<int>(3 * f + c);
+      m.uvs.row(3 * f + c) << 0.001 * static_cast<double>(f % 997), 0.25 * c;
+    }
+  }
   return m;
 }
 
@@ -41,6 +50,8 @@ void expect_same_model(const smpl::BodyModel& a, const smpl::BodyModel& b) {
   EXPECT_EQ(a.joint_names, b.joint_names);
   EXPECT_EQ(a.landmarks, b.landmarks);
   EXPECT_EQ(a.mirror, b.mirror);
+  EXPECT_TRUE(a.uvs == b.uvs);
+  EXPECT_TRUE(a.uv_faces == b.uv_faces);
   EXPECT_EQ(a.meta.name, b.meta.name);
   EXPECT_EQ(a.meta.gender, b.meta.gender);
   EXPECT_EQ(a.meta.source, b.meta.source);
@@ -96,6 +107,18 @@ TEST(SaveModel, InvalidModelsAreNotWritten) {
   }
   EXPECT_THROW(smpl::save_model(model_with_everything(), "/nonexistent-dir/x.npz"),
                smpl::ModelError);
+  // Texture-coordinate faces must match the faces and index the coordinates.
+  smpl::BodyModel uv = model_with_everything();
+  uv.uv_faces(2, 1) = static_cast<int>(uv.uvs.rows());
+  try {
+    smpl::save_model(uv, out_dir() + "/bad_ft.npz");
+    FAIL();
+  } catch (const smpl::ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("'ft'"), std::string::npos) << e.what();
+  }
+  uv = model_with_everything();
+  uv.uv_faces.conservativeResize(uv.faces.rows() - 1, 3);
+  EXPECT_THROW(smpl::save_model(uv, out_dir() + "/short_ft.npz"), smpl::ModelError);
 }
 
 // A landmark table whose offsets point past the vertex list (in the middle) is refused.

@@ -14,6 +14,7 @@
 
 #include "ansur_stats.hpp"
 #include "generator.hpp"
+#include "makehuman_rig.hpp"
 #include "smpl/io.hpp"
 
 namespace {
@@ -26,7 +27,13 @@ void usage() {
          "Writes DIR/caliper-<gender>.npz. The statistics table defaults to\n"
          "DIR/ansur_stats.csv, else ./assets/models/ansur_stats.csv; --stats-from recomputes it\n"
          "from the ANSUR II survey files.\n"
-         "       caliper-modelgen --validate MODEL.npz --stats FILE [--samples N]\n";
+         "       caliper-modelgen --validate MODEL.npz --stats FILE [--samples N]\n"
+         "       caliper-modelgen --source makehuman [--makehuman DIR] --out DIR\n"
+         "Work in progress (issue 11): --source makehuman writes only\n"
+         "DIR/caliper-makehuman-template.npz, MakeHuman's CC0 base mesh (skin only, T-pose,\n"
+         "SMPL's 24 joints, merged weights, fitted joint regressor) with no shape space yet;\n"
+         "--makehuman defaults to ../shared/data/makehuman. The default --source cage\n"
+         "writes the three open models.\n";
 }
 
 }  // namespace
@@ -37,6 +44,7 @@ int main(int argc, char** argv) {
     modelgen::GeneratorOptions opt;
     bool quiet = false;
     std::string validate;
+    std::string source = "cage", makehuman_dir = "../shared/data/makehuman";
     int samples = 10000;
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
@@ -64,6 +72,13 @@ int main(int argc, char** argv) {
         validate = next();
       } else if (a == "--samples") {
         samples = std::stoi(next());
+      } else if (a == "--source") {
+        source = next();
+        if (source != "cage" && source != "makehuman") {
+          throw std::runtime_error("--source must be 'cage' or 'makehuman', not '" + source + "'");
+        }
+      } else if (a == "--makehuman") {
+        makehuman_dir = next();
       } else if (a == "--quiet") {
         quiet = true;
       } else if (a == "-h" || a == "--help") {
@@ -121,6 +136,22 @@ int main(int argc, char** argv) {
     if (out.empty()) {
       usage();
       return 2;
+    }
+    if (source == "makehuman") {
+      const auto t0 = std::chrono::steady_clock::now();
+      const modelgen::mh::Assets assets = modelgen::mh::read_assets(makehuman_dir);
+      const smpl::BodyModel model =
+          modelgen::mh::template_model(assets, modelgen::mh::default_regressor_targets());
+      const std::string path = out + "/caliper-makehuman-template.npz";
+      smpl::SaveOptions so;
+      so.compress = true;
+      smpl::save_model(model, path, so);
+      if (!quiet) {
+        std::printf("wrote %s (%d vertices, %d faces, %d betas) in %.1f s\n", path.c_str(),
+                    model.num_vertices(), model.num_faces(), model.num_betas(),
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      }
+      return 0;
     }
     if (stats_path.empty()) {
       // The committed table: beside the output, else assets/models/ under the working directory

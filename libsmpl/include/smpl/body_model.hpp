@@ -24,6 +24,8 @@ using Vertices = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 using Joints = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 /// #F x 3 triangle vertex indices (0-based, counter-clockwise seen from outside), row-major.
 using Faces = Eigen::Matrix<std::int32_t, Eigen::Dynamic, 3, Eigen::RowMajor>;
+/// #T x 2 texture coordinates (u right, v up, OBJ's and SMPL's `vt` convention), row-major.
+using TexCoords = Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>;
 /// Row-major sparse matrix (joint regressor K x V, skinning weights V x K).
 using SparseMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
@@ -59,6 +61,11 @@ struct BodyModel {
   std::vector<std::string> joint_names;  ///< K names ("pelvis", "left_hip", ...).
   std::map<std::string, std::vector<int>> landmarks;  ///< name -> vertex ids (0-based).
   std::vector<int> mirror;  ///< V left/right mirror vertex index, or empty.
+  /// Texture coordinates per triangle corner: `uv_faces` row f indexes `uvs` as `faces` row f
+  /// indexes the vertices. A vertex on a seam has several texture coordinates; exporters split
+  /// it there. Both empty when the model has none (SMPL's own files).
+  TexCoords uvs;   ///< T x 2
+  Faces uv_faces;  ///< F x 3 (same rows as faces), or 0 rows
   ModelMetadata meta;
 
   int num_vertices() const { return static_cast<int>(v_template.rows()); }
@@ -67,6 +74,7 @@ struct BodyModel {
   int num_betas() const { return static_cast<int>(shapedirs.cols()); }
   int num_pose_features() const { return static_cast<int>(posedirs.cols()); }
   bool has_pose_blend_shapes() const { return posedirs.cols() > 0; }
+  bool has_uvs() const { return uv_faces.rows() > 0; }
 };
 
 /// Checks every size and invariant (shapes agree, indices in range, parents precede children,

@@ -1,0 +1,463 @@
+/// \file makehuman_rig.cpp
+/// MakeHuman's rig mapped onto SMPL's 24 joints, the baked T-pose and the joint regressor
+/// (makehuman_rig.hpp).
+///
+/// Sections: asset folder; joint and segment tables; rigid transforms; T-pose; merged weights;
+/// joint regressor; template model.
+#include "makehuman_rig.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+
+namespace modelgen::mh {
+
+// ------------------------------------------------------------------------------------------------
+// Asset folder
+// ------------------------------------------------------------------------------------------------
+
+Assets read_assets(const std::string& dir) {
+  Assets a;
+  a.dir = dir;
+  a.base = read_base_mesh(dir + "/3dobjs/base.obj");
+  const int n = static_cast<int>(a.base.vertices.rows());
+  a.skin = skin_mesh(a.base);
+  a.skeleton = read_skeleton(dir + "/rigs/default.mhskel", n);
+  a.weights = read_weights(dir + "/rigs/default_weights.mhw", n);
+  for (const auto& [bone, list] : a.weights) {
+    (void)list;
+    a.skeleton.bone(bone);  // throws for a weighted bone the skeleton lacks
+  }
+  for (const std::string& b : smpl_joint_bones()) {
+    a.skeleton.bone(b);
+  }
+  return a;
+}
+
+Target read_asset_target(const Assets& assets, const std::string& relative) {
+  return read_target(assets.dir + "/targets/" + relative,
+                     static_cast<int>(assets.base.vertices.rows()));
+}
+
+// ------------------------------------------------------------------------------------------------
+// Joint and segment tables
+// ------------------------------------------------------------------------------------------------
+
+const std::vector<std::string>& smpl_joint_bones() {
+  // SMPL order: pelvis, left_hip, right_hip, spine1, left_knee, right_knee, spine2, left_ankle,
+  // right_ankle, spine3, left_foot, right_foot, neck, left_collar, right_collar, head,
+  // left_shoulder, right_shoulder, left_elbow, right_elbow, left_wrist, right_wrist, left_hand,
+  // right_hand. MakeHuman's ".L" is the subject's left (+X). The spine joints are spaced as
+  // SMPL's: spine1 about 11 cm above the pelvis joint, spine3 at mid-chest, 16 cm below the neck.
+  static const std::vector<std::string> bones = {
+      "spine05",      "upperleg01.L", "upperleg01.R", "spine03", "lowerleg01.L", "lowerleg01.R",
+      "spine02",      "foot.L",       "foot.R",       "spine01", "toe3-1.L",     "toe3-1.R",
+      "neck01",       "clavicle.L",   "clavicle.R",   "head",    "upperarm01.L", "upperarm01.R",
+      "lowerarm01.L", "lowerarm01.R", "wrist.L",      "wrist.R", "finger3-1.L",  "finger3-1.R"};
+  return bones;
+}
+
+int smpl_segment(const Skeleton& skeleton, const std::string& bone) {
+  // Segments start at a listed bone; fingers (all five, from their first phalanx) are the hand,
+  // toes the foot; the root, pelvis and the two lower spine bones the pelvis.
+  static const std::map<std::string, int> starts = [] {
+    std::map<std::string, int> m;
+    const auto& b = smpl_joint_bones();
+    for (std::size_t k = 0; k < b.size(); ++k) {
+      m[b[k]] = static_cast<int>(k);
+    }
+    m["root"] = 0;
+    for (const char* side : {".L", ".R"}) {
+      const int hand = side[1] == 'L' ? 22 : 23;
+      const int foot = side[1] == 'L' ? 10 : 11;
+      for (int f = 1; f <= 5; ++f) {
+        m["finger" + std::to_string(f) + "-1" + side] = hand;
+        m["toe" + std::to_string(f) + "-1" + side] = foot;
+      }
+    }
+    return m;
+  }();
+  int b = skeleton.bone(bone);
+  for (;;) {
+    const auto it = starts.find(skeleton.bones[static_cast<std::size_t>(b)].name);
+    if (it != starts.end()) {
+      return it->second;
+    }
+    const std::string& parent = skeleton.bones[static_cast<std::size_t>(b)].parent;
+    if (parent.empty()) {
+      return 0;
+    }
+    b = skeleton.bone(parent);
+  }
+}
+
+Eigen::Matrix<double, 24, 3, Eigen::RowMajor> smpl_joints(const Assets& assets,
+                                                          const Positions& positions) {
+  Eigen::Matrix<double, 24, 3, Eigen::RowMajor> j;
+  const auto& names = smpl_joint_bones();
+  for (int k = 0; k < 24; ++k) {
+    const Bone& b = assets.skeleton.bones[static_cast<std::size_t>(
+        assets.skeleton.bone(names[static_cast<std::size_t>(k)]))];
+    j.row(k) = joint_position(assets.skeleton, b.head, positions).transpose();
+  }
+  return j;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Rigid transforms (x' = r x + t), rotations without trigonometry
+// ------------------------------------------------------------------------------------------------
+
+namespace {
+
+struct Rigid {
+  Eigen::Matrix3d r = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();
+  Eigen::Vector3d operator()(const Eigen::Vector3d& x) const { return r * x + t; }
+};
+
+/// a then b: (b o a)(x) = b(a(x)).
+Rigid then(const Rigid& a, const Rigid& b) {
+  return Rigid{b.r * a.r, b.r * a.t + b.t};
+}
+
+/// Rotation r about the point p.
+Rigid about(const Eigen::Vector3d& p, const Eigen::Matrix3d& r) {
+  return Rigid{r, p - r * p};
+}
+
+Eigen::Vector3d unit(const Eigen::Vector3d& v, const char* what) {
+  const double n = v.norm();
+  if (!(n > 1e-12)) {
+    throw AssetError(std::string("degenerate MakeHuman rig: zero-length ") + what);
+  }
+  return v / n;
+}
+
+/// The smallest rotation taking unit vector a onto unit vector b (Rodrigues with the cross and
+/// dot products: no trigonometric function). a and b must not be opposite.
+Eigen::Matrix3d rotation_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const Eigen::Vector3d v = a.cross(b);
+  const double c = a.dot(b);
+  if (c < -0.999) {
+    throw AssetError(
+        "MakeHuman rig: a bone would have to turn by nearly 180 degrees to reach "
+        "the T-pose; is the base mesh in its A-pose?");
+  }
+  Eigen::Matrix3d k;
+  k << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  return Eigen::Matrix3d::Identity() + k + (k * k) / (1.0 + c);
+}
+
+/// Half of rotation_between(a, b): onto the bisector of a and b.
+Eigen::Matrix3d half_rotation_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return rotation_between(a, unit(a + b, "bisector"));
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------------------------------------
+// T-pose
+// ------------------------------------------------------------------------------------------------
+
+TPoseBody t_pose(const Assets& assets, const Positions& a_pose) {
+  const Skeleton& sk = assets.skeleton;
+  auto head = [&](const std::string& bone) {
+    return joint_position(sk, sk.bones[static_cast<std::size_t>(sk.bone(bone))].head, a_pose);
+  };
+  // Transforms of the bones that move; every other bone inherits its nearest listed ancestor's.
+  std::map<std::string, Rigid> moved;
+  for (const std::string side : {".L", ".R"}) {
+    const Eigen::Vector3d axis(side == ".L" ? 1.0 : -1.0, 0.0, 0.0);
+    const Eigen::Vector3d s = head("upperarm01" + side);
+    const Eigen::Vector3d e = head("lowerarm01" + side);
+    const Eigen::Vector3d w = head("wrist" + side);
+    const Eigen::Vector3d k = head("finger3-1" + side);
+    const Eigen::Vector3d i2 = head("finger2-1" + side);
+    const Eigen::Vector3d i5 = head("finger5-1" + side);
+
+    const Eigen::Vector3d upper = unit(e - s, "upper arm");
+    const Rigid shoulder = about(s, rotation_between(upper, axis));
+    const Rigid deltoid = about(s, half_rotation_between(upper, axis));
+    const Eigen::Vector3d e1 = shoulder(e);
+    const Rigid elbow =
+        then(shoulder, about(e1, rotation_between(unit(shoulder(w) - e1, "forearm"), axis)));
+    const Eigen::Vector3d w1 = elbow(w);
+    const Rigid wrist = then(elbow, about(w1, rotation_between(unit(elbow(k) - w1, "hand"), axis)));
+    // Palm down: the index knuckle straight in front of the little-finger knuckle.
+    Eigen::Vector3d across = wrist(i2) - wrist(i5);
+    across.x() = 0.0;
+    across = unit(across, "knuckle line");
+    const Eigen::Vector3d forward(0.0, 0.0, 1.0);
+    const Rigid twist = about(w1, rotation_between(across, forward));
+    const Rigid half_twist = about(w1, half_rotation_between(across, forward));
+
+    moved["shoulder01" + side] = deltoid;
+    moved["upperarm01" + side] = shoulder;
+    moved["upperarm02" + side] = shoulder;
+    moved["lowerarm01" + side] = elbow;
+    moved["lowerarm02" + side] = then(elbow, half_twist);
+    moved["wrist" + side] = then(wrist, twist);
+  }
+  std::vector<Rigid> bone_rigid(sk.bones.size());
+  for (std::size_t b = 0; b < sk.bones.size(); ++b) {
+    const auto it = moved.find(sk.bones[b].name);
+    if (it != moved.end()) {
+      bone_rigid[b] = it->second;
+    } else if (!sk.bones[b].parent.empty()) {
+      // Parents precede children (read_skeleton), so the parent's transform is final.
+      bone_rigid[b] = bone_rigid[static_cast<std::size_t>(sk.bone(sk.bones[b].parent))];
+    }
+  }
+
+  TPoseBody out;
+  const Eigen::Index n = a_pose.rows();
+  Positions acc = Positions::Zero(n, 3);
+  Eigen::VectorXd wsum = Eigen::VectorXd::Zero(n);
+  for (const auto& [bone, list] : assets.weights) {  // bone-name order: fixed summation order
+    const Rigid& g = bone_rigid[static_cast<std::size_t>(sk.bone(bone))];
+    for (const auto& [i, x] : list) {
+      acc.row(i) += x * g(a_pose.row(i).transpose()).transpose();
+      wsum(i) += x;
+    }
+  }
+  out.positions = a_pose;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (wsum(i) > 0.0) {
+      out.positions.row(i) = acc.row(i) / wsum(i);
+    }
+  }
+  const auto rest = smpl_joints(assets, a_pose);
+  const auto& names = smpl_joint_bones();
+  for (int j = 0; j < 24; ++j) {
+    const Rigid& g =
+        bone_rigid[static_cast<std::size_t>(sk.bone(names[static_cast<std::size_t>(j)]))];
+    out.joints.row(j) = g(rest.row(j).transpose()).transpose();
+  }
+  return out;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Merged weights
+// ------------------------------------------------------------------------------------------------
+
+smpl::SparseMatrix merged_weights(const Assets& assets) {
+  const auto v = static_cast<Eigen::Index>(assets.skin.source_vertex.size());
+  Eigen::Matrix<double, Eigen::Dynamic, 24, Eigen::RowMajor> acc =
+      Eigen::Matrix<double, Eigen::Dynamic, 24, Eigen::RowMajor>::Zero(v, 24);
+  for (const auto& [bone, list] : assets.weights) {
+    const int seg = smpl_segment(assets.skeleton, bone);
+    for (const auto& [i, x] : list) {
+      const int s = assets.skin.skin_vertex[static_cast<std::size_t>(i)];
+      if (s >= 0) {
+        acc(s, seg) += x;
+      }
+    }
+  }
+  std::vector<Eigen::Triplet<double>> trip;
+  for (Eigen::Index i = 0; i < v; ++i) {
+    std::array<int, 24> order{};
+    for (int k = 0; k < 24; ++k) {
+      order[static_cast<std::size_t>(k)] = k;
+    }
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return acc(i, a) > acc(i, b); });
+    double sum = 0.0;
+    for (int r = 0; r < 4; ++r) {
+      sum += acc(i, order[static_cast<std::size_t>(r)]);
+    }
+    if (!(sum > 0.0)) {
+      throw AssetError("MakeHuman weights: skin vertex " + std::to_string(i) + " (base vertex " +
+                       std::to_string(assets.skin.source_vertex[static_cast<std::size_t>(i)]) +
+                       ") has no bone weight");
+    }
+    for (int r = 0; r < 4; ++r) {
+      const int k = order[static_cast<std::size_t>(r)];
+      if (acc(i, k) > 0.0) {
+        trip.emplace_back(static_cast<int>(i), k, acc(i, k) / sum);
+      }
+    }
+  }
+  smpl::SparseMatrix w(v, 24);
+  w.setFromTriplets(trip.begin(), trip.end());
+  w.makeCompressed();
+  return w;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Joint regressor
+// ------------------------------------------------------------------------------------------------
+
+smpl::SparseMatrix fit_joint_regressor(const Assets& assets, const std::vector<TPoseBody>& bodies) {
+  if (bodies.empty()) {
+    throw std::invalid_argument("fit_joint_regressor: needs at least one body");
+  }
+  const std::vector<int>& src = assets.skin.source_vertex;
+  const auto nv = static_cast<int>(src.size());
+  std::vector<Eigen::Triplet<double>> trip;
+  for (int j = 0; j < 24; ++j) {
+    // Vertex choice on the first body: skin vertices around the joint, where 36 rays first meet
+    // the skin (per ray, the nearest vertex within 20 degrees of it): 12 in the plane across the
+    // limb (the YZ plane for the arm joints, which lie along X in the T-pose; the horizontal
+    // plane for the others) and 12 tilted 30 degrees to either side.
+    const Eigen::Vector3d c = bodies.front().joints.row(j).transpose();
+    const bool arm = j >= 16;
+    std::vector<int> chosen;
+    const double h = 0.5 * std::sqrt(3.0);  // cos 30 degrees
+    const double ca[12] = {1.0, h, 0.5, 0.0, -0.5, -h, -1.0, -h, -0.5, 0.0, 0.5, h};
+    const double sa[12] = {0.0, 0.5, h, 1.0, h, 0.5, 0.0, -0.5, -h, -1.0, -h, -0.5};
+    for (int ring = 0; ring < 3; ++ring) {
+      for (int r = 0; r < 12; ++r) {
+        // Three rings of 12 rays: in the plane and tilted 30 degrees to either side of it.
+        const double along = ring == 0 ? 0.0 : (ring == 1 ? 0.5 : -0.5);
+        const double across = ring == 0 ? 1.0 : h;
+        const Eigen::Vector3d d = arm ? Eigen::Vector3d(along, across * ca[r], across * sa[r])
+                                      : Eigen::Vector3d(across * ca[r], along, across * sa[r]);
+        constexpr double kCone = 0.9397;  // cos 20 degrees
+        double best = 1e300;
+        int arg = -1;
+        for (int s = 0; s < nv; ++s) {
+          const Eigen::Vector3d e =
+              bodies.front().positions.row(src[static_cast<std::size_t>(s)]).transpose() - c;
+          const double n2 = e.squaredNorm();
+          const double dot = e.dot(d);
+          if (dot > 0.0 && dot * dot >= kCone * kCone * n2 && n2 < best) {
+            best = n2;
+            arg = s;
+          }
+        }
+        if (arg >= 0 && std::find(chosen.begin(), chosen.end(), arg) == chosen.end()) {
+          chosen.push_back(arg);
+        }
+      }
+    }
+    if (chosen.size() < 3) {
+      throw AssetError("MakeHuman rig: too few skin vertices around joint " +
+                       smpl::smpl_joint_names()[static_cast<std::size_t>(j)]);
+    }
+    std::sort(chosen.begin(), chosen.end());
+    const int k = static_cast<int>(chosen.size());
+    // Normal matrix of sum_b |sum_i w_i (v_i^b - J^b)|^2, summed in body, coordinate order.
+    Eigen::MatrixXd m = Eigen::MatrixXd::Zero(k, k);
+    for (const TPoseBody& b : bodies) {
+      for (int c3 = 0; c3 < 3; ++c3) {
+        for (int p = 0; p < k; ++p) {
+          const double dp =
+              b.positions(src[static_cast<std::size_t>(chosen[static_cast<std::size_t>(p)])], c3) -
+              b.joints(j, c3);
+          for (int q = 0; q < k; ++q) {
+            const double dq =
+                b.positions(src[static_cast<std::size_t>(chosen[static_cast<std::size_t>(q)])],
+                            c3) -
+                b.joints(j, c3);
+            m(p, q) += dp * dq;
+          }
+        }
+      }
+    }
+    // Ridge towards equal weights, 1e-3 of the mean diagonal: without it the 36 weights cancel
+    // (entries to -1.3 with 1e-4); with it they stay within [-0.4, 0.5] for 0.5 mm more RMS
+    // error on the training bodies.
+    double tr = 0.0;
+    for (int p = 0; p < k; ++p) {
+      tr += m(p, p);
+    }
+    const double lambda = 1e-3 * tr / k;
+    Eigen::MatrixXd kkt = Eigen::MatrixXd::Zero(k + 1, k + 1);
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(k + 1);
+    for (int p = 0; p < k; ++p) {
+      for (int q = 0; q < k; ++q) {
+        kkt(p, q) = 2.0 * m(p, q);
+      }
+      kkt(p, p) += 2.0 * lambda;
+      kkt(p, k) = 1.0;
+      kkt(k, p) = 1.0;
+      rhs(p) = 2.0 * lambda / k;
+    }
+    rhs(k) = 1.0;
+    const Eigen::VectorXd sol = kkt.fullPivLu().solve(rhs);
+    double sum = 0.0;
+    for (int p = 0; p < k; ++p) {
+      sum += sol(p);
+    }
+    for (int p = 0; p < k; ++p) {
+      trip.emplace_back(j, chosen[static_cast<std::size_t>(p)], sol(p) / sum);
+    }
+  }
+  smpl::SparseMatrix r(24, nv);
+  r.setFromTriplets(trip.begin(), trip.end());
+  r.makeCompressed();
+  return r;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Template model
+// ------------------------------------------------------------------------------------------------
+
+std::vector<std::string> default_regressor_targets() {
+  std::vector<std::string> t;
+  for (const char* sex : {"female", "male"}) {
+    for (const char* muscle : {"min", "average", "max"}) {
+      for (const char* weight : {"min", "average", "max"}) {
+        if (std::string(muscle) == "average" && std::string(weight) == "average") {
+          continue;  // the empty corner: the base itself
+        }
+        t.push_back(std::string("macrodetails/universal-") + sex + "-young-" + muscle + "muscle-" +
+                    weight + "weight.target");
+      }
+    }
+    for (const char* h : {"min", "max"}) {
+      t.push_back(std::string("macrodetails/height/") + sex +
+                  "-young-averagemuscle-averageweight-" + h + "height.target");
+    }
+  }
+  for (const char* m : {"ankle-circ",       "bust-circ",      "calf-circ",       "frontchest-dist",
+                        "hips-circ",        "knee-circ",      "lowerarm-length", "lowerleg-height",
+                        "napetowaist-dist", "neck-circ",      "neck-height",     "shoulder-dist",
+                        "thigh-circ",       "underbust-circ", "upperarm-circ",   "upperarm-length",
+                        "upperleg-height",  "waist-circ",     "waisttohip-dist", "wrist-circ"}) {
+    for (const char* d : {"decr", "incr"}) {
+      t.push_back(std::string("measure/measure-") + m + "-" + d + ".target");
+    }
+  }
+  return t;
+}
+
+smpl::BodyModel template_model(const Assets& assets, const std::vector<std::string>& training) {
+  std::vector<TPoseBody> bodies;
+  bodies.push_back(t_pose(assets, assets.base.vertices));
+  for (const std::string& rel : training) {
+    Positions p = assets.base.vertices;
+    add_target(read_asset_target(assets, rel), 1.0, p);
+    bodies.push_back(t_pose(assets, p));
+  }
+  smpl::BodyModel model;
+  model.j_regressor = fit_joint_regressor(assets, bodies);
+  smpl::Vertices v = skin_vertices(assets.skin, bodies.front().positions);
+  // Origin at the pelvis joint, as SMPL and the cage models.
+  const Eigen::RowVector3d pelvis = (model.j_regressor.row(0) * v).eval();
+  for (Eigen::Index i = 0; i < v.rows(); ++i) {
+    v.row(i) -= pelvis;
+  }
+  model.v_template = v;
+  model.faces = assets.skin.faces;
+  model.uvs = assets.skin.uvs;
+  model.uv_faces = assets.skin.uv_faces;
+  model.shapedirs = Eigen::MatrixXd::Zero(3 * v.rows(), 0);
+  model.posedirs = Eigen::MatrixXd::Zero(3 * v.rows(), 0);
+  model.weights = merged_weights(assets);
+  model.parents = smpl::smpl_parents();
+  model.joint_names = smpl::smpl_joint_names();
+  model.meta.name = "caliper-open-makehuman-template";
+  model.meta.gender = "neutral";
+  model.meta.source = "caliper-modelgen --source makehuman (MakeHuman hm08 CC0 assets)";
+  model.meta.extra["licence"] = "MIT; derived from MakeHuman's CC0 1.0 assets";
+  smpl::validate(model, "MakeHuman template model");
+  return model;
+}
+
+}  // namespace modelgen::mh
