@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/SVD>
+
 #include "caliper/volume.hpp"
 #include "makehuman.hpp"
 #include "mesh_checks.hpp"
@@ -422,4 +424,66 @@ TEST(MakeHumanRig, TemplateModelIsValidAndDeterministic) {
   const smpl::BodyModel m2 = mh::template_model(a, mh::default_regressor_targets());
   EXPECT_TRUE(m1.v_template == m2.v_template);
   EXPECT_TRUE(smpl::SparseMatrix(m1.j_regressor - m2.j_regressor).norm() == 0.0);
+}
+
+// The texture coordinates of the skin as a checker texture would show them: every triangle keeps
+// its orientation in the unwrap (no mirrored islands) and none is squeezed to nothing.
+TEST(MakeHumanRig, TextureCoordinatesAreOrientedAndNotDegenerate) {
+  REQUIRE_ASSETS();
+  namespace mh = modelgen::mh;
+  const smpl::BodyModel m = mh::template_model(assets(), mh::default_regressor_targets());
+  ASSERT_TRUE(m.has_uvs());
+  // A checker square drawn out to more than 2.5 : 1 would show on a textured render; 99 % of
+  // the triangles must stay below that (measured 2.04 on the T-pose template). The worst few
+  // (15.7 : 1, reported, not guarded) are for the checker render of issue 11 to judge.
+  constexpr double kStretch99 = 2.5;
+  double uv_total = 0.0, area_total = 0.0;
+  std::vector<double> ratio(static_cast<size_t>(m.num_faces()));
+  int flipped = 0, outside = 0;
+  for (Eigen::Index f = 0; f < m.num_faces(); ++f) {
+    const Eigen::RowVector2d a = m.uvs.row(m.uv_faces(f, 0)), b = m.uvs.row(m.uv_faces(f, 1)),
+                             c = m.uvs.row(m.uv_faces(f, 2));
+    const double uv_area = 0.5 * ((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
+    const Eigen::RowVector3d p = m.v_template.row(m.faces(f, 0)),
+                             q = m.v_template.row(m.faces(f, 1)),
+                             r = m.v_template.row(m.faces(f, 2));
+    const double area = 0.5 * (q - p).cross(r - p).norm();
+    flipped += uv_area <= 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const double u = m.uvs(m.uv_faces(f, k), 0), v = m.uvs(m.uv_faces(f, k), 1);
+      outside += u < 0.0 || u > 1.0 || v < 0.0 || v > 1.0;
+    }
+    uv_total += std::abs(uv_area);
+    area_total += area;
+    ratio[static_cast<size_t>(f)] = std::abs(uv_area) / area;
+  }
+  // Stretch: the singular values s1 >= s2 of the map from a triangle's texture coordinates to
+  // the skin; s1 / s2 is how much a checker square is drawn out into a rectangle on it.
+  std::vector<double> aniso;
+  for (Eigen::Index f = 0; f < m.num_faces(); ++f) {
+    const Eigen::RowVector2d a = m.uvs.row(m.uv_faces(f, 0));
+    Eigen::Matrix2d duv;
+    duv.col(0) = (m.uvs.row(m.uv_faces(f, 1)) - a).transpose();
+    duv.col(1) = (m.uvs.row(m.uv_faces(f, 2)) - a).transpose();
+    Eigen::Matrix<double, 3, 2> dp;
+    dp.col(0) = (m.v_template.row(m.faces(f, 1)) - m.v_template.row(m.faces(f, 0))).transpose();
+    dp.col(1) = (m.v_template.row(m.faces(f, 2)) - m.v_template.row(m.faces(f, 0))).transpose();
+    const Eigen::Matrix<double, 3, 2> jac = dp * duv.inverse();
+    const Eigen::Vector2d sv = Eigen::JacobiSVD<Eigen::Matrix<double, 3, 2>>(jac).singularValues();
+    aniso.push_back(sv(0) / sv(1));
+  }
+  std::sort(aniso.begin(), aniso.end());
+  const double median = aniso[aniso.size() / 2], p99 = aniso[aniso.size() * 99 / 100];
+  const double worst = aniso.back();
+  const double mean_ratio = uv_total / area_total;
+  int dense = 0;
+  for (double x : ratio) dense += x > 10.0 * mean_ratio || x < 0.1 * mean_ratio;
+  std::printf(
+      "UV: %lld triangles, %d flipped or degenerate, %d corners outside [0,1]^2; stretch "
+      "s1/s2 median %.3f, 99th percentile %.3f, worst %.3f; %d triangles with texture "
+      "density beyond 10x of the mean either way; UV area covered %.3f\n",
+      static_cast<long long>(m.num_faces()), flipped, outside, median, p99, worst, dense, uv_total);
+  EXPECT_EQ(flipped, 0);
+  EXPECT_EQ(outside, 0);
+  EXPECT_LT(p99, kStretch99);
 }
