@@ -22,9 +22,12 @@ void check_args(double a, double x, const char* what) {
   }
 }
 
-// log of x^a e^-x / Gamma(a)
+// log of x^a e^-x / Gamma(a). lgamma_r, not std::lgamma: lgamma stores the sign of Gamma(a) in
+// the global `signgam`, a data race when several threads judge plausibility at once (caliper
+// batch; found by ThreadSanitizer). a > 0 here, so the sign is always +1.
 double log_prefactor(double a, double x) {
-  return a * std::log(x) - x - std::lgamma(a);
+  int sign = 0;
+  return a * std::log(x) - x - ::lgamma_r(a, &sign);
 }
 
 double series_p(double a, double x) {
