@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -345,7 +346,12 @@ struct HandsInsideCheck {
 
   double depth(const smpl::Vertices& v, const smpl::Faces& faces) {
     const smpl::Vertices normals = smpl::vertex_normals(v, faces);
-    // Body vertices near the hands only (a box around them, grown by the search distance).
+    // Body vertices near the hands only (a box around them, grown by the search distance), in a
+    // uniform grid of kCell cubes: the nearest body vertex to a hand vertex is searched shell by
+    // shell of cells around it and the search stops once no farther shell can hold a nearer one
+    // (the same answer as comparing with every body vertex, at a fraction of the work: the test
+    // skins 1,650 frames and runs under the sanitizers too).
+    constexpr double kCell = 0.075;  // m
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e9), hi = -lo;
     for (Eigen::Index h : hands) {
       lo = lo.cwiseMin(v.row(h).transpose());
@@ -353,28 +359,68 @@ struct HandsInsideCheck {
     }
     lo.array() -= kSearch;
     hi.array() += kSearch;
-    std::vector<Eigen::Index> near;
+    std::array<int, 3> n{};
+    for (int a = 0; a < 3; ++a) n[a] = static_cast<int>((hi[a] - lo[a]) / kCell) + 1;
+    const auto cell_of = [&](const double* q, int a) {
+      return std::clamp(static_cast<int>((q[a] - lo[a]) / kCell), 0, n[a] - 1);
+    };
+    const auto index = [&](int x, int y, int z) {
+      return (static_cast<size_t>(z) * static_cast<size_t>(n[1]) + static_cast<size_t>(y)) *
+                 static_cast<size_t>(n[0]) +
+             static_cast<size_t>(x);
+    };
+    // Counting sort of the near body vertices by cell: points[start[c] .. start[c + 1]).
+    std::vector<std::array<double, 3>> near;
+    std::vector<Eigen::Index> near_id;
+    std::vector<size_t> cell;
     for (Eigen::Index t : body) {
-      const Eigen::Vector3d q = v.row(t).transpose();
-      if ((q.array() >= lo.array()).all() && (q.array() <= hi.array()).all()) near.push_back(t);
+      const std::array<double, 3> q{v(t, 0), v(t, 1), v(t, 2)};
+      if (q[0] < lo[0] || q[1] < lo[1] || q[2] < lo[2] || q[0] > hi[0] || q[1] > hi[1] ||
+          q[2] > hi[2])
+        continue;
+      near.push_back(q);
+      near_id.push_back(t);
+      cell.push_back(index(cell_of(q.data(), 0), cell_of(q.data(), 1), cell_of(q.data(), 2)));
     }
+    std::vector<size_t> start(
+        static_cast<size_t>(n[0]) * static_cast<size_t>(n[1]) * static_cast<size_t>(n[2]) + 1, 0);
+    for (size_t c : cell) ++start[c + 1];
+    for (size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
+    std::vector<size_t> fill(start.begin(), start.end() - 1), order(near.size());
+    for (size_t i = 0; i < near.size(); ++i) order[fill[cell[i]]++] = i;
+
+    const int shells = static_cast<int>(std::ceil(kSearch / kCell));
     double deepest = -1e9;
     for (Eigen::Index h : hands) {
-      const Eigen::Vector3d x = v.row(h).transpose();
+      const std::array<double, 3> x{v(h, 0), v(h, 1), v(h, 2)};
+      const int cx = cell_of(x.data(), 0), cy = cell_of(x.data(), 1), cz = cell_of(x.data(), 2);
       double best = kSearch * kSearch;
-      Eigen::Index nearest = -1;
-      for (Eigen::Index t : near) {
-        const double d2 = (v.row(t).transpose() - x).squaredNorm();
-        if (d2 < best) {
-          best = d2;
-          nearest = t;
-        }
+      size_t nearest = near.size();
+      for (int r = 0; r <= shells; ++r) {
+        for (int z = std::max(cz - r, 0); z <= std::min(cz + r, n[2] - 1); ++z)
+          for (int y = std::max(cy - r, 0); y <= std::min(cy + r, n[1] - 1); ++y)
+            for (int xx = std::max(cx - r, 0); xx <= std::min(cx + r, n[0] - 1); ++xx) {
+              if (std::max({std::abs(xx - cx), std::abs(y - cy), std::abs(z - cz)}) != r)
+                continue;  // an inner shell, already searched
+              const size_t c = index(xx, y, z);
+              for (size_t k = start[c]; k < start[c + 1]; ++k) {
+                const std::array<double, 3>& q = near[order[k]];
+                const double d2 = (q[0] - x[0]) * (q[0] - x[0]) + (q[1] - x[1]) * (q[1] - x[1]) +
+                                  (q[2] - x[2]) * (q[2] - x[2]);
+                if (d2 < best || (d2 == best && nearest < near.size() && order[k] < nearest)) {
+                  best = d2;
+                  nearest = order[k];
+                }
+              }
+            }
+        // Every vertex in shell r + 1 or beyond is at least r cells from x.
+        if (nearest < near.size() && std::sqrt(best) <= r * kCell) break;
       }
-      if (nearest < 0) continue;
+      if (nearest == near.size()) continue;
+      const Eigen::Index t = near_id[nearest];
       closest = std::min(closest, std::sqrt(best));
-      deepest = std::max(
-          deepest,
-          -(x - v.row(nearest).transpose()).dot(normals.row(nearest).transpose().normalized()));
+      deepest =
+          std::max(deepest, -(v.row(h) - v.row(t)).dot(normals.row(t)) / normals.row(t).norm());
     }
     return deepest;
   }
