@@ -82,6 +82,15 @@ double min_reach(double a, double b, double max_bend) {
 // ---------------------------------------------------------------------------------------------
 // Hand grip
 
+HandGrip HandGrip::for_hand_length(double hand_length) {
+  if (!(hand_length >= 0.05 && hand_length <= 0.4))
+    throw std::invalid_argument("hand length " + std::to_string(hand_length) +
+                                " m: expected 0.05 to 0.4 m (wrist to middle fingertip)");
+  HandGrip g;
+  g.wrist_in_grip = Eigen::Vector3d(0.0, 0.0, kWristToGripPerHandLength * hand_length);
+  return g;
+}
+
 Eigen::Quaterniond HandGrip::hand_from_grip(const Eigen::Quaterniond& grip, bool left) {
   return (grip * Eigen::Quaterniond(grip_axes(left))).normalized();
 }
@@ -194,6 +203,12 @@ IkRig make_ik_rig(const smpl::BodyModel& model, const Eigen::VectorXd& betas,
     throw IkError(
         "the body model's rest skeleton is not a standing T-pose (spine up, knees between hips and "
         "ankles, arms out to the sides with the left at +X); the embodiment IK needs one");
+  // The hands: from each wrist out to the farthest vertex along the arm (the middle fingertip of
+  // a T-pose), the measure the grip is scaled by.
+  const double left_tip = hi.x() + rig.standing_shift.x(),
+               right_tip = lo.x() + rig.standing_shift.x();
+  const double hand = 0.5 * ((left_tip - r[kLeftWrist].x()) + (r[kRightWrist].x() - right_tip));
+  if (hand >= 0.05 && hand <= 0.4) rig.hand_length = hand;
   return rig;
 }
 
@@ -253,6 +268,8 @@ BodyIk::BodyIk(IkRig rig, BodyIkOptions options) : rig_(std::move(rig)), options
   if (static_cast<int>(rig_.rest.size()) != kCount ||
       static_cast<int>(rig_.parents.size()) != kCount)
     throw IkError("the IK rig needs SMPL's 24 joints");
+  if (options_.grip_from_hand && rig_.hand_length > 0.0)
+    options_.grip = HandGrip::for_hand_length(rig_.hand_length);
   pose_.local.assign(kCount, Eigen::Quaterniond::Identity());
   pose_.global.assign(kCount, Eigen::Quaterniond::Identity());
   pose_.joints = rig_.rest;

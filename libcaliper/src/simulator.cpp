@@ -386,7 +386,15 @@ SimulatedSession simulate_session(const Protocol& protocol, const SimulatedPerso
     using namespace ik_joint;
     if (person.joints.size() != static_cast<size_t>(kCount))
       throw InvalidInputError("simulator: the motions need a body model with SMPL's 24 joints");
-    const HandGrip grip;
+    // The person's hands hold the controllers as their size dictates (HandGrip), the truth the
+    // app's IK estimates from the avatar's hands.
+    HandGrip grip;
+    if (person.landmarks.count("left_fingertip") && person.landmarks.count("right_fingertip")) {
+      const double hand =
+          0.5 * ((person.landmarks.at("left_fingertip") - person.joints[kLeftWrist]).norm() +
+                 (person.landmarks.at("right_fingertip") - person.joints[kRightWrist]).norm());
+      if (hand >= 0.05 && hand <= 0.4) grip = HandGrip::for_hand_length(hand);
+    }
     const std::vector<Posture> script = motion_script(person);
     // Start from where the controllers are now.
     std::array<Eigen::Vector3d, 2> wrist0;

@@ -286,6 +286,61 @@ TEST(BodyIk, LeaningBendsTheSpineAndFeetStepWhenThePelvisMovesAway) {
   EXPECT_NEAR(q.joints[kLeftAnkle].y(), f.rig.rest[kLeftAnkle].y(), 1e-9) << "on the floor";
 }
 
+TEST(Grip, TheWristSitsBehindThePalmCentreByHalfThePalm) {
+  // Palm = 0.60 of the hand (ANSUR II), the grip point at its centre: 0.30 of the hand.
+  EXPECT_NEAR(HandGrip::for_hand_length(0.19).wrist_in_grip.z(), 0.057, kExact);
+  EXPECT_NEAR(HandGrip::for_hand_length(0.17).wrist_in_grip.z(), 0.051, kExact);
+  EXPECT_EQ(HandGrip::for_hand_length(0.19).wrist_in_grip.head<2>(), Eigen::Vector2d::Zero());
+  for (double bad : {0.0, 0.01, 0.5, -0.19, std::nan("")})
+    EXPECT_THROW(HandGrip::for_hand_length(bad), std::invalid_argument) << bad;
+}
+
+TEST(BodyIk, TheGripIsScaledToTheAvatarsHand) {
+  // The avatar's hands (wrist joint to fingertip in the T-pose) set where the wrist sits in the
+  // controller's grip, so a large hand holds the controller with its wrist farther back.
+  Fixture f;
+  // The open female model's mean body: within ANSUR II's women (hand length 181 mm, SD 9 mm).
+  EXPECT_GT(f.rig.hand_length, 0.16);
+  EXPECT_LT(f.rig.hand_length, 0.20);
+  const BodyIk ik(f.rig);
+  EXPECT_NEAR(ik.options().grip.wrist_in_grip.z(), 0.30 * f.rig.hand_length, kExact);
+  BodyIkOptions fixed;
+  fixed.grip_from_hand = false;
+  fixed.grip.wrist_in_grip.z() = 0.07;
+  EXPECT_EQ(BodyIk(f.rig, fixed).options().grip.wrist_in_grip.z(), 0.07);
+  // The taller of the bodies two units either way along the first shape coefficient (the
+  // open models' size axis) has the longer hands.
+  Eigen::VectorXd a = f.betas, b = f.betas;
+  a[0] = 2.0;
+  b[0] = -2.0;
+  const auto height = [&](const Eigen::VectorXd& betas) {
+    const smpl::Vertices v = shaped_vertices(f.model, betas);
+    return v.col(1).maxCoeff() - v.col(1).minCoeff();
+  };
+  const Eigen::VectorXd& taller = height(a) > height(b) ? a : b;
+  const Eigen::VectorXd& shorter = height(a) > height(b) ? b : a;
+  EXPECT_GT(height(taller), height(shorter) + 0.1);
+  EXPECT_GT(make_ik_rig(f.model, taller, f.eyes).hand_length,
+            make_ik_rig(f.model, shorter, f.eyes).hand_length + 0.01);
+  // The hand is the one a session measured: fingertip minus wrist along the arm.
+  const smpl::Vertices v = shaped_vertices(f.model, f.betas);
+  const Eigen::RowVector3d lo = v.colwise().minCoeff(), hi = v.colwise().maxCoeff();
+  const double shift_x = -(lo.x() + hi.x()) / 2;
+  EXPECT_NEAR(f.rig.hand_length,
+              0.5 * ((hi.x() + shift_x - f.rig.rest[kLeftWrist].x()) +
+                     (f.rig.rest[kRightWrist].x() - lo.x() - shift_x)),
+              kExact);
+  // Wrists still reach the controllers held with that grip.
+  BodyIk solver(f.rig);
+  IkInput in = f.standing();
+  RigidPose g;
+  g.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitY()));
+  const Eigen::Vector3d wrist = f.rig.rest[kLeftShoulder] + Eigen::Vector3d(0.05, -0.2, 0.3);
+  g.position = wrist - g.orientation * solver.options().grip.wrist_in_grip;
+  in.grips[0] = g;
+  EXPECT_LT((solver.solve(in).joints[kLeftWrist] - wrist).norm(), 1e-9);
+}
+
 TEST(BodyIk, ElbowsNeverBendBackwardsForTargetsAllAround) {
   Fixture f;
   BodyIk ik(f.rig);

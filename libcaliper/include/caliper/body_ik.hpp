@@ -60,11 +60,21 @@ struct RigidPose {
 
 /// How a hand holds a controller: the wrist joint in the controller's grip frame, and the grip
 /// frame's axes (OpenXR: -Z along the fingers' tube, +X to the user's right for both hands, so
-/// the left palm faces +X and the right palm -X). Approximations for a closed fist around any
-/// of the supported controllers; the measured tip offsets are separate (session.hpp).
+/// the left palm faces +X and the right palm -X). A closed fist around any of the supported
+/// controllers; the measured tip offsets are separate (session.hpp). The grip point is the
+/// palm's centre, so the wrist's distance behind it scales with the hand: for_hand_length().
 struct HandGrip {
-  /// Wrist joint in the grip frame, m: behind the palm centre, along the handle.
-  Eigen::Vector3d wrist_in_grip = Eigen::Vector3d(0.0, 0.0, 0.07);
+  /// Wrist to grip point (the palm's centre) per hand length (wrist crease to the tip of the
+  /// middle finger): half the palm length, the palm being 0.60 of the hand (ANSUR II: palm
+  /// length / hand length 0.603 for the men, 0.601 for the women, standard deviation 0.02).
+  static constexpr double kWristToGripPerHandLength = 0.30;
+  /// Wrist joint in the grip frame, m: behind the palm centre, along the handle. The default is
+  /// for a hand 18.7 cm long (ANSUR II, men and women pooled); BodyIk sets it from the avatar's
+  /// hand (IkRig::hand_length).
+  Eigen::Vector3d wrist_in_grip = Eigen::Vector3d(0.0, 0.0, kWristToGripPerHandLength * 0.187);
+  /// The grip of a hand `hand_length` m long (wrist to middle fingertip). Throws
+  /// std::invalid_argument unless 5 cm <= hand_length <= 40 cm.
+  static HandGrip for_hand_length(double hand_length);
   /// World rotation of the avatar's hand (rest-pose frame) for a grip orientation `grip`.
   static Eigen::Quaterniond hand_from_grip(const Eigen::Quaterniond& grip, bool left);
   /// The grip orientation that holds the hand at world rotation `hand` (inverse of the above).
@@ -127,6 +137,8 @@ struct JointLimits {
 /// Settings of the body solver.
 struct BodyIkOptions {
   HandGrip grip;
+  /// Replace `grip` by HandGrip::for_hand_length(rig.hand_length) when the rig knows its hand.
+  bool grip_from_hand = true;
   JointLimits limits;
   double max_neck_yaw = 0.79;  ///< rad (45 degrees): head turns beyond this turn the body
   /// m: with both hands tracked at least this far apart sideways, the line between them gives
@@ -156,6 +168,10 @@ struct IkRig {
   std::vector<int> parents;           ///< K
   Eigen::Vector3d standing_shift = Eigen::Vector3d::Zero();  ///< standing = model frame + shift
   Eigen::Vector3d eyes = Eigen::Vector3d::Zero();  ///< the headset's point in the rest frame
+  /// m: wrist joint to fingertip (the vertex farthest out along the arm in the T-pose), mean of
+  /// the two hands. On an avatar made from a session it follows the measured arm span (to the
+  /// fingertips) and arm length (to the wrist); 0 = unknown (the default grip is used).
+  double hand_length = 0.0;
 };
 
 /// The rig of `model` with `betas` (rest vertices shifted to stand on y = 0, centred in x and z,
