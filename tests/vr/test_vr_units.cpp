@@ -6,11 +6,15 @@
 #include <filesystem>
 
 #include "audio.hpp"
+#include "caliper/body_ik.hpp"
+#include "caliper/measurements.hpp"
 #include "controller_config.hpp"
 #include "panel.hpp"
 #include "pivot.hpp"
 #include "pose_source.hpp"
 #include "render/text.hpp"
+#include "smpl/evaluate.hpp"
+#include "smpl/io.hpp"
 #include "video.hpp"
 #include "vr_app.hpp"
 
@@ -248,6 +252,94 @@ TEST(OperatorWindowFields, ShowTheSessionsTypedValues) {
   const TypedFields t = typed_fields(MeasuringSession(p, o));
   EXPECT_EQ(t.weight, 65.0) << "--weight 65";
   EXPECT_EQ(t.sex, 1);
+}
+
+/// Signed volume of a closed mesh (positive when its triangles face out).
+double signed_volume(const std::vector<float>& p, const std::vector<std::uint32_t>& tri) {
+  double v = 0.0;
+  for (size_t t = 0; t + 2 < tri.size(); t += 3) {
+    Eigen::Vector3d c[3];
+    for (int k = 0; k < 3; ++k)
+      c[k] = Eigen::Vector3d(p[3 * tri[t + static_cast<size_t>(k)]],
+                             p[3 * tri[t + static_cast<size_t>(k)] + 1],
+                             p[3 * tri[t + static_cast<size_t>(k)] + 2]);
+    v += c[0].dot(c[1].cross(c[2])) / 6.0;
+  }
+  return v;
+}
+
+TEST(Mirror, TheUsersLeftHandIsTheReflectionsRight) {
+  // The open female avatar driven by the embodiment IK with the left hand raised over the head,
+  // the mirror 1 m in front of the user as the app puts it. In a real mirror the raised hand
+  // appears on the user's own left, and it is the reflection's right hand; an avatar merely
+  // turned round to face the user would raise its left hand on the user's right.
+  using namespace ik_joint;
+  constexpr double kPi = 3.14159265358979323846;
+  const smpl::BodyModel model =
+      smpl::load_model(std::string(CALIPER_SOURCE_DIR) + "/assets/models/caliper-female.npz");
+  const Eigen::VectorXd betas = Eigen::VectorXd::Zero(model.num_betas());
+  const smpl::Vertices rest = shaped_vertices(model, betas);
+  const Eigen::RowVector3d lo = rest.colwise().minCoeff(), hi = rest.colwise().maxCoeff();
+  const Eigen::Vector3d shift(-(lo.x() + hi.x()) / 2, -lo.y(), -(lo.z() + hi.z()) / 2);
+  const Eigen::Vector3d eyes =
+      eyes_below_head_top(landmark_point(rest, landmarks_for(model).at("head_top")) + shift);
+  BodyIk ik(make_ik_rig(model, betas, eyes));
+  // The user stands at the origin facing +Z (their left is +X); the headset looks along its -Z.
+  IkInput in;
+  in.head.position = eyes;
+  in.head.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitY()));
+  RigidPose grip;
+  grip.orientation = Eigen::Quaterniond(Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitY()));
+  const Eigen::Vector3d wrist = ik.rig().rest[kLeftShoulder] + Eigen::Vector3d(0.05, 0.38, 0.1);
+  grip.position = wrist - grip.orientation * ik.options().grip.wrist_in_grip;
+  in.grips[0] = grip;
+  const IkPose& pose = ik.solve(in);
+  ASSERT_LT((pose.joints[kLeftWrist] - wrist).norm(), 0.01);
+  const smpl::Body body = smpl::evaluate(model, betas, pose.axis_angle(), pose.translation);
+
+  MirrorPlane mirror;
+  mirror.normal = Eigen::Vector3d::UnitZ();
+  mirror.centre = Eigen::Vector3d(eyes.x(), 0.0, eyes.z()) + 1.0 * mirror.normal;
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitY(), user_left = Eigen::Vector3d::UnitX();
+  const auto joint = [&](int k) { return Eigen::Vector3d(body.joints.row(k).transpose()); };
+  const Eigen::Vector3d left = mirror.reflect(joint(kLeftWrist)),
+                        right = mirror.reflect(joint(kRightWrist)),
+                        pelvis = mirror.reflect(joint(kPelvis)),
+                        head = mirror.reflect(joint(kHead));
+  // Seen from the eyes, the raised hand's image is on the user's left, above the head's image,
+  // and the hanging right hand's image on the user's right.
+  EXPECT_GT((left - eyes).dot(user_left), 0.1);
+  EXPECT_LT((right - eyes).dot(user_left), -0.1);
+  EXPECT_GT(left.y(), head.y());
+  EXPECT_LT(right.y(), pelvis.y() + 0.1);
+  // The reflection faces the user; its own left (up x facing) is the user's right, so the
+  // raised hand is the reflection's right hand.
+  const Eigen::Vector3d forward(std::sin(pose.body_yaw), 0.0, std::cos(pose.body_yaw));
+  const Eigen::Vector3d facing = mirror.reflect(Eigen::Vector3d(joint(kPelvis) + forward)) - pelvis;
+  EXPECT_GT(facing.normalized().dot((eyes - pelvis).normalized()), 0.9);
+  const Eigen::Vector3d reflection_left = up.cross(facing).normalized();
+  EXPECT_LT((left - pelvis).dot(reflection_left), -0.1);
+  EXPECT_GT((right - pelvis).dot(reflection_left), 0.1);
+  // The reflected mesh's vertices are the reflected body, and its turned triangles still face
+  // out: the same volume, positive (the triangles as they were would give it negative).
+  const std::vector<float> image = mirror.reflect(body.vertices);
+  ASSERT_EQ(image.size(), static_cast<size_t>(body.vertices.size()));
+  for (Eigen::Index i = 0; i < body.vertices.rows(); i += 97)
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(image[static_cast<size_t>(3 * i + c)],
+                  mirror.reflect(Eigen::Vector3d(body.vertices.row(i).transpose()))[c], 1e-6);
+  std::vector<float> own(static_cast<size_t>(body.vertices.size()));
+  std::vector<std::uint32_t> tri;
+  for (Eigen::Index i = 0; i < body.vertices.rows(); ++i)
+    for (int c = 0; c < 3; ++c)
+      own[static_cast<size_t>(3 * i + c)] = static_cast<float>(body.vertices(i, c));
+  for (Eigen::Index i = 0; i < model.faces.rows(); ++i)
+    for (int c = 0; c < 3; ++c) tri.push_back(static_cast<std::uint32_t>(model.faces(i, c)));
+  const double volume = signed_volume(own, tri);
+  const double reflected = signed_volume(image, MirrorPlane::reflected_triangles(model.faces));
+  EXPECT_GT(volume, 0.03);
+  EXPECT_NEAR(reflected, volume, 1e-4 * volume);
+  EXPECT_LT(signed_volume(image, tri), 0.0);
 }
 
 }  // namespace

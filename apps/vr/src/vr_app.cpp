@@ -292,10 +292,10 @@ void VrApp::make_avatar() {
     }
     const DevicePose& head = frame_.device(Device::Head);
     const double yaw = head_yaw(head.orientation);
-    mirror_normal_ = Eigen::Vector3d(std::sin(yaw), 0.0, std::cos(yaw));
-    mirror_centre_ =
+    mirror_.normal = Eigen::Vector3d(std::sin(yaw), 0.0, std::cos(yaw));
+    mirror_.centre =
         Eigen::Vector3d(head.position.x(), session_.floor().offset, head.position.z()) +
-        kMirrorPlane * mirror_normal_;
+        kMirrorPlane * mirror_.normal;
     avatar_ = std::move(out);
   } catch (const std::exception& e) {
     avatar_error_ = e.what();
@@ -543,6 +543,23 @@ void VrApp::add_demo(render::Scene& scene) {
   }
 }
 
+std::vector<float> MirrorPlane::reflect(const smpl::Vertices& v) const {
+  std::vector<float> out(static_cast<size_t>(v.size()));
+  for (Eigen::Index i = 0; i < v.rows(); ++i) {
+    const Eigen::Vector3d r = reflect(Eigen::Vector3d(v.row(i).transpose()));
+    for (int c = 0; c < 3; ++c) out[static_cast<size_t>(3 * i + c)] = static_cast<float>(r[c]);
+  }
+  return out;
+}
+
+std::vector<std::uint32_t> MirrorPlane::reflected_triangles(const smpl::Faces& faces) {
+  std::vector<std::uint32_t> out;
+  out.reserve(static_cast<size_t>(faces.size()));
+  for (Eigen::Index i = 0; i < faces.rows(); ++i)
+    for (int c : {0, 2, 1}) out.push_back(static_cast<std::uint32_t>(faces(i, c)));
+  return out;
+}
+
 void VrApp::add_mirror(render::Scene& scene, bool own_head) {
   if (!avatar_) return;
   if (body_ik_ && renderer_ && stats_.frames > 0) {
@@ -550,15 +567,10 @@ void VrApp::add_mirror(render::Scene& scene, bool own_head) {
     // a mirror fixed in the room (reflected vertices, triangles turned round so they still face
     // out).
     const smpl::Vertices& v = posed_vertices();
-    std::vector<float> own(static_cast<size_t>(v.size())), mirrored(own.size());
-    for (Eigen::Index i = 0; i < v.rows(); ++i) {
-      const Eigen::Vector3d p = v.row(i).transpose();
-      const Eigen::Vector3d r = p - 2.0 * (p - mirror_centre_).dot(mirror_normal_) * mirror_normal_;
-      for (int c = 0; c < 3; ++c) {
-        own[static_cast<size_t>(3 * i + c)] = static_cast<float>(p[c]);
-        mirrored[static_cast<size_t>(3 * i + c)] = static_cast<float>(r[c]);
-      }
-    }
+    std::vector<float> own(static_cast<size_t>(v.size()));
+    for (Eigen::Index i = 0; i < v.rows(); ++i)
+      for (int c = 0; c < 3; ++c) own[static_cast<size_t>(3 * i + c)] = static_cast<float>(v(i, c));
+    const std::vector<float> mirrored = mirror_.reflect(v);
     if (!own_mesh_) {
       render::MeshData m;
       m.positions = own;
@@ -567,8 +579,7 @@ void VrApp::add_mirror(render::Scene& scene, bool own_head) {
       const smpl::Faces& f = avatar_->model->faces;
       render::MeshData r;
       r.positions = mirrored;
-      for (Eigen::Index i = 0; i < f.rows(); ++i)
-        for (int c : {0, 2, 1}) r.indices.push_back(static_cast<std::uint32_t>(f(i, c)));
+      r.indices = MirrorPlane::reflected_triangles(f);
       mirror_mesh_ = renderer_->upload_mesh(r);
       render::MeshData full;
       full.positions = own;
@@ -588,10 +599,10 @@ void VrApp::add_mirror(render::Scene& scene, bool own_head) {
     scene.meshes.push_back(self);
     // The mirror's frame, in its plane.
     const Eigen::Vector3d side =
-        Eigen::Vector3d(mirror_normal_.z(), 0.0, -mirror_normal_.x()) * 0.7;
+        Eigen::Vector3d(mirror_.normal.z(), 0.0, -mirror_.normal.x()) * 0.7;
     const Eigen::Vector3d up(0.0, 2.1, 0.0);
-    const Eigen::Vector3d corners[4] = {mirror_centre_ - side, mirror_centre_ + side,
-                                        mirror_centre_ + side + up, mirror_centre_ - side + up};
+    const Eigen::Vector3d corners[4] = {mirror_.centre - side, mirror_.centre + side,
+                                        mirror_.centre + side + up, mirror_.centre - side + up};
     for (int i = 0; i < 4; ++i) {
       render::Line l;
       l.a = f3(corners[i]);

@@ -6,6 +6,7 @@
 /// benchmark drive this same class.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -29,6 +30,24 @@ namespace caliper::vr {
 /// How to end the session once it is complete: on the panel and the terminal (the menu action
 /// is bound to the menu button, and to B on the Valve Index controller).
 inline const char* kEndHint = "To finish, press the menu button of a controller (Valve Index: B).";
+
+/// The virtual mirror: a vertical plane through `centre` with unit horizontal `normal` (the app
+/// puts it 1 m in front of the user when the avatar is made). What the user sees in it is the
+/// reflection of the driven body, as in a real mirror: the user's left hand is the reflection's
+/// right and appears on the user's left.
+struct MirrorPlane {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  /// The point's mirror image: p - 2 ((p - centre) . normal) normal.
+  Eigen::Vector3d reflect(const Eigen::Vector3d& p) const {
+    return p - 2.0 * (p - centre).dot(normal) * normal;
+  }
+  /// Every vertex reflected, as floats (x, y, z per vertex) for the renderer.
+  std::vector<float> reflect(const smpl::Vertices& v) const;
+  /// The triangles of the reflected mesh: a reflection reverses orientation, so each triangle's
+  /// order is turned round (0, 2, 1) to keep the outside facing out.
+  static std::vector<std::uint32_t> reflected_triangles(const smpl::Faces& faces);
+};
 
 /// How the avatar is made at the end.
 struct AvatarSettings {
@@ -193,8 +212,7 @@ class VrApp {
   smpl::Workspace posing_workspace_;
   smpl::Body posed_;
   long posed_frame_ = -1;
-  Eigen::Vector3d mirror_centre_ = Eigen::Vector3d::Zero(),
-                  mirror_normal_ = Eigen::Vector3d::UnitZ();
+  MirrorPlane mirror_;
   render::MeshHandle mirror_mesh_ = 0, own_mesh_ = 0, full_mesh_ = 0;
   // Demonstration avatar (reference body).
   std::shared_ptr<const smpl::BodyModel> demo_model_;
