@@ -50,6 +50,24 @@ render::Vec3 f3(const Eigen::Vector3d& v) {
   return v.cast<float>();
 }
 
+/// The mirror's frame: a rectangle 2.1 m high and 2 x `half_width` wide standing on the floor
+/// point `centre`, in the vertical plane whose horizontal normal is `normal`.
+void add_mirror_frame(render::Scene& scene, const Eigen::Vector3d& centre,
+                      const Eigen::Vector3d& normal, double half_width) {
+  const Eigen::Vector3d side = Eigen::Vector3d(normal.z(), 0.0, -normal.x()) * half_width;
+  const Eigen::Vector3d up(0.0, 2.1, 0.0);
+  const Eigen::Vector3d corners[4] = {centre - side, centre + side, centre + side + up,
+                                      centre - side + up};
+  for (int i = 0; i < 4; ++i) {
+    render::Line l;
+    l.a = f3(corners[i]);
+    l.b = f3(corners[(i + 1) % 4]);
+    l.colour = {0.35f, 0.3f, 0.25f, 1};
+    l.on_top = false;
+    scene.lines.push_back(l);
+  }
+}
+
 std::string cm(double metres) {
   std::ostringstream s;
   s.setf(std::ios::fixed);
@@ -597,20 +615,7 @@ void VrApp::add_mirror(render::Scene& scene, bool own_head) {
     self.mesh = own_head ? full_mesh_ : own_mesh_;
     self.colour = {0.80f, 0.66f, 0.56f, 1.0f};
     scene.meshes.push_back(self);
-    // The mirror's frame, in its plane.
-    const Eigen::Vector3d side =
-        Eigen::Vector3d(mirror_.normal.z(), 0.0, -mirror_.normal.x()) * 0.7;
-    const Eigen::Vector3d up(0.0, 2.1, 0.0);
-    const Eigen::Vector3d corners[4] = {mirror_.centre - side, mirror_.centre + side,
-                                        mirror_.centre + side + up, mirror_.centre - side + up};
-    for (int i = 0; i < 4; ++i) {
-      render::Line l;
-      l.a = f3(corners[i]);
-      l.b = f3(corners[(i + 1) % 4]);
-      l.colour = {0.35f, 0.3f, 0.25f, 1};
-      l.on_top = false;
-      scene.lines.push_back(l);
-    }
+    add_mirror_frame(scene, mirror_.centre, mirror_.normal, 0.7);
     return;
   }
   const smpl::Vertices& v = avatar_->avatar.vertices;
@@ -629,19 +634,7 @@ void VrApp::add_mirror(render::Scene& scene, bool own_head) {
     inst.model.block<3, 3>(0, 0) = R.cast<float>();
     inst.model.block<3, 1>(0, 3) = f3(head_floor + kMirrorDistance * forward);
     if (h) scene.meshes.push_back(inst);
-    // The mirror's frame.
-    const Eigen::Vector3d side = Eigen::Vector3d(forward.z(), 0.0, -forward.x()) * 0.55;
-    const Eigen::Vector3d c = head_floor + (kMirrorDistance + 0.25) * forward;
-    const Eigen::Vector3d up(0.0, 2.1, 0.0);
-    const Eigen::Vector3d corners[4] = {c - side, c + side, c + side + up, c - side + up};
-    for (int i = 0; i < 4; ++i) {
-      render::Line l;
-      l.a = f3(corners[i]);
-      l.b = f3(corners[(i + 1) % 4]);
-      l.colour = {0.35f, 0.3f, 0.25f, 1};
-      l.on_top = false;
-      scene.lines.push_back(l);
-    }
+    add_mirror_frame(scene, head_floor + (kMirrorDistance + 0.25) * forward, forward, 0.55);
   }
   // First person: aligned to the headset (eyes at the head, facing where the head looks).
   {
