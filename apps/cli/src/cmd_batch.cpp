@@ -118,9 +118,10 @@ void fast_avatar(const ModelBundle& b, const ShapeMeasurer& measurer, const std:
   betas.head(k_betas.size()) = k_betas;
 }
 
-/// Says in the row's message that the avatar was made but its shape is implausible.
+/// Says in the row's message that the avatar was made but its shape is unusual (the editor's
+/// wording: outside the usual range).
 void add_implausible_note(Outcome& o) {
-  const std::string note = "implausible avatar: Mahalanobis distance " +
+  const std::string note = "unusual body shape (outside the usual range): Mahalanobis distance " +
                            format_number(o.plausibility.mahalanobis, 2) + ", " +
                            std::to_string(o.plausibility.beyond_3sd.size()) +
                            " components beyond 3 SD; check the measurements";

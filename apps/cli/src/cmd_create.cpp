@@ -211,11 +211,12 @@ int cmd_create(const std::vector<std::string>& args, Io& io) {
                                     a.flags.count("exact-inputs") > 0);
   const double create_s = seconds_since(t_create);
   if (!avatar.plausibility.plausible) {
-    const std::string w = "the avatar's shape is implausible (Mahalanobis distance " +
-                          format_number(avatar.plausibility.mahalanobis, 2) + ", " +
-                          std::to_string(avatar.plausibility.beyond_3sd.size()) +
-                          " components beyond 3 SD): check the measurements" +
-                          (regressor == "noise-aware" ? "" : " or try --regressor noise-aware");
+    const std::string w =
+        "unusual body shape: the avatar is outside the usual range (Mahalanobis distance " +
+        format_number(avatar.plausibility.mahalanobis, 2) + ", " +
+        std::to_string(avatar.plausibility.beyond_3sd.size()) +
+        " components beyond 3 SD): check the measurements" +
+        (regressor == "noise-aware" ? "" : " or try --regressor noise-aware");
     warnings.push_back(w);
     io.err << "caliper: warning: " << w << "\n";
   }

@@ -158,7 +158,8 @@ std::string format_plausibility(const Plausibility& p) {
   std::ostringstream s;
   s << "Mahalanobis distance " << format_number(p.mahalanobis, 2) << " over " << p.dof
     << " components, chi-square p = " << std::fixed << std::setprecision(3) << p.p_value
-    << (p.plausible ? " (plausible)" : " (IMPLAUSIBLE)") << "\n"
+    << (p.plausible ? " (plausible body shape)" : " (unusual body shape: outside the usual range)")
+    << "\n"
     << "components beyond 2 SD: " << index_list(p.beyond_2sd)
     << "; beyond 3 SD: " << index_list(p.beyond_3sd) << "\n"
     << "(the distance counts the shape components b0, b1, ... in standard deviations (SD) of "

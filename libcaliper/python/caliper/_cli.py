@@ -155,7 +155,7 @@ def _create(args, out, err):
     create_s = time.perf_counter() - t_create
     pl = avatar.plausibility
     if not pl.plausible:
-        w = (f"the avatar's shape is implausible (Mahalanobis distance "
+        w = (f"unusual body shape: the avatar is outside the usual range (Mahalanobis distance "
              f"{str(pl.mahalanobis)[:5]}, {len(pl.beyond_3sd)} components beyond 3 SD): check the "
              "measurements" + ("" if regressor == "noise-aware" else
                                " or try --regressor noise-aware"))
@@ -200,7 +200,7 @@ def _create(args, out, err):
         out.write("betas posterior SD: " + " ".join(f"{b:.3f}" for b in avatar.betas_sd) + "\n")
     out.write(f"plausibility: Mahalanobis distance {pl.mahalanobis:.2f} over {pl.dof} "
               f"components, chi-square p = {pl.p_value:.3f} "
-              f"({'plausible' if pl.plausible else 'IMPLAUSIBLE'})\n")
+              f"({'plausible body shape' if pl.plausible else 'unusual body shape: outside the usual range'})\n")
     for f in written:
         out.write(f"wrote {f}\n")
     out.write(f"time: load model {(t1 - t0) * 1e3:.1f} ms, train regressors {(t2 - t1) * 1e3:.1f} "
