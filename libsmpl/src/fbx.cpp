@@ -84,7 +84,8 @@ std::unique_ptr<aiScene> build_scene(const BodyModel& model,
   // Texture seams: an aiMesh has one texture coordinate per vertex, so a model with texture
   // coordinates is split at its seams (SeamSplit); each copy has its source vertex's position,
   // normal (of the unsplit mesh) and weights. Assimp's FBX writer merges the copies back into one
-  // control point by position and writes the texture coordinates per polygon corner.
+  // control point by position (export_fbx asks it to) and writes the texture coordinates per
+  // polygon corner.
   const SeamSplit split = split_at_seams(model, context);
   const bool textured = split.uvs.rows() > 0;
   const auto V = static_cast<unsigned>(split.source.size());
@@ -420,7 +421,13 @@ std::string export_fbx(const BodyModel& model, const Eigen::Ref<const Eigen::Vec
                        const ExportOptions& options, const std::string& context) {
   const std::unique_ptr<aiScene> scene = build_scene(model, betas, options, context);
   Assimp::Exporter exporter;
-  const aiExportDataBlob* blob = exporter.ExportToBlob(scene.get(), "fbx");
+  // A mesh split at texture seams is welded back into one control point per position by
+  // Assimp's FBX writer, which does so only when asked through the JoinIdenticalVertices step
+  // (it then also runs that step on its copy of the scene: it joins vertices equal in every
+  // attribute, and the seam copies differ in their texture coordinate). Without texture
+  // coordinates the scene goes out as before, one control point per model vertex.
+  const unsigned steps = model.has_uvs() ? aiProcess_JoinIdenticalVertices : 0u;
+  const aiExportDataBlob* blob = exporter.ExportToBlob(scene.get(), "fbx", steps);
   if (!blob || !blob->data) {
     throw ModelError(context +
                      ": Assimp could not write the FBX file: " + exporter.GetErrorString());

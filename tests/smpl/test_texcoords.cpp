@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <set>
 #include <string>
@@ -147,6 +148,17 @@ size_t unique_positions(const smpl::Vertices& v) {
   std::set<std::tuple<double, double, double>> s;
   for (Eigen::Index i = 0; i < v.rows(); ++i) s.emplace(v(i, 0), v(i, 1), v(i, 2));
   return s.size();
+}
+
+// The length of the first array property of the binary FBX node `name` (e.g. the doubles of
+// "Vertices", 3 per control point), or -1. Array properties start with their type ('d', 'i',
+// ...) and a uint32 element count, whether or not they are compressed.
+long fbx_array_length(const std::string& bytes, const std::string& name) {
+  const size_t at = bytes.find(std::string(1, static_cast<char>(name.size())) + name);
+  if (at == std::string::npos || at + 1 + name.size() + 5 > bytes.size()) return -1;
+  std::uint32_t n = 0;
+  std::memcpy(&n, bytes.data() + at + 1 + name.size() + 1, 4);
+  return static_cast<long>(n);
 }
 
 Eigen::VectorXd test_betas() {
@@ -297,8 +309,8 @@ TEST(Texcoords, GltfAndVrmCarryTexcoord0SplitAtSeams) {
   std::printf("%s", output.c_str());
 }
 
-// FBX through Assimp: UV channel 0 read back by Assimp with the model's coordinates at every
-// corner; the skin still sums to 1 at every vertex; positions welded.
+// FBX through Assimp: one control point per model vertex, UV channel 0 per polygon corner, read
+// back by Assimp with the model's coordinates at every corner; the skin still sums to 1.
 TEST(Texcoords, FbxCarriesUvChannel0) {
   const smpl::BodyModel m = textured_model();
   const Eigen::VectorXd betas = test_betas();
@@ -306,6 +318,11 @@ TEST(Texcoords, FbxCarriesUvChannel0) {
   body.col(1).array() -= body.col(1).minCoeff();
   const fs::path file = out_dir() / "textured.fbx";
   smpl::export_avatar(file.string(), m, betas);
+  // In the file: one control point per model vertex (Assimp's writer welded the seam copies),
+  // texture coordinates per polygon corner.
+  const std::string bytes = slurp(file);
+  EXPECT_EQ(fbx_array_length(bytes, "Vertices"), 3L * m.num_vertices());
+  EXPECT_EQ(fbx_array_length(bytes, "UVIndex"), 3L * m.num_faces());
   const smpl::FbxAvatar a = smpl::read_fbx(file.string());
   expect_corners(m, body, a.faces, a.vertices, a.uvs, "textured.fbx");
   EXPECT_EQ(unique_positions(a.vertices), static_cast<size_t>(m.num_vertices()));
@@ -316,6 +333,8 @@ TEST(Texcoords, FbxCarriesUvChannel0) {
   // Without texture coordinates: no texture coordinates, one vertex per model vertex.
   const fs::path plain = out_dir() / "plain_uv_check.fbx";
   smpl::export_avatar(plain.string(), plain_model(), betas);
+  EXPECT_EQ(fbx_array_length(slurp(plain), "Vertices"), 3L * m.num_vertices());
+  EXPECT_EQ(fbx_array_length(slurp(plain), "UVIndex"), -1);
   const smpl::FbxAvatar p = smpl::read_fbx(plain.string());
   EXPECT_EQ(p.uvs.rows(), 0);
   EXPECT_EQ(p.vertices.rows(), m.num_vertices());
