@@ -174,10 +174,10 @@ tinygltf::Model build_model(const BodyModel& model, const Eigen::Ref<const Eigen
   const int K = model.num_joints();
   // Texture seams: glTF indexes every attribute per vertex, so a model with texture coordinates
   // is split at its seams here (SeamSplit); every per-vertex array below is then gathered from
-  // the model's vertices. Without texture coordinates nothing changes (split.uvs has 0 rows).
-  const SeamSplit split = split_at_seams(model, context);
-  const bool textured = split.uvs.rows() > 0;
-  const size_t out_v = split.source.size();
+  // the model's vertices. Without texture coordinates nothing changes (and nothing is copied).
+  const bool textured = model.has_uvs();
+  const SeamSplit split = textured ? split_at_seams(model, context) : SeamSplit();
+  const size_t out_v = textured ? split.source.size() : V;
 
   tinygltf::Model g;
   // A VEC3 float accessor of one value per model vertex, gathered to the split vertices.
@@ -252,7 +252,7 @@ tinygltf::Model build_model(const BodyModel& model, const Eigen::Ref<const Eigen
         g, add_view(g, uv.data(), uv.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER),
         TINYGLTF_COMPONENT_TYPE_FLOAT, out_v, TINYGLTF_TYPE_VEC2);
   }
-  const Faces& faces = split.faces;
+  const Faces& faces = textured ? split.faces : model.faces;
   std::vector<std::uint32_t> indices(static_cast<size_t>(faces.size()));
   for (Eigen::Index i = 0; i < faces.size(); ++i) {
     indices[static_cast<size_t>(i)] = static_cast<std::uint32_t>(faces.data()[i]);
