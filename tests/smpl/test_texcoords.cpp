@@ -309,6 +309,27 @@ TEST(Texcoords, GltfAndVrmCarryTexcoord0SplitAtSeams) {
   std::printf("%s", output.c_str());
 }
 
+// read_gltf refuses a TEXCOORD_0 that is not one VEC2 per vertex, naming the file.
+TEST(Texcoords, ReadGltfRefusesAMisshapenTexcoord0) {
+  const fs::path file = out_dir() / "texcoord_check.gltf";
+  smpl::export_avatar(file.string(), textured_model(), test_betas());
+  std::string json = slurp(file);
+  const std::string attribute = "\"TEXCOORD_0\": ";
+  const size_t at = json.find(attribute);
+  ASSERT_NE(at, std::string::npos);
+  const size_t end = json.find_first_not_of("0123456789", at + attribute.size());
+  json.replace(at + attribute.size(), end - at - attribute.size(), "0");  // POSITION: VEC3
+  const fs::path bad = out_dir() / "texcoord_vec3.gltf";
+  smpl::write_file_atomic(bad.string(), json);
+  try {
+    smpl::read_gltf(bad.string());
+    FAIL() << "a VEC3 TEXCOORD_0 was accepted";
+  } catch (const smpl::ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("TEXCOORD_0 must be VEC2"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(bad.string()), std::string::npos) << e.what();
+  }
+}
+
 // FBX through Assimp: one control point per model vertex, UV channel 0 per polygon corner, read
 // back by Assimp with the model's coordinates at every corner; the skin still sums to 1.
 TEST(Texcoords, FbxCarriesUvChannel0) {
