@@ -15,7 +15,7 @@ const std::vector<ExportFormat>& export_formats() {
       {".gltf", "glTF 2.0 JSON with an embedded buffer: rigged, skinned", true},
       {".vrm", "VRM 1.0: glTF with a humanoid bone map and licence (VR platforms, VTubing)", true},
       {".fbx", "FBX 7.5 binary: rigged, skinned, metres (Unity, Unreal, Maya, Blender)", true},
-      {".obj", "Wavefront OBJ: mesh with normals", false},
+      {".obj", "Wavefront OBJ: mesh with normals (UVs when the model has them)", false},
       {".ply", "PLY binary: mesh with normals", false},
   };
   return formats;

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -24,6 +25,24 @@ void check_mesh(const Vertices& vertices, const Faces& faces, const std::string&
     throw ModelError(path + ": a face refers to vertex " + std::to_string(faces.maxCoeff()) +
                      " but the mesh has " + std::to_string(vertices.rows()) + " vertices");
   }
+}
+
+// Texture-coordinate faces that fit `faces` and index finite coordinates of `uvs`.
+void check_uvs(const TexCoords& uvs, const Faces& uv_faces, const Faces& faces,
+               const std::string& context) {
+  if (uv_faces.rows() != faces.rows()) {
+    throw ModelError(context + ": " + std::to_string(uv_faces.rows()) +
+                     " texture-coordinate faces given for " + std::to_string(faces.rows()) +
+                     " faces (they must correspond one to one)");
+  }
+  for (Eigen::Index i = 0; i < uv_faces.size(); ++i) {
+    const int t = uv_faces.data()[i];
+    if (t < 0 || t >= uvs.rows()) {
+      throw ModelError(context + ": a face refers to texture coordinate " + std::to_string(t) +
+                       " but there are " + std::to_string(uvs.rows()));
+    }
+  }
+  if (!uvs.allFinite()) throw ModelError(context + ": a texture coordinate is NaN or infinite");
 }
 
 bool ends_with_ci(const std::string& s, const std::string& suffix) {
@@ -160,9 +179,50 @@ Vertices vertex_normals(const Vertices& vertices, const Faces& faces) {
   return n;
 }
 
+SeamSplit split_at_seams(const BodyModel& model, const std::string& context) {
+  const auto V = static_cast<size_t>(model.num_vertices());
+  SeamSplit s;
+  s.faces = model.faces;
+  s.source.resize(V);
+  for (size_t v = 0; v < V; ++v) s.source[v] = static_cast<int>(v);
+  if (!model.has_uvs()) return s;
+  check_uvs(model.uvs, model.uv_faces, model.faces, context);
+  std::vector<int> first(V, -1);                 // texture coordinate of output vertex v < V
+  std::vector<int> extra_uv;                     // texture coordinate of output vertex V + i
+  std::unordered_map<std::uint64_t, int> extra;  // (vertex, coordinate) -> output vertex >= V
+  for (Eigen::Index f = 0; f < model.faces.rows(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int v = model.faces(f, c);
+      const int t = model.uv_faces(f, c);
+      int& p = first[static_cast<size_t>(v)];
+      if (p < 0) p = t;
+      if (p == t) continue;
+      const std::uint64_t key = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(v)) << 32) |
+                                static_cast<std::uint32_t>(t);
+      const auto [it, added] = extra.emplace(key, static_cast<int>(V + extra_uv.size()));
+      if (added) {
+        s.source.push_back(v);
+        extra_uv.push_back(t);
+      }
+      s.faces(f, c) = it->second;
+    }
+  }
+  s.uvs = TexCoords::Zero(static_cast<Eigen::Index>(s.source.size()), 2);
+  for (size_t v = 0; v < V; ++v) {
+    if (first[v] >= 0) s.uvs.row(static_cast<Eigen::Index>(v)) = model.uvs.row(first[v]);
+  }
+  for (size_t i = 0; i < extra_uv.size(); ++i) {
+    s.uvs.row(static_cast<Eigen::Index>(V + i)) = model.uvs.row(extra_uv[i]);
+  }
+  return s;
+}
+
 void write_obj(const std::string& path, const Vertices& vertices_y_up, const Faces& faces,
-               UpAxis up, const std::string& metadata) {
+               UpAxis up, const std::string& metadata, const TexCoords& uvs,
+               const Faces& uv_faces) {
   check_mesh(vertices_y_up, faces, path);
+  const bool textured = uv_faces.rows() > 0 || uvs.rows() > 0;
+  if (textured) check_uvs(uvs, uv_faces, faces, path);
   const Vertices vertices = to_up_axis(vertices_y_up, up);
   const Vertices normals = vertex_normals(vertices, faces);
   std::string out;
@@ -178,9 +238,17 @@ void write_obj(const std::string& path, const Vertices& vertices_y_up, const Fac
   for (Eigen::Index v = 0; v < normals.rows(); ++v) {
     appendf(out, "vn %.6f %.6f %.6f\n", normals(v, 0), normals(v, 1), normals(v, 2));
   }
+  for (Eigen::Index t = 0; textured && t < uvs.rows(); ++t) {
+    appendf(out, "vt %.9g %.9g\n", uvs(t, 0), uvs(t, 1));
+  }
   for (Eigen::Index i = 0; i < faces.rows(); ++i) {
     const int a = faces(i, 0) + 1, b = faces(i, 1) + 1, c = faces(i, 2) + 1;
-    appendf(out, "f %d//%d %d//%d %d//%d\n", a, a, b, b, c, c);
+    if (textured) {
+      const int ta = uv_faces(i, 0) + 1, tb = uv_faces(i, 1) + 1, tc = uv_faces(i, 2) + 1;
+      appendf(out, "f %d/%d/%d %d/%d/%d %d/%d/%d\n", a, ta, a, b, tb, b, c, tc, c);
+    } else {
+      appendf(out, "f %d//%d %d//%d %d//%d\n", a, a, b, b, c, c);
+    }
   }
   write_file_atomic(path, out);
 }
@@ -269,7 +337,7 @@ void write_mesh_avatar(const std::string& path, const BodyModel& model,
     metadata += "}";
   }
   if (obj) {
-    write_obj(path, v, model.faces, options.up, metadata);
+    write_obj(path, v, model.faces, options.up, metadata, model.uvs, model.uv_faces);
   } else {
     write_ply(path, v, model.faces, options.up, metadata);
   }

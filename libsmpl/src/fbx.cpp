@@ -81,7 +81,14 @@ std::unique_ptr<aiScene> build_scene(const BodyModel& model,
       world[static_cast<size_t>(k)](1, 3) += lift;
     }
   }
-  const auto V = static_cast<unsigned>(body.vertices.rows());
+  // Texture seams: an aiMesh has one texture coordinate per vertex, so a model with texture
+  // coordinates is split at its seams (SeamSplit); each copy has its source vertex's position,
+  // normal (of the unsplit mesh) and weights. Assimp's FBX writer merges the copies back into one
+  // control point by position (export_fbx asks it to) and writes the texture coordinates per
+  // polygon corner.
+  const SeamSplit split = split_at_seams(model, context);
+  const bool textured = split.uvs.rows() > 0;
+  const auto V = static_cast<unsigned>(split.source.size());
   const auto F = static_cast<unsigned>(model.faces.rows());
   const int K = model.num_joints();
 
@@ -109,12 +116,21 @@ std::unique_ptr<aiScene> build_scene(const BodyModel& model,
   mesh->mNormals = new aiVector3D[V];
   const Vertices normals = vertex_normals(body.vertices, model.faces);
   for (unsigned v = 0; v < V; ++v) {
-    mesh->mVertices[v] = aiVector3D(static_cast<ai_real>(body.vertices(v, 0)),
-                                    static_cast<ai_real>(body.vertices(v, 1)),
-                                    static_cast<ai_real>(body.vertices(v, 2)));
+    const int s = split.source[v];
+    mesh->mVertices[v] = aiVector3D(static_cast<ai_real>(body.vertices(s, 0)),
+                                    static_cast<ai_real>(body.vertices(s, 1)),
+                                    static_cast<ai_real>(body.vertices(s, 2)));
     mesh->mNormals[v] =
-        aiVector3D(static_cast<ai_real>(normals(v, 0)), static_cast<ai_real>(normals(v, 1)),
-                   static_cast<ai_real>(normals(v, 2)));
+        aiVector3D(static_cast<ai_real>(normals(s, 0)), static_cast<ai_real>(normals(s, 1)),
+                   static_cast<ai_real>(normals(s, 2)));
+  }
+  if (textured) {
+    mesh->mNumUVComponents[0] = 2;
+    mesh->mTextureCoords[0] = new aiVector3D[V];
+    for (unsigned v = 0; v < V; ++v) {
+      mesh->mTextureCoords[0][v] = aiVector3D(static_cast<ai_real>(split.uvs(v, 0)),
+                                              static_cast<ai_real>(split.uvs(v, 1)), 0);
+    }
   }
   mesh->mNumFaces = F;
   mesh->mFaces = new aiFace[F];
@@ -122,17 +138,16 @@ std::unique_ptr<aiScene> build_scene(const BodyModel& model,
     mesh->mFaces[f].mNumIndices = 3;
     mesh->mFaces[f].mIndices = new unsigned[3];
     for (unsigned i = 0; i < 3; ++i) {
-      mesh->mFaces[f].mIndices[i] = static_cast<unsigned>(model.faces(f, i));
+      mesh->mFaces[f].mIndices[i] = static_cast<unsigned>(split.faces(f, i));
     }
   }
 
   // One bone per joint with every non-zero weight; offset = inverse bind = world[k]^-1.
   std::vector<std::vector<aiVertexWeight>> weights(static_cast<size_t>(K));
-  for (Eigen::Index v = 0; v < model.weights.rows(); ++v) {
-    for (SparseMatrix::InnerIterator it(model.weights, v); it; ++it) {
+  for (unsigned v = 0; v < V; ++v) {
+    for (SparseMatrix::InnerIterator it(model.weights, split.source[v]); it; ++it) {
       if (it.value() != 0.0) {
-        weights[static_cast<size_t>(it.col())].emplace_back(static_cast<unsigned>(v),
-                                                            static_cast<ai_real>(it.value()));
+        weights[static_cast<size_t>(it.col())].emplace_back(v, static_cast<ai_real>(it.value()));
       }
     }
   }
@@ -406,7 +421,13 @@ std::string export_fbx(const BodyModel& model, const Eigen::Ref<const Eigen::Vec
                        const ExportOptions& options, const std::string& context) {
   const std::unique_ptr<aiScene> scene = build_scene(model, betas, options, context);
   Assimp::Exporter exporter;
-  const aiExportDataBlob* blob = exporter.ExportToBlob(scene.get(), "fbx");
+  // A mesh split at texture seams is welded back into one control point per position by
+  // Assimp's FBX writer, which does so only when asked through the JoinIdenticalVertices step
+  // (it then also runs that step on its copy of the scene: it joins vertices equal in every
+  // attribute, and the seam copies differ in their texture coordinate). Without texture
+  // coordinates the scene goes out as before, one control point per model vertex.
+  const unsigned steps = model.has_uvs() ? aiProcess_JoinIdenticalVertices : 0u;
+  const aiExportDataBlob* blob = exporter.ExportToBlob(scene.get(), "fbx", steps);
   if (!blob || !blob->data) {
     throw ModelError(context +
                      ": Assimp could not write the FBX file: " + exporter.GetErrorString());
@@ -439,14 +460,16 @@ void write_fbx(const std::string& path, const BodyModel& model,
 // 4. read_fbx
 // ---------------------------------------------------------------------------------------------
 
-FbxAvatar read_fbx(const std::string& path) {
+namespace {
+
+FbxAvatar read_assimp(const std::string& path, const std::string& what) {
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(path, aiProcess_JoinIdenticalVertices);
   if (!scene) {
-    throw ModelError(path + ": not a readable FBX file: " + importer.GetErrorString());
+    throw ModelError(path + ": not a readable " + what + " file: " + importer.GetErrorString());
   }
   if (scene->mNumMeshes < 1 || !scene->mMeshes[0]->HasFaces()) {
-    throw ModelError(path + ": the FBX file has no mesh");
+    throw ModelError(path + ": the " + what + " file has no mesh");
   }
   const aiMesh* mesh = scene->mMeshes[0];
   FbxAvatar out;
@@ -458,6 +481,12 @@ FbxAvatar read_fbx(const std::string& path) {
     out.normals.resize(mesh->mNumVertices, 3);
     for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
       for (unsigned c = 0; c < 3; ++c) out.normals(v, c) = mesh->mNormals[v][c];
+    }
+  }
+  if (mesh->HasTextureCoords(0)) {
+    out.uvs.resize(mesh->mNumVertices, 2);
+    for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+      for (unsigned c = 0; c < 2; ++c) out.uvs(v, c) = mesh->mTextureCoords[0][v][c];
     }
   }
   out.faces.resize(mesh->mNumFaces, 3);
@@ -511,6 +540,16 @@ FbxAvatar read_fbx(const std::string& path) {
     for (unsigned c = 0; c < n->mNumChildren; ++c) stack.push_back(n->mChildren[c]);
   }
   return out;
+}
+
+}  // namespace
+
+FbxAvatar read_fbx(const std::string& path) {
+  return read_assimp(path, "FBX");
+}
+
+FbxAvatar read_with_assimp(const std::string& path) {
+  return read_assimp(path, "mesh");
 }
 
 }  // namespace smpl

@@ -95,6 +95,18 @@ std::vector<float> to_float(const Vertices& v) {
   return out;
 }
 
+// Rows `source` of a row-major array with `width` values per row: the per-vertex attribute of
+// every vertex of a seam split (SeamSplit::source).
+template <typename T>
+std::vector<T> gather(const std::vector<T>& in, size_t width, const std::vector<int>& source) {
+  std::vector<T> out(width * source.size());
+  for (size_t i = 0; i < source.size(); ++i) {
+    std::copy_n(in.begin() + static_cast<std::ptrdiff_t>(width * static_cast<size_t>(source[i])),
+                width, out.begin() + static_cast<std::ptrdiff_t>(width * i));
+  }
+  return out;
+}
+
 // The 4 largest skinning weights of every vertex, renormalised so that their float sum is 1.
 // Unused slots get joint 0 and weight 0.
 void top_influences(const SparseMatrix& weights, std::vector<std::uint16_t>& joints,
@@ -160,8 +172,20 @@ tinygltf::Model build_model(const BodyModel& model, const Eigen::Ref<const Eigen
   Body body = export_rest_body(model, betas, options, context);
   const auto V = static_cast<size_t>(body.vertices.rows());
   const int K = model.num_joints();
+  // Texture seams: glTF indexes every attribute per vertex, so a model with texture coordinates
+  // is split at its seams here (SeamSplit); every per-vertex array below is then gathered from
+  // the model's vertices. Without texture coordinates nothing changes (and nothing is copied).
+  const bool textured = model.has_uvs();
+  const SeamSplit split = textured ? split_at_seams(model, context) : SeamSplit();
+  const size_t out_v = textured ? split.source.size() : V;
 
   tinygltf::Model g;
+  // A VEC3 float accessor of one value per model vertex, gathered to the split vertices.
+  auto add_vertex_vec3 = [&](const std::vector<float>& xyz, bool bounds) {
+    return textured
+               ? add_vec3(g, gather(xyz, 3, split.source), TINYGLTF_TARGET_ARRAY_BUFFER, bounds)
+               : add_vec3(g, xyz, TINYGLTF_TARGET_ARRAY_BUFFER, bounds);
+  };
   g.asset.version = "2.0";
   g.asset.generator = kGenerator;
   if (!options.extras.empty()) {
@@ -170,7 +194,8 @@ tinygltf::Model build_model(const BodyModel& model, const Eigen::Ref<const Eigen
     g.asset.extras = tinygltf::Value(extras);
   }
   g.buffers.resize(1);
-  g.buffers[0].data.reserve(V * 48 + static_cast<size_t>(model.num_faces()) * 12 +
+  g.buffers[0].data.reserve(out_v * (textured ? 56 : 48) +
+                            static_cast<size_t>(model.num_faces()) * 12 +
                             static_cast<size_t>(K) * 64 + 64);
 
   // Geometry. With shape keys, POSITION is the body without its first N components; the targets'
@@ -181,9 +206,9 @@ tinygltf::Model build_model(const BodyModel& model, const Eigen::Ref<const Eigen
     base -= betas[b] *
             Eigen::Map<const Vertices>(model.shapedirs.col(b).data(), model.num_vertices(), 3);
   }
-  const int position = add_vec3(g, to_float(base), TINYGLTF_TARGET_ARRAY_BUFFER, true);
-  const int normal = add_vec3(g, to_float(vertex_normals(body.vertices, model.faces)),
-                              TINYGLTF_TARGET_ARRAY_BUFFER, false);
+  // Normals come from the unsplit mesh, so that the seams do not show in the shading.
+  const int position = add_vertex_vec3(to_float(base), true);
+  const int normal = add_vertex_vec3(to_float(vertex_normals(body.vertices, model.faces)), false);
   GltfSkinWeights own;
   const GltfSkinWeights* skin_w = options.skin_weights;
   if (!skin_w) {
@@ -196,35 +221,56 @@ tinygltf::Model build_model(const BodyModel& model, const Eigen::Ref<const Eigen
                                 std::to_string(skin_w->weights.size()) + " weights, expected 4 x " +
                                 std::to_string(V) + " (use gltf_skin_weights of this model)");
   }
-  const std::vector<std::uint16_t>& joint_ids = skin_w->joints;
-  const std::vector<float>& joint_weights = skin_w->weights;
+  std::vector<std::uint16_t> split_ids;
+  std::vector<float> split_weights;
+  if (textured) {
+    split_ids = gather(skin_w->joints, kMaxInfluences, split.source);
+    split_weights = gather(skin_w->weights, kMaxInfluences, split.source);
+  }
+  const std::vector<std::uint16_t>& joint_ids = textured ? split_ids : skin_w->joints;
+  const std::vector<float>& joint_weights = textured ? split_weights : skin_w->weights;
   const int joints0 =
       add_accessor(g,
                    add_view(g, joint_ids.data(), joint_ids.size() * sizeof(std::uint16_t),
                             TINYGLTF_TARGET_ARRAY_BUFFER),
-                   TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, V, TINYGLTF_TYPE_VEC4);
+                   TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, out_v, TINYGLTF_TYPE_VEC4);
   const int weights0 =
       add_accessor(g,
                    add_view(g, joint_weights.data(), joint_weights.size() * sizeof(float),
                             TINYGLTF_TARGET_ARRAY_BUFFER),
-                   TINYGLTF_COMPONENT_TYPE_FLOAT, V, TINYGLTF_TYPE_VEC4);
-  std::vector<std::uint32_t> indices(static_cast<size_t>(model.faces.size()));
-  for (Eigen::Index i = 0; i < model.faces.size(); ++i) {
-    indices[static_cast<size_t>(i)] = static_cast<std::uint32_t>(model.faces.data()[i]);
+                   TINYGLTF_COMPONENT_TYPE_FLOAT, out_v, TINYGLTF_TYPE_VEC4);
+  int texcoord0 = -1;
+  if (textured) {
+    // glTF's texture origin is the top left corner: v = 1 - the model's (OBJ's) v.
+    std::vector<float> uv(2 * out_v);
+    for (size_t i = 0; i < out_v; ++i) {
+      const auto r = static_cast<Eigen::Index>(i);
+      uv[2 * i] = static_cast<float>(split.uvs(r, 0));
+      uv[2 * i + 1] = static_cast<float>(1.0 - split.uvs(r, 1));
+    }
+    texcoord0 = add_accessor(
+        g, add_view(g, uv.data(), uv.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER),
+        TINYGLTF_COMPONENT_TYPE_FLOAT, out_v, TINYGLTF_TYPE_VEC2);
+  }
+  const Faces& faces = textured ? split.faces : model.faces;
+  std::vector<std::uint32_t> indices(static_cast<size_t>(faces.size()));
+  for (Eigen::Index i = 0; i < faces.size(); ++i) {
+    indices[static_cast<size_t>(i)] = static_cast<std::uint32_t>(faces.data()[i]);
   }
   const int index_accessor =
       add_accessor(g,
                    add_view(g, indices.data(), indices.size() * sizeof(std::uint32_t),
                             TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
                    TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, indices.size(), TINYGLTF_TYPE_SCALAR,
-                   {static_cast<double>(model.faces.size() ? model.faces.minCoeff() : 0)},
-                   {static_cast<double>(model.faces.size() ? model.faces.maxCoeff() : 0)});
+                   {static_cast<double>(faces.size() ? faces.minCoeff() : 0)},
+                   {static_cast<double>(faces.size() ? faces.maxCoeff() : 0)});
 
   tinygltf::Primitive prim;
   prim.attributes["POSITION"] = position;
   prim.attributes["NORMAL"] = normal;
   prim.attributes["JOINTS_0"] = joints0;
   prim.attributes["WEIGHTS_0"] = weights0;
+  if (texcoord0 >= 0) prim.attributes["TEXCOORD_0"] = texcoord0;
   prim.indices = index_accessor;
   prim.mode = TINYGLTF_MODE_TRIANGLES;
   prim.material = 0;
@@ -237,7 +283,7 @@ tinygltf::Model build_model(const BodyModel& model, const Eigen::Ref<const Eigen
     for (size_t i = 0; i < 3 * V; ++i) {
       delta[i] = static_cast<float>(model.shapedirs(static_cast<Eigen::Index>(i), b));
     }
-    prim.targets.push_back({{"POSITION", add_vec3(g, delta, TINYGLTF_TARGET_ARRAY_BUFFER, true)}});
+    prim.targets.push_back({{"POSITION", add_vertex_vec3(delta, true)}});
     mesh.weights.push_back(b < betas.size() ? betas[b] : 0.0);
     char name[32];
     std::snprintf(name, sizeof name, "beta_%02d", b);
@@ -251,8 +297,7 @@ tinygltf::Model build_model(const BodyModel& model, const Eigen::Ref<const Eigen
       for (size_t i = 0; i < 3 * V; ++i) {
         delta[i] = static_cast<float>(model.posedirs(static_cast<Eigen::Index>(i), p));
       }
-      prim.targets.push_back(
-          {{"POSITION", add_vec3(g, delta, TINYGLTF_TARGET_ARRAY_BUFFER, true)}});
+      prim.targets.push_back({{"POSITION", add_vertex_vec3(delta, true)}});
       const int k = static_cast<int>(p / 9) + 1;
       const int r = static_cast<int>((p % 9) / 3), c = static_cast<int>(p % 3);
       double w = 0.0;
@@ -887,6 +932,14 @@ GltfAvatar read_gltf_impl(const std::uint8_t* bytes, size_t size, const std::str
     }
   }
   out.joint_ids = ids.cast<int>();
+  if (prim.attributes.count("TEXCOORD_0") > 0) {
+    const Eigen::MatrixXd uv = attribute("TEXCOORD_0");
+    if (uv.cols() != 2 || uv.rows() != pos.rows()) {
+      throw ModelError(path + ": TEXCOORD_0 must be VEC2 with one entry per vertex");
+    }
+    out.texcoords = uv;
+    out.texcoords.col(1) = 1.0 - out.texcoords.col(1).array();  // glTF's v runs downwards
+  }
   for (size_t t = 0; t < prim.targets.size(); ++t) {
     const std::string what = "morph target " + std::to_string(t) + " POSITION";
     const auto it = prim.targets[t].find("POSITION");

@@ -59,6 +59,9 @@ MeshFile read_mesh(const std::string& path) {
         a.vertices += a.morph_weights[t] * a.morph_targets[t];
       }
     }
+    // A textured avatar is split at its texture seams (more vertices than the model, the
+    // model's triangles in order): measure maps it back through the faces.
+    m.order_from_faces = a.texcoords.rows() > 0;
     m.vertices = std::move(a.vertices);
     m.faces = std::move(a.faces);
     m.extras = std::move(a.extras);

@@ -27,7 +27,8 @@ struct MeshFile {
   /// OBJ/PLY `caliper-metadata` comment (else empty).
   std::map<std::string, std::string> extras;
   /// True when the vertex order is the file's own and may differ from the model's (FBX through
-  /// Assimp): put_in_model_order() maps it back through the faces.
+  /// Assimp; a glTF/VRM split at texture seams): put_in_model_order() maps it back through the
+  /// faces.
   bool order_from_faces = false;
 };
 

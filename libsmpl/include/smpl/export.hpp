@@ -6,6 +6,7 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -78,19 +79,28 @@ Body export_rest_body(const BodyModel& model, const Eigen::Ref<const Eigen::Vect
 
 /// Writes a Wavefront OBJ (v, vn, f lines; 1-based indices; `# up: z` when up is Z) atomically
 /// (write_file_atomic). `metadata` (JSON text, one line) goes into a
-/// `# caliper-metadata` comment when not empty. Throws ModelError for a bad mesh,
-/// WriteError when writing fails (an existing file is then untouched).
+/// `# caliper-metadata` comment when not empty. With texture coordinates (`uv_faces` F x 3
+/// indexing the T x 2 `uvs`, as BodyModel::uvs / uv_faces), also `vt u v` lines (v up, OBJ's
+/// convention and the model's) and `f v/t/n` corners: OBJ indexes texture coordinates per corner,
+/// so no vertex is split. Without them (0 rows) the file is what it was before texture
+/// coordinates existed. Throws ModelError for a bad mesh (also: `uv_faces` rows differ from the
+/// faces', an index outside `uvs`, a non-finite coordinate), WriteError when writing fails (an
+/// existing file is then untouched).
 void write_obj(const std::string& path, const Vertices& vertices, const Faces& faces,
-               UpAxis up = UpAxis::Y, const std::string& metadata = {});
+               UpAxis up = UpAxis::Y, const std::string& metadata = {},
+               const TexCoords& uvs = TexCoords(), const Faces& uv_faces = Faces());
 
 /// Writes a binary little-endian PLY (float xyz and normals, int32 triangles; `comment up: z`
-/// when up is Z, `comment caliper-metadata ...` with `metadata`) atomically. Throws ModelError
+/// when up is Z, `comment caliper-metadata ...` with `metadata`) atomically. PLY has one index per
+/// vertex and no texture-coordinate element that tools agree on, so it carries no texture
+/// coordinates: the mesh stays welded, one vertex per model vertex. Throws ModelError
 /// for a bad mesh, WriteError when writing fails.
 void write_ply(const std::string& path, const Vertices& vertices, const Faces& faces,
                UpAxis up = UpAxis::Y, const std::string& metadata = {});
 
 /// Writes the avatar of `model` with `betas` (posed with options.pose, on the floor, options.up)
-/// as OBJ or PLY by the extension of `path`, with options.extras as metadata. Throws ModelError.
+/// as OBJ or PLY by the extension of `path`, with options.extras as metadata; OBJ with the
+/// model's texture coordinates when it has them. Throws ModelError.
 void write_mesh_avatar(const std::string& path, const BodyModel& model,
                        const Eigen::Ref<const Eigen::VectorXd>& betas,
                        const ExportOptions& options = {});
@@ -102,5 +112,23 @@ Vertices from_up_axis(const Vertices& vertices, UpAxis up);
 
 /// Per-vertex unit normals (area-weighted face normals), V x 3.
 Vertices vertex_normals(const Vertices& vertices, const Faces& faces);
+
+/// A model's mesh split at its texture seams, for formats that index every attribute per vertex
+/// (glTF, VRM, FBX through Assimp). A model vertex whose corners use several texture coordinates
+/// becomes one output vertex per (vertex, texture coordinate) pair: vertex v keeps index v with
+/// the texture coordinate of its first corner in face order, each further pair is appended after
+/// the V model vertices in order of first use. A vertex no face uses keeps (0, 0).
+struct SeamSplit {
+  std::vector<int> source;  ///< model vertex of each output vertex; source[v] == v for v < V
+  Faces faces;              ///< F x 3, the model's triangles re-indexed into the output vertices
+  TexCoords uvs;            ///< one per output vertex (the model's convention, v up)
+};
+
+/// The seam split of `model` (BodyModel::has_uvs()); a model without texture coordinates gives
+/// source = 0..V-1, its own faces and 0 rows of uvs. Every per-vertex attribute of the output is
+/// that of its source vertex (positions, normals computed on the unsplit mesh so that seams stay
+/// smooth, skinning weights, blend shapes). Throws ModelError naming `context` when uv_faces does
+/// not have the faces' rows, indexes outside uvs, or uvs holds NaN or infinity.
+SeamSplit split_at_seams(const BodyModel& model, const std::string& context);
 
 }  // namespace smpl

@@ -1,6 +1,7 @@
 /// \file gltf.hpp
 /// glTF 2.0 export of a rigged, skinned avatar (Khronos glTF 2.0 specification): one skinned mesh
-/// (POSITION, NORMAL, JOINTS_0, WEIGHTS_0 with at most 4 renormalised influences), the joint
+/// (POSITION, NORMAL, JOINTS_0, WEIGHTS_0 with at most 4 renormalised influences, TEXCOORD_0 when
+/// the model has texture coordinates, the mesh split at the seams at export time), the joint
 /// hierarchy with joint names, inverse bind matrices, the shape baked in, optional shape-key and
 /// pose-corrective morph targets, an optional pose on the joints; and VRM 1.0 (glTF 2.0 with the
 /// VRMC_vrm extension: humanoid bone map, meta, first-person settings). Only this target includes
@@ -44,7 +45,13 @@ using GltfOptions = ExportOptions;
 /// with options.shape_keys = N, N targets beta_00 ... (shapedirs columns; POSITION holds the body
 /// without them and their default weights are betas[0..N), so the default shape is the avatar);
 /// with options.pose_correctives, 9 (K - 1) targets (posedirs columns, weight (R_k - I)(r, c),
-/// may be negative; 0 in the rest pose). Names in mesh.extras.targetNames. `.glb` writes binary
+/// may be negative; 0 in the rest pose). Names in mesh.extras.targetNames. When the model has
+/// texture coordinates (BodyModel::has_uvs()), the mesh also has TEXCOORD_0 (float; glTF's
+/// convention, v = 1 - the model's v) and is split at the seams (split_at_seams(), export.hpp):
+/// vertices 0..V-1 are the model's, each further (vertex, texture coordinate) pair is a copy
+/// appended after them with the same position, normal (of the unsplit mesh), JOINTS_0/WEIGHTS_0
+/// and morph-target displacements; without texture coordinates the file is what it was before
+/// they were exported (one glTF vertex per model vertex). `.glb` writes binary
 /// glTF, `.gltf` JSON with an embedded buffer, atomically (write_file_atomic). Throws ModelError
 /// for an unknown extension or a model that cannot be serialised, WriteError when writing fails
 /// (the previous file is then unchanged).
@@ -89,6 +96,9 @@ struct GltfAvatar {
   Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor> joint_weights;  ///< V x 4 WEIGHTS_0
   /// Position displacements (V x 3) of the mesh's morph targets, in order (empty when none).
   std::vector<Vertices> morph_targets;
+  /// V x 2 TEXCOORD_0 in the model's (and OBJ's) convention, v up (v = 1 - glTF's v); 0 rows when
+  /// the file has none.
+  TexCoords texcoords;
   std::vector<double> morph_weights;          ///< mesh.weights (default weights; 0 when absent)
   std::vector<std::string> morph_names;       ///< mesh.extras.targetNames ("" when absent)
   std::string generator;                      ///< asset.generator
@@ -97,7 +107,9 @@ struct GltfAvatar {
 };
 
 /// Reads back a GLB/glTF/VRM written by write_gltf() or write_vrm() (or any single-skinned-mesh
-/// glTF); the format is chosen by content (GLB magic "glTF", else JSON). POSITION is the bind
+/// glTF); the format is chosen by content (GLB magic "glTF", else JSON). TEXCOORD_0, when present,
+/// is read into GltfAvatar::texcoords (one per vertex: a file split at seams has more vertices
+/// than the model; its faces name the split vertices). POSITION is the bind
 /// (rest) pose whatever the joints' pose. Throws ModelError naming the file and the
 /// problem; tinygltf warnings are reported in the message. Hostile files are refused, never
 /// followed (docs/reliability.md, "Readers"):
