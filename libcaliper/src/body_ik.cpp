@@ -83,7 +83,7 @@ double min_reach(double a, double b, double max_bend) {
 // Hand grip
 
 HandGrip HandGrip::for_hand_length(double hand_length) {
-  if (!(hand_length >= 0.05 && hand_length <= 0.4))
+  if (!is_hand_length(hand_length))
     throw std::invalid_argument("hand length " + std::to_string(hand_length) +
                                 " m: expected 0.05 to 0.4 m (wrist to middle fingertip)");
   HandGrip g;
@@ -208,7 +208,7 @@ IkRig make_ik_rig(const smpl::BodyModel& model, const Eigen::VectorXd& betas,
   const double left_tip = hi.x() + rig.standing_shift.x(),
                right_tip = lo.x() + rig.standing_shift.x();
   const double hand = 0.5 * ((left_tip - r[kLeftWrist].x()) + (r[kRightWrist].x() - right_tip));
-  if (hand >= 0.05 && hand <= 0.4) rig.hand_length = hand;
+  if (HandGrip::is_hand_length(hand)) rig.hand_length = hand;
   return rig;
 }
 

@@ -393,7 +393,7 @@ SimulatedSession simulate_session(const Protocol& protocol, const SimulatedPerso
       const double hand =
           0.5 * ((person.landmarks.at("left_fingertip") - person.joints[kLeftWrist]).norm() +
                  (person.landmarks.at("right_fingertip") - person.joints[kRightWrist]).norm());
-      if (hand >= 0.05 && hand <= 0.4) grip = HandGrip::for_hand_length(hand);
+      if (HandGrip::is_hand_length(hand)) grip = HandGrip::for_hand_length(hand);
     }
     const std::vector<Posture> script = motion_script(person);
     // Start from where the controllers are now.

@@ -72,8 +72,11 @@ struct HandGrip {
   /// for a hand 18.7 cm long (ANSUR II, men and women pooled); BodyIk sets it from the avatar's
   /// hand (IkRig::hand_length).
   Eigen::Vector3d wrist_in_grip = Eigen::Vector3d(0.0, 0.0, kWristToGripPerHandLength * 0.187);
+  /// Hand lengths for_hand_length() takes, m (wider than any adult's: 14.5-23.9 cm in ANSUR II).
+  static constexpr double kMinHandLength = 0.05, kMaxHandLength = 0.4;
+  static bool is_hand_length(double m) { return m >= kMinHandLength && m <= kMaxHandLength; }
   /// The grip of a hand `hand_length` m long (wrist to middle fingertip). Throws
-  /// std::invalid_argument unless 5 cm <= hand_length <= 40 cm.
+  /// std::invalid_argument unless is_hand_length(hand_length).
   static HandGrip for_hand_length(double hand_length);
   /// World rotation of the avatar's hand (rest-pose frame) for a grip orientation `grip`.
   static Eigen::Quaterniond hand_from_grip(const Eigen::Quaterniond& grip, bool left);
