@@ -265,7 +265,8 @@ TEST_F(Reliability, BatchSaysWhenAnAvatarIsImplausible) {
     ASSERT_EQ(t.rows.size(), 2u);
     const auto plausible = static_cast<size_t>(t.column("plausible"));
     ASSERT_EQ(t.rows[1][plausible], "no") << "the test needs an implausible avatar";
-    EXPECT_TRUE(contains(t.rows[1].back(), "unusual body shape (outside the usual range): Mahalanobis distance"))
+    EXPECT_TRUE(contains(t.rows[1].back(),
+                         "unusual body shape (outside the usual range): Mahalanobis distance"))
         << t.rows[1].back();
     EXPECT_FALSE(contains(t.rows[0].back(), "unusual body shape")) << t.rows[0].back();
   }
