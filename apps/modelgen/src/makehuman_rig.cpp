@@ -15,6 +15,8 @@
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 
+#include "makehuman_landmarks.hpp"
+
 namespace modelgen::mh {
 
 // ------------------------------------------------------------------------------------------------
@@ -444,6 +446,11 @@ smpl::BodyModel template_model(const Assets& assets, const std::vector<std::stri
     v.row(i) -= pelvis;
   }
   model.v_template = v;
+  Joints24 joints = bodies.front().joints * kMetresPerUnit;
+  for (Eigen::Index j = 0; j < joints.rows(); ++j) {
+    joints.row(j) -= pelvis;
+  }
+  model.landmarks = template_landmarks(assets, v, joints);
   model.faces = assets.skin.faces;
   model.uvs = assets.skin.uvs;
   model.uv_faces = assets.skin.uv_faces;
