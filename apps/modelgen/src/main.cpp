@@ -31,7 +31,8 @@ void usage() {
          "       caliper-modelgen --source makehuman [--makehuman DIR] --out DIR\n"
          "Work in progress (issue 11): --source makehuman writes only\n"
          "DIR/caliper-makehuman-template.npz, MakeHuman's CC0 base mesh (skin only, T-pose,\n"
-         "SMPL's 24 joints, merged weights, fitted joint regressor) with no shape space yet;\n"
+         "SMPL's 24 joints, merged weights, fitted joint regressor, the paper's landmarks)\n"
+         "with no shape space yet;\n"
          "--makehuman defaults to ../shared/data/makehuman. The default --source cage\n"
          "writes the three open models.\n";
 }
