@@ -90,39 +90,51 @@ std::string lower(std::string s) {
 
 }  // namespace
 
-SexStats stats_from_survey_file(const std::string& csv_path, const std::string& sex) {
+Eigen::MatrixXd read_survey_columns(const std::string& csv_path,
+                                    const std::vector<std::string>& columns) {
   std::ifstream in(csv_path, std::ios::binary);
   if (!in) {
     throw std::runtime_error("cannot open survey file '" + csv_path + "'");
   }
   std::string line;
-  if (!std::getline(in, line)) {
+  int line_no = 0;
+  bool have_header = false;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (line.empty() || line[0] != '#') {
+      have_header = true;
+      break;
+    }
+  }
+  if (!have_header) {
     throw std::runtime_error("empty survey file '" + csv_path + "'");
   }
-  const std::vector<std::string> header = split_csv_line(line);
-  std::array<int, kNumDims> col{};
-  for (int d = 0; d < kNumDims; ++d) {
-    col[d] = -1;
+  std::vector<std::string> header = split_csv_line(line);
+  for (std::string& h : header) {
+    if (h.size() >= 2 && h.front() == '"' && h.back() == '"') {
+      h = h.substr(1, h.size() - 2);
+    }
+  }
+  std::vector<int> col(columns.size(), -1);
+  for (size_t d = 0; d < columns.size(); ++d) {
     for (int h = 0; h < static_cast<int>(header.size()); ++h) {
-      if (lower(header[h]) == dim_columns()[d]) {
+      if (lower(header[h]) == lower(columns[d])) {
         col[d] = h;
       }
     }
     if (col[d] < 0) {
-      throw std::runtime_error("survey file '" + csv_path + "' has no column '" + dim_columns()[d] +
-                               "'");
+      throw std::runtime_error("survey file '" + csv_path + "' has no column '" + columns[d] + "'");
     }
   }
   std::vector<Eigen::VectorXd> rows;
-  int line_no = 1;
   while (std::getline(in, line)) {
     ++line_no;
     if (line.empty() || line == "\r") {
       continue;
     }
     const std::vector<std::string> f = split_csv_line(line);
-    Eigen::VectorXd r(kNumDims);
-    for (int d = 0; d < kNumDims; ++d) {
+    Eigen::VectorXd r(static_cast<Eigen::Index>(columns.size()));
+    for (size_t d = 0; d < columns.size(); ++d) {
       if (col[d] >= static_cast<int>(f.size())) {
         throw std::runtime_error("survey file '" + csv_path + "' line " + std::to_string(line_no) +
                                  ": too few fields");
@@ -131,10 +143,29 @@ SexStats stats_from_survey_file(const std::string& csv_path, const std::string& 
       const double v = std::strtod(f[col[d]].c_str(), &end);
       if (end == f[col[d]].c_str() || !std::isfinite(v)) {
         throw std::runtime_error("survey file '" + csv_path + "' line " + std::to_string(line_no) +
-                                 ": column '" + dim_columns()[d] + "' is not a number: '" +
-                                 f[col[d]] + "'");
+                                 ": column '" + columns[d] + "' is not a number: '" + f[col[d]] +
+                                 "'");
       }
-      r[d] = d == kWeight ? v / 10.0 : v / 1000.0;  // 0.1 kg -> kg, mm -> m
+      r[static_cast<Eigen::Index>(d)] = v;
+    }
+    rows.push_back(r);
+  }
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(rows.size()),
+                      static_cast<Eigen::Index>(columns.size()));
+  for (size_t i = 0; i < rows.size(); ++i) {
+    out.row(static_cast<Eigen::Index>(i)) = rows[i].transpose();
+  }
+  return out;
+}
+
+SexStats stats_from_survey_file(const std::string& csv_path, const std::string& sex) {
+  const std::vector<std::string> names(dim_columns().begin(), dim_columns().end());
+  const Eigen::MatrixXd table = read_survey_columns(csv_path, names);
+  std::vector<Eigen::VectorXd> rows;
+  for (Eigen::Index i = 0; i < table.rows(); ++i) {
+    Eigen::VectorXd r = table.row(i).transpose();
+    for (int d = 0; d < kNumDims; ++d) {
+      r[d] = d == kWeight ? r[d] / 10.0 : r[d] / 1000.0;  // 0.1 kg -> kg, mm -> m
     }
     rows.push_back(r);
   }

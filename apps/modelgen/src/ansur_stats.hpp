@@ -80,6 +80,15 @@ struct SurveyStats {
   const SexStats& of(const std::string& sex) const { return sex == "male" ? male : female; }
 };
 
+/// Reads the numeric `columns` of a survey CSV file (ANSUR II, NHANES): one row per data line,
+/// values as written (no unit conversion), columns in the order asked. Lines starting with '#'
+/// before the header are comments (NHANES); header names may be quoted and match case-
+/// insensitively; empty lines are skipped. Throws std::runtime_error naming the file, and the
+/// line and column, for a missing file or column, too few fields, or a value that is not a
+/// finite number.
+Eigen::MatrixXd read_survey_columns(const std::string& csv_path,
+                                    const std::vector<std::string>& columns);
+
 /// Reads one ANSUR II CSV file (Latin-1 or ASCII) and computes the statistics of the Dim columns.
 /// Throws std::runtime_error naming the file and column when a column is missing or a value is
 /// not a number.
