@@ -4,17 +4,21 @@
 ///
 ///   caliper-modelgen --out assets/models                 # all three models
 ///   caliper-modelgen --stats-from /path/to/ansur2 --stats-out assets/models/ansur_stats.csv
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <fstream>
 #include <iostream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "ansur_stats.hpp"
 #include "generator.hpp"
 #include "makehuman_rig.hpp"
+#include "makehuman_shape.hpp"
 #include "smpl/io.hpp"
 
 namespace {
@@ -28,13 +32,90 @@ void usage() {
          "DIR/ansur_stats.csv, else ./assets/models/ansur_stats.csv; --stats-from recomputes it\n"
          "from the ANSUR II survey files.\n"
          "       caliper-modelgen --validate MODEL.npz --stats FILE [--samples N]\n"
-         "       caliper-modelgen --source makehuman [--makehuman DIR] --out DIR\n"
-         "Work in progress (issue 11): --source makehuman writes only\n"
+         "       caliper-modelgen --source makehuman [--makehuman DIR] [--surveys DIR] --out DIR\n"
+         "Work in progress (issue 11): --source makehuman writes\n"
          "DIR/caliper-makehuman-template.npz, MakeHuman's CC0 base mesh (skin only, T-pose,\n"
-         "SMPL's 24 joints, merged weights, fitted joint regressor, the paper's landmarks)\n"
-         "with no shape space yet;\n"
+         "SMPL's 24 joints, merged weights, fitted joint regressor, the paper's landmarks), and\n"
+         "DIR/caliper-makehuman-{female,male,neutral}.npz, its targets fitted to every ANSUR II\n"
+         "and NHANES subject under --surveys (ansur2/, nhanes/; default ../shared/data) and\n"
+         "their principal components (about 2 minutes); it prints the fit residuals.\n"
          "--makehuman defaults to ../shared/data/makehuman. The default --source cage\n"
          "writes the three open models.\n";
+}
+
+/// The shape models of the open model v2 (work in progress, issue 11): every survey subject
+/// registered to MakeHuman's targets, principal components per sex; prints the fit residuals.
+void write_makehuman_shape_models(const modelgen::mh::Assets& assets, const smpl::BodyModel& tmpl,
+                                  const std::string& survey_dir, const std::string& out,
+                                  bool quiet) {
+  namespace mh = modelgen::mh;
+  auto seconds = [](std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+  };
+  const auto t0 = std::chrono::steady_clock::now();
+  const mh::ShapeBasis basis = mh::shape_basis(assets, tmpl);
+  const std::vector<mh::Subject> subjects =
+      mh::read_subjects(survey_dir + "/ansur2", survey_dir + "/nhanes");
+  if (!quiet) {
+    std::printf("basis: %zu directions, %zu subjects, %.1f s\n", basis.names.size(),
+                subjects.size(), seconds(t0));
+  }
+  const auto t1 = std::chrono::steady_clock::now();
+  const mh::FitResult fit = mh::fit_subjects(
+      basis, tmpl, subjects, static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+  if (!quiet) {
+    std::printf("fitted in %.1f s; residual (fitted body minus survey): mean / RMS / max |.|\n",
+                seconds(t1));
+    for (const char* source : {"ANSUR II", "NHANES"}) {
+      for (const char* sex : {"female", "male"}) {
+        for (size_t j = 0; j < mh::fit_measures().size(); ++j) {
+          double sum = 0, sq = 0, worst = 0;
+          int n = 0;
+          for (size_t i = 0; i < subjects.size(); ++i) {
+            const double r =
+                fit.residuals(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+            if (subjects[i].source != source || subjects[i].sex != sex || !std::isfinite(r))
+              continue;
+            sum += r;
+            sq += r * r;
+            worst = std::max(worst, std::abs(r));
+            ++n;
+          }
+          if (n == 0) continue;
+          int far = 0;  // residuals beyond 3 tolerances
+          for (size_t i = 0; i < subjects.size(); ++i) {
+            const double r =
+                fit.residuals(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+            if (subjects[i].source == source && subjects[i].sex == sex && std::isfinite(r) &&
+                std::abs(r) > 3 * mh::fit_measures()[j].tolerance) {
+              ++far;
+            }
+          }
+          const bool kg = mh::fit_measures()[j].id == "weight";
+          const double scale = kg ? 1.0 : 1000.0;
+          std::printf("  %-8s %-6s %-26s n=%4d  %+7.1f %7.1f %7.1f %s, %d beyond 3 tol.\n", source,
+                      sex, mh::fit_measures()[j].id.c_str(), n, scale * sum / n,
+                      scale * std::sqrt(sq / n), scale * worst, kg ? "kg" : "mm", far);
+        }
+      }
+    }
+  }
+  for (const char* sex : {"female", "male", "neutral"}) {
+    const smpl::BodyModel m = mh::shape_model(basis, tmpl, subjects, fit, sex, 16);
+    const std::string path = out + "/caliper-makehuman-" + sex + ".npz";
+    smpl::SaveOptions so;
+    so.compress = true;
+    smpl::save_model(m, path, so);
+    if (!quiet) {
+      std::printf("wrote %s (%d betas; RMS vertex offset of +1 SD per component, mm:", path.c_str(),
+                  m.num_betas());
+      for (int b = 0; b < m.num_betas(); ++b) {
+        std::printf(" %.1f", 1000.0 * m.shapedirs.col(b).norm() / std::sqrt(m.num_vertices()));
+      }
+      std::printf(")\n");
+    }
+  }
+  if (!quiet) std::printf("shape models in %.1f s\n", seconds(t0));
 }
 
 }  // namespace
@@ -46,6 +127,7 @@ int main(int argc, char** argv) {
     bool quiet = false;
     std::string validate;
     std::string source = "cage", makehuman_dir = "../shared/data/makehuman";
+    std::string survey_dir = "../shared/data";
     int samples = 10000;
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
@@ -80,6 +162,8 @@ int main(int argc, char** argv) {
         }
       } else if (a == "--makehuman") {
         makehuman_dir = next();
+      } else if (a == "--surveys") {
+        survey_dir = next();
       } else if (a == "--quiet") {
         quiet = true;
       } else if (a == "-h" || a == "--help") {
@@ -152,6 +236,7 @@ int main(int argc, char** argv) {
                     model.num_vertices(), model.num_faces(), model.num_betas(),
                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
       }
+      write_makehuman_shape_models(assets, model, survey_dir, out, quiet);
       return 0;
     }
     if (stats_path.empty()) {

@@ -41,8 +41,9 @@ using Joints24 = Eigen::Matrix<double, 24, 3, Eigen::RowMajor>;
 ///   furthest (the navel), the deepest (least +Z) one on the midline;
 /// - left_heel: the rearmost vertex of the foot below the ankle joint;
 /// - left_sole: the lowest vertex of the foot in front of the ankle joint.
-/// The torso sides and back (waist, chest, torso_back) are not set here: the measurement
-/// library derives them from navel and nipples (caliper::derive_torso_landmarks).
+/// The torso sides and back (waist, chest, torso_back) are not set here: template_model() adds
+/// them with the measurement library's rule (caliper::derive_torso_landmarks), as for every
+/// model.
 /// Throws std::invalid_argument naming the landmark when its rule selects no vertex, or when a
 /// left vertex has no mirror vertex within 1 mm; AssetError when a marker target is missing.
 std::map<std::string, std::vector<int>> template_landmarks(const Assets& assets,

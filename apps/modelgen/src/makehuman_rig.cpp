@@ -15,6 +15,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 
+#include "caliper/measurements.hpp"
 #include "makehuman_landmarks.hpp"
 
 namespace modelgen::mh {
@@ -451,6 +452,7 @@ smpl::BodyModel template_model(const Assets& assets, const std::vector<std::stri
     joints.row(j) -= pelvis;
   }
   model.landmarks = template_landmarks(assets, v, joints);
+  caliper::derive_torso_landmarks(v, model.landmarks);  // all 24 names, as the other open models
   model.faces = assets.skin.faces;
   model.uvs = assets.skin.uvs;
   model.uv_faces = assets.skin.uv_faces;

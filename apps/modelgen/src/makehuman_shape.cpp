@@ -1,0 +1,618 @@
+/// \file makehuman_shape.cpp
+/// Target basis, registration of survey subjects and principal components (makehuman_shape.hpp).
+///
+/// Sections: subjects; basis; fitting; principal components.
+#include "makehuman_shape.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <functional>
+#include <limits>
+#include <map>
+#include <stdexcept>
+#include <thread>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/QR>
+
+#include "ansur_stats.hpp"
+#include "caliper/circumference.hpp"
+#include "caliper/measurements.hpp"
+#include "caliper/random.hpp"
+#include "caliper/volume.hpp"
+#include "caliper/weight.hpp"
+
+namespace modelgen::mh {
+
+// ------------------------------------------------------------------------------------------------
+// Subjects
+// ------------------------------------------------------------------------------------------------
+
+const std::vector<FitMeasure>& fit_measures() {
+  // Tolerances: about the survey's own measurement error (a few mm for lengths, 1 cm for girths
+  // taken with a tape, 1 kg for a weight that also depends on the density formula).
+  static const std::vector<FitMeasure> m = {{"height", 0.005},
+                                            {"weight", 1.0},
+                                            {"arm_span_fingertips", 0.01},
+                                            {"inseam_height", 0.01},
+                                            {"shoulder_width", 0.01},
+                                            {"hip_width", 0.01},
+                                            {"chest_circumference", 0.01},
+                                            {"waist_circumference", 0.01},
+                                            {"hip_circumference", 0.01},
+                                            {"iliac_crest_height", 0.01},
+                                            {"waist_iliac_circumference", 0.01}};
+  return m;
+}
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+void add_survey(const std::string& path, const std::string& sex, const std::string& source,
+                const std::vector<std::string>& columns, const std::vector<int>& measure,
+                const std::vector<double>& scale, std::vector<Subject>& out) {
+  const Eigen::MatrixXd t = read_survey_columns(path, columns);
+  const int m = static_cast<int>(fit_measures().size());
+  for (Eigen::Index r = 0; r < t.rows(); ++r) {
+    Subject s;
+    s.sex = sex;
+    s.source = source;
+    s.values = Eigen::VectorXd::Constant(m, kNaN);
+    for (size_t c = 0; c < columns.size(); ++c) {
+      s.values[measure[c]] = t(r, static_cast<Eigen::Index>(c)) * scale[c];
+    }
+    out.push_back(s);
+  }
+}
+
+}  // namespace
+
+std::vector<Subject> read_subjects(const std::string& ansur_dir, const std::string& nhanes_dir) {
+  std::vector<Subject> out;
+  const std::vector<std::string> ansur = {"stature",
+                                          "weightkg",
+                                          "span",
+                                          "crotchheight",
+                                          "biacromialbreadth",
+                                          "hipbreadth",
+                                          "chestcircumference",
+                                          "waistcircumference",
+                                          "buttockcircumference",
+                                          "iliocristaleheight"};
+  std::vector<int> ansur_measure;
+  std::vector<double> ansur_scale;
+  for (size_t c = 0; c < ansur.size(); ++c) {
+    ansur_measure.push_back(static_cast<int>(c));  // fit_measures() starts in this order
+    ansur_scale.push_back(c == 1 ? 0.1 : 1e-3);    // weightkg in 0.1 kg, lengths in mm
+  }
+  add_survey(ansur_dir + "/ANSUR_II_FEMALE_Public.csv", "female", "ANSUR II", ansur, ansur_measure,
+             ansur_scale, out);
+  add_survey(ansur_dir + "/ANSUR_II_MALE_Public.csv", "male", "ANSUR II", ansur, ansur_measure,
+             ansur_scale, out);
+  const std::vector<std::string> nhanes = {"BMXHT", "BMXWT", "BMXHIP", "BMXWAIST"};
+  const std::vector<int> nhanes_measure = {0, 1, 8, 10};
+  const std::vector<double> nhanes_scale = {1e-2, 1.0, 1e-2, 1e-2};
+  add_survey(nhanes_dir + "/NHANES_2017_2020_FEMALE_dev.csv", "female", "NHANES", nhanes,
+             nhanes_measure, nhanes_scale, out);
+  add_survey(nhanes_dir + "/NHANES_2017_2020_MALE_dev.csv", "male", "NHANES", nhanes,
+             nhanes_measure, nhanes_scale, out);
+  return out;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Basis
+// ------------------------------------------------------------------------------------------------
+
+namespace {
+
+/// Direction names of one sex ("+" joins a left/right pair applied together).
+std::vector<std::string> direction_names(const std::string& sex) {
+  std::vector<std::string> d;
+  for (const char* m : {"min", "average", "max"}) {
+    for (const char* w : {"min", "average", "max"}) {
+      if (std::string(m) == "average" && std::string(w) == "average") continue;
+      d.push_back("macrodetails/universal-" + sex + "-young-" + m + "muscle-" + w +
+                  "weight.target");
+    }
+  }
+  for (const char* h : {"min", "max"}) {
+    d.push_back("macrodetails/height/" + sex + "-young-averagemuscle-averageweight-" + h +
+                "height.target");
+  }
+  for (const char* p : {"ideal", "uncommon"}) {
+    d.push_back("macrodetails/proportions/" + sex + "-young-averagemuscle-averageweight-" + p +
+                "proportions.target");
+  }
+  const std::vector<std::string> shapes =
+      sex == "female"
+          ? std::vector<std::string>{"fem-adrenal",        "fem-apple",           "fem-diamond",
+                                     "fem-full-hourglass", "fem-invert-triangle", "fem-lean-column",
+                                     "fem-liver",          "fem-neat-hourglass",  "fem-ovary",
+                                     "fem-rectangle",      "fem-thyroid",         "fem-triangle"}
+          : std::vector<std::string>{"man-adrenal",         "man-apple",       "man-gonadal",
+                                     "man-invert-triangle", "man-lean-column", "man-liver",
+                                     "man-rectangle",       "man-thyroid",     "man-trapezoid",
+                                     "man-triangle"};
+  for (const std::string& s : shapes) d.push_back("bodyshapes/bodyshapes-elvs-" + s + ".target");
+  for (const char* m : {"ankle-circ",       "bust-circ",      "calf-circ",       "frontchest-dist",
+                        "hips-circ",        "knee-circ",      "lowerarm-length", "lowerleg-height",
+                        "napetowaist-dist", "neck-circ",      "neck-height",     "shoulder-dist",
+                        "thigh-circ",       "underbust-circ", "upperarm-circ",   "upperarm-length",
+                        "upperleg-height",  "waist-circ",     "waisttohip-dist", "wrist-circ"}) {
+    for (const char* s : {"decr", "incr"}) {
+      d.push_back(std::string("measure/measure-") + m + "-" + s + ".target");
+    }
+  }
+  for (const char* s : {"decr", "incr"}) {
+    d.push_back(std::string("stomach/stomach-pregnant-") + s + ".target");
+    d.push_back(std::string("buttocks/buttocks-volume-") + s + ".target");
+    d.push_back(std::string("hip/hip-scale-horiz-") + s + ".target");
+    d.push_back(std::string("hip/hip-scale-depth-") + s + ".target");
+    for (const char* part : {"upperarm", "upperleg", "lowerleg"}) {
+      d.push_back(std::string("armslegs/l-") + part + "-fat-" + s + ".target+armslegs/r-" + part +
+                  "-fat-" + s + ".target");
+    }
+  }
+  return d;
+}
+
+/// T-posed skin of base-mesh positions `p`, metres, with its own pelvis joint (row 0 of the
+/// template's regressor) at the origin.
+smpl::Vertices centred_t_pose(const Assets& assets, const smpl::BodyModel& tmpl,
+                              const Positions& p) {
+  smpl::Vertices v = skin_vertices(assets.skin, t_pose(assets, p).positions);
+  const Eigen::RowVector3d pelvis = (tmpl.j_regressor.row(0) * v).eval();
+  for (Eigen::Index i = 0; i < v.rows(); ++i) v.row(i) -= pelvis;
+  return v;
+}
+
+Eigen::VectorXd flat(const smpl::Vertices& v) {
+  Eigen::VectorXd f(3 * v.rows());
+  for (Eigen::Index i = 0; i < v.rows(); ++i) {
+    for (int c = 0; c < 3; ++c) f[3 * i + c] = v(i, c);
+  }
+  return f;
+}
+
+}  // namespace
+
+smpl::Vertices ShapeBasis::body(const std::string& s, const Eigen::VectorXd& w) const {
+  const Eigen::VectorXd f = dirs * w;
+  smpl::Vertices v = s == "male" ? male_mean : female_mean;
+  for (Eigen::Index i = 0; i < v.rows(); ++i) {
+    for (int c = 0; c < 3; ++c) v(i, c) += f[3 * i + c];
+  }
+  return v;
+}
+
+ShapeBasis shape_basis(const Assets& assets, const smpl::BodyModel& tmpl) {
+  ShapeBasis b;
+  std::map<std::string, Target> cache;
+  auto target = [&](const std::string& rel) -> const Target& {
+    auto it = cache.find(rel);
+    if (it == cache.end()) it = cache.emplace(rel, read_asset_target(assets, rel)).first;
+    return it->second;
+  };
+  std::vector<Eigen::VectorXd> cols;
+  for (const std::string sex : {"female", "male"}) {
+    // The sex's average young adult: the base plus the mean of its three ethnic targets.
+    Positions mean = assets.base.vertices;
+    for (const char* e : {"african", "asian", "caucasian"}) {
+      add_target(target("macrodetails/" + std::string(e) + "-" + sex + "-young.target"), 1.0 / 3.0,
+                 mean);
+    }
+    const smpl::Vertices m = centred_t_pose(assets, tmpl, mean);
+    (sex == "female" ? b.female_mean : b.male_mean) = m;
+    const Eigen::VectorXd fm = flat(m);
+    for (const std::string& name : direction_names(sex)) {
+      Positions p = mean;
+      size_t start = 0;
+      while (start <= name.size()) {
+        const size_t plus = name.find('+', start);
+        const std::string part =
+            name.substr(start, plus == std::string::npos ? std::string::npos : plus - start);
+        add_target(target(part), 1.0, p);
+        if (plus == std::string::npos) break;
+        start = plus + 1;
+      }
+      cols.push_back(flat(centred_t_pose(assets, tmpl, p)) - fm);
+      b.names.push_back(name);
+      b.sex.push_back(sex);
+    }
+  }
+  b.dirs.resize(cols.front().size(), static_cast<Eigen::Index>(cols.size()));
+  for (size_t k = 0; k < cols.size(); ++k) b.dirs.col(static_cast<Eigen::Index>(k)) = cols[k];
+  return b;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Fitting
+// ------------------------------------------------------------------------------------------------
+
+namespace {
+
+/// Prior standard deviation of a direction's weight: macro, height, proportion and body-shape
+/// targets may be used fully (and beyond, for bodies outside MakeHuman's range); local targets
+/// less.
+double prior_sd(const std::string& name) {
+  if (name.rfind("macrodetails/", 0) == 0 || name.rfind("bodyshapes/", 0) == 0) return 1.0;
+  return 0.5;
+}
+
+/// Height above the floor, as a fraction of stature, of the top of the iliac crest: the mean
+/// iliocristale height / stature of ANSUR II (0.611 women, 0.604 men; both sexes weighted
+/// alike). The landmark is the template's lateral torso vertex at that height; each subject's
+/// own iliac crest height then moves it (fitted on ANSUR II's iliocristaleheight).
+constexpr double kIliacCrestFraction = 0.608;
+
+/// Perimeter (convex hull, a tape) of the loops of the plane y = `h` whose centroid x lies in
+/// [x_min, x_max]; NaN when no loop qualifies.
+double girth(const smpl::Vertices& v, const smpl::Faces& f, double h, double x_min, double x_max) {
+  std::vector<Eigen::Vector2d> points;
+  for (const caliper::SliceLoop& l : caliper::slice_mesh(v, f, h)) {
+    if (l.centroid.x() >= x_min && l.centroid.x() <= x_max) {
+      points.insert(points.end(), l.points.begin(), l.points.end());
+    }
+  }
+  return points.empty() ? kNaN : caliper::convex_hull_perimeter(points);
+}
+
+/// The fit_measures() of bodies of one model and sex. The paper's measurements, the weight from
+/// the volume and the four circumferences are the library's (caliper::measure_all()'s), with the
+/// landmark table found once (measure_all() derives it, and checks that the surface is closed,
+/// on every call: most of its time on this mesh). The survey measurements the library does not
+/// have yet are defined here (each a rule on the T-posed body):
+/// - iliac_crest_height: the iliac crest vertex above the floor;
+/// - waist_iliac_circumference: the torso's girth at the iliac crest (NHANES's and the WHO's
+///   waist).
+struct Measurer {
+  Measurer(const smpl::BodyModel& tmpl, const std::string& sex)
+      : faces(tmpl.faces),
+        landmarks(caliper::landmarks_for(tmpl)),
+        formula(caliper::weight_formula_for(sex)) {
+    const smpl::Vertices& t = tmpl.v_template;
+    const double floor = t.col(1).minCoeff();
+    const double y = floor + kIliacCrestFraction * (t.col(1).maxCoeff() - floor);
+    const double half = caliper::landmark_point(t, landmarks.at("left_shoulder")).x();
+    double best = -1.0;
+    for (Eigen::Index i = 0; i < t.rows(); ++i) {
+      if (std::abs(t(i, 1) - y) < 0.01 && t(i, 0) > 0.0 && t(i, 0) < half && t(i, 0) > best) {
+        best = t(i, 0);
+        iliac_crest = static_cast<int>(i);
+      }
+    }
+    if (iliac_crest < 0) throw std::runtime_error("MakeHuman shape: no iliac crest vertex");
+  }
+  const smpl::Faces& faces;
+  caliper::LandmarkTable landmarks;
+  caliper::WeightFormula formula;
+  int iliac_crest = -1;
+
+  /// NaN where a measurement cannot be taken on `v`.
+  Eigen::VectorXd operator()(const smpl::Vertices& v) const {
+    caliper::MeasurementMap all = caliper::measure(v, landmarks);
+    all["weight"] = caliper::weight_from_volume(caliper::mesh_volume(v, faces), formula);
+    for (const auto& [id, value] : caliper::circumferences(v, faces, landmarks)) all[id] = value;
+    const double floor = v.col(1).minCoeff();
+    const Eigen::Vector3d shoulder = caliper::landmark_point(v, landmarks.at("left_shoulder"));
+    all["iliac_crest_height"] = v(iliac_crest, 1) - floor;
+    all["waist_iliac_circumference"] =
+        girth(v, faces, v(iliac_crest, 1), -shoulder.x(), shoulder.x());
+    Eigen::VectorXd out(static_cast<Eigen::Index>(fit_measures().size()));
+    for (size_t i = 0; i < fit_measures().size(); ++i) {
+      const auto it = all.find(fit_measures()[i].id);
+      out[static_cast<Eigen::Index>(i)] = it == all.end() ? kNaN : it->second;
+    }
+    return out;
+  }
+};
+
+/// Index of the weight in fit_measures(). The fit works on the weight's cube-root volume (the
+/// paper's weight feature, metres), which is nearly linear in the shape; the weight itself, a
+/// cubic, is not.
+constexpr int kWeight = 1;
+
+/// `m` (fit_measures() order, kg) with the weight replaced by its feature.
+Eigen::VectorXd fit_space(const Eigen::VectorXd& m, const caliper::WeightFormula& formula) {
+  Eigen::VectorXd out = m;
+  if (out.size() > kWeight && std::isfinite(out[kWeight])) {
+    out[kWeight] = caliper::weight_feature(out[kWeight], formula);
+  }
+  return out;
+}
+
+/// The linear surrogate of one sex: measurements ~ a + B w over the sex's directions.
+struct Surrogate {
+  std::vector<int> columns;  ///< basis columns of the sex
+  Eigen::VectorXd a;         ///< M
+  Eigen::MatrixXd B;         ///< M x columns
+};
+
+constexpr int kSurrogateBodies = 400;
+constexpr std::uint64_t kSeed = 20261124;
+
+Surrogate surrogate(const ShapeBasis& basis, const Measurer& measure, const std::string& sex) {
+  Surrogate s;
+  for (int k = 0; k < static_cast<int>(basis.names.size()); ++k) {
+    if (basis.sex[k] == sex) s.columns.push_back(k);
+  }
+  const int k = static_cast<int>(s.columns.size());
+  const int m = static_cast<int>(fit_measures().size());
+  caliper::Xoshiro256 rng(kSeed + (sex == "male" ? 1 : 0));
+  Eigen::MatrixXd X(kSurrogateBodies, k + 1);
+  Eigen::MatrixXd Y(kSurrogateBodies, m);
+  Eigen::VectorXd w = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(basis.names.size()));
+  int rejected = 0;
+  for (int n = 0; n < kSurrogateBodies; ++n) {
+    X(n, 0) = 1.0;
+    for (int j = 0; j < k; ++j) {
+      const double u = static_cast<double>(rng.next() >> 11) * 0x1.0p-53;
+      // Uniform with the prior's SD, half of it: bodies within the usual range.
+      w[s.columns[j]] =
+          0.5 * prior_sd(basis.names[s.columns[j]]) * 1.7320508075688772 * (2 * u - 1);
+      X(n, j + 1) = w[s.columns[j]];
+    }
+    const Eigen::VectorXd y = fit_space(measure(basis.body(sex, w)), measure.formula);
+    if (!y.allFinite()) {  // a measurement the body does not allow (e.g. no hip loop): draw again
+      if (++rejected > kSurrogateBodies) {
+        throw std::runtime_error("MakeHuman shape: most random " + sex +
+                                 " bodies cannot be measured; check the targets");
+      }
+      --n;
+      continue;
+    }
+    Y.row(n) = y.transpose();
+  }
+  const Eigen::MatrixXd coef = X.colPivHouseholderQr().solve(Y);  // (k + 1) x m
+  s.a = coef.row(0).transpose();
+  s.B = coef.bottomRows(k).transpose();
+  return s;
+}
+
+}  // namespace
+
+namespace {
+
+/// A Gaussian prior on the weights of one sex's directions: precision and mean.
+struct Prior {
+  Eigen::MatrixXd precision;  ///< k x k
+  Eigen::VectorXd mean;       ///< k
+};
+
+/// Fits one subject: weighted least squares against the surrogate with the prior, then
+/// kCorrections passes with the surrogate's error at the fitted body taken off the targets.
+/// Writes the sex's weights into `w` (all K) and true-minus-survey residuals into `residual`.
+void fit_one(const ShapeBasis& basis, const Measurer& measure, const Surrogate& s,
+             const Prior& prior, const Subject& subj,
+             Eigen::Ref<Eigen::RowVectorXd, 0, Eigen::InnerStride<>> w_out,
+             Eigen::Ref<Eigen::RowVectorXd, 0, Eigen::InnerStride<>> residual) {
+  const int m = static_cast<int>(fit_measures().size());
+  const int k = static_cast<int>(s.columns.size());
+  std::vector<int> rows;
+  for (int j = 0; j < m; ++j) {
+    if (std::isfinite(subj.values[j])) rows.push_back(j);
+  }
+  const Eigen::Index nr = static_cast<Eigen::Index>(rows.size());
+  const Eigen::VectorXd target = fit_space(subj.values, measure.formula);
+  Eigen::MatrixXd A(nr, k);
+  Eigen::VectorXd tol(nr);
+  for (Eigen::Index q = 0; q < nr; ++q) {
+    const int j = rows[q];
+    tol[q] = fit_measures()[j].tolerance;
+    if (j == kWeight) {  // the tolerance in kg as a change of the feature at this weight
+      tol[q] = caliper::weight_feature(subj.values[j] + tol[q], measure.formula) - target[j];
+    }
+    A.row(q) = s.B.row(j) / tol[q];
+  }
+  Eigen::MatrixXd N = A.transpose() * A + prior.precision;
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(N);
+  const Eigen::VectorXd prior_term = prior.precision * prior.mean;
+  Eigen::VectorXd correction = Eigen::VectorXd::Zero(m);
+  Eigen::VectorXd w = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(basis.names.size()));
+  Eigen::VectorXd measured, best_w, best_measured;
+  double best_cost = std::numeric_limits<double>::infinity();
+  constexpr int kCorrections = 2;
+  for (int pass = 0; pass <= kCorrections; ++pass) {
+    Eigen::VectorXd rhs(nr);
+    for (Eigen::Index q = 0; q < nr; ++q) {
+      const int j = rows[q];
+      rhs[q] = (target[j] - s.a[j] - correction[j]) / tol[q];
+    }
+    const Eigen::VectorXd x = ldlt.solve(A.transpose() * rhs + prior_term);
+    for (int j = 0; j < k; ++j) w[s.columns[j]] = x[j];
+    measured = measure(basis.body(subj.sex, w));
+    const Eigen::VectorXd measured_fit = fit_space(measured, measure.formula);
+    const Eigen::VectorXd linear = s.a + s.B * x;
+    for (int j = 0; j < m; ++j) {
+      if (std::isfinite(measured_fit[j])) correction[j] = measured_fit[j] - linear[j];
+    }
+    // Keep the best pass: a body whose measurements are far from the surrogate's (a slice
+    // meeting another limb, say) can make a correction overshoot.
+    double cost = 0.0;
+    for (Eigen::Index q = 0; q < nr; ++q) {
+      const double r = (measured_fit[rows[q]] - target[rows[q]]) / tol[q];
+      cost += std::isfinite(r) ? r * r : std::numeric_limits<double>::infinity();
+    }
+    if (pass == 0 || cost < best_cost) {
+      best_cost = cost;
+      best_w = w;
+      best_measured = measured;
+    }
+  }
+  w_out = best_w.transpose();
+  for (int j : rows) residual[j] = best_measured[j] - subj.values[j];
+}
+
+/// Runs `job(i)` for every i in `items` on `threads` threads (i strided over the threads, so
+/// the assignment does not depend on timing; each job writes only its own rows).
+void parallel_for(const std::vector<size_t>& items, int threads,
+                  const std::function<void(size_t)>& job) {
+  std::vector<std::thread> pool;
+  std::vector<std::exception_ptr> errors(static_cast<size_t>(threads));
+  for (int t = 0; t < threads; ++t) {
+    pool.emplace_back([&, t] {
+      try {
+        for (size_t n = static_cast<size_t>(t); n < items.size();
+             n += static_cast<size_t>(threads)) {
+          job(items[n]);
+        }
+      } catch (...) {
+        errors[static_cast<size_t>(t)] = std::current_exception();
+      }
+    });
+  }
+  for (std::thread& th : pool) th.join();
+  for (const std::exception_ptr& e : errors) {
+    if (e) std::rethrow_exception(e);
+  }
+}
+
+/// Spread of the ANSUR-fitted weights kept in the NHANES prior beyond their covariance
+/// (a fraction of each weight's own prior SD), so that the prior is proper in every direction.
+constexpr double kPriorFloor = 0.1;
+
+}  // namespace
+
+FitResult fit_subjects(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
+                       const std::vector<Subject>& subjects, int threads) {
+  const int m = static_cast<int>(fit_measures().size());
+  const Eigen::Index kall = static_cast<Eigen::Index>(basis.names.size());
+  threads = std::max(1, threads);
+  FitResult r;
+  r.weights = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(subjects.size()), kall);
+  r.residuals = Eigen::MatrixXd::Constant(static_cast<Eigen::Index>(subjects.size()), m, kNaN);
+  for (const std::string sex : {"female", "male"}) {
+    const Measurer measure(tmpl, sex);
+    const Surrogate s = surrogate(basis, measure, sex);
+    const int k = static_cast<int>(s.columns.size());
+    // Stage 1: the subjects measured on most ids (ANSUR II), each weight with its own prior.
+    Prior independent{Eigen::MatrixXd::Zero(k, k), Eigen::VectorXd::Zero(k)};
+    for (int j = 0; j < k; ++j) {
+      const double sd = prior_sd(basis.names[s.columns[j]]);
+      independent.precision(j, j) = 1.0 / (sd * sd);
+    }
+    std::vector<size_t> full, partial;
+    for (size_t i = 0; i < subjects.size(); ++i) {
+      if (subjects[i].sex != sex) continue;
+      const Eigen::Index measured =
+          (subjects[i].values.array() == subjects[i].values.array()).count();
+      (2 * measured > subjects[i].values.size() ? full : partial).push_back(i);
+    }
+    auto run = [&](const std::vector<size_t>& items, const Prior& prior) {
+      parallel_for(items, threads, [&](size_t i) {
+        const Eigen::Index row = static_cast<Eigen::Index>(i);
+        fit_one(basis, measure, s, prior, subjects[i], r.weights.row(row), r.residuals.row(row));
+      });
+    };
+    run(full, independent);
+    // Stage 2: the subjects measured in part (NHANES: height, weight, hip), with the population
+    // of stage 1 as the prior, so that what they were not measured on (span, shoulders, ...)
+    // follows from what they were, as in the fully measured people.
+    Prior population = independent;
+    if (full.size() > static_cast<size_t>(k)) {
+      Eigen::VectorXd mean = Eigen::VectorXd::Zero(k);
+      for (size_t i : full) {
+        for (int j = 0; j < k; ++j)
+          mean[j] += r.weights(static_cast<Eigen::Index>(i), s.columns[j]);
+      }
+      mean /= static_cast<double>(full.size());
+      Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(k, k);
+      for (size_t i : full) {
+        Eigen::VectorXd d(k);
+        for (int j = 0; j < k; ++j)
+          d[j] = r.weights(static_cast<Eigen::Index>(i), s.columns[j]) - mean[j];
+        cov += d * d.transpose();
+      }
+      cov /= static_cast<double>(full.size() - 1);
+      for (int j = 0; j < k; ++j) {
+        const double floor = kPriorFloor * prior_sd(basis.names[s.columns[j]]);
+        cov(j, j) += floor * floor;
+      }
+      population.precision = cov.ldlt().solve(Eigen::MatrixXd::Identity(k, k));
+      population.mean = mean;
+    }
+    run(partial, population);
+  }
+  return r;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Principal components
+// ------------------------------------------------------------------------------------------------
+
+/// Variance below this fraction of the largest component's is numerical noise.
+constexpr double kRankTolerance = 1e-9;
+
+smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
+                            const std::vector<Subject>& subjects, const FitResult& fit,
+                            const std::string& sex, int num_betas) {
+  const Eigen::Index kall = static_cast<Eigen::Index>(basis.names.size());
+  // Coordinates z = (w, female?) of every body: body = male_mean + A z, A = [dirs | f - m].
+  Eigen::MatrixXd A(basis.dirs.rows(), kall + 1);
+  A.leftCols(kall) = basis.dirs;
+  A.col(kall) = flat(basis.female_mean) - flat(basis.male_mean);
+  int n_female = 0, n_male = 0;
+  for (const Subject& s : subjects) (s.sex == "male" ? n_male : n_female) += 1;
+  std::vector<std::pair<Eigen::VectorXd, double>> rows;
+  for (size_t i = 0; i < subjects.size(); ++i) {
+    const Subject& s = subjects[i];
+    if (sex != "neutral" && s.sex != sex) continue;
+    Eigen::VectorXd z(kall + 1);
+    z.head(kall) = fit.weights.row(static_cast<Eigen::Index>(i)).transpose();
+    z[kall] = s.sex == "female" ? 1.0 : 0.0;
+    const double weight = sex != "neutral" ? 1.0 : 0.5 / (s.sex == "male" ? n_male : n_female);
+    rows.emplace_back(z, weight);
+  }
+  if (rows.size() < 2) throw std::invalid_argument("shape_model: too few subjects of sex " + sex);
+  double total = 0.0;
+  Eigen::VectorXd mean = Eigen::VectorXd::Zero(kall + 1);
+  for (const auto& [z, wt] : rows) {
+    mean += wt * z;
+    total += wt;
+  }
+  mean /= total;
+  Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(kall + 1, kall + 1);
+  for (const auto& [z, wt] : rows) cov += wt * (z - mean) * (z - mean).transpose();
+  cov /= total;
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(A);
+  const Eigen::MatrixXd R = qr.matrixQR().topRows(kall + 1).triangularView<Eigen::Upper>();
+  const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(A.rows(), kall + 1);
+  const Eigen::MatrixXd M = R * cov * R.transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(M);
+  smpl::BodyModel model = tmpl;
+  const Eigen::VectorXd v = flat(basis.male_mean) + A * mean;
+  for (Eigen::Index i = 0; i < model.v_template.rows(); ++i) {
+    for (int c = 0; c < 3; ++c) model.v_template(i, c) = v[3 * i + c];
+  }
+  // Components the registered population does not vary along (the population spans at most as
+  // many directions as its subjects have measurements) are left out.
+  const double largest = std::max(eig.eigenvalues()[kall], 0.0);
+  int kept = 0;
+  while (kept < num_betas && kept <= kall &&
+         eig.eigenvalues()[kall - kept] > kRankTolerance * largest) {
+    ++kept;
+  }
+  model.shapedirs.resize(A.rows(), kept);
+  for (int b = 0; b < kept; ++b) {
+    const Eigen::Index e = kall - b;  // eigenvalues ascending: the largest last
+    const double lambda = std::max(eig.eigenvalues()[e], 0.0);
+    Eigen::VectorXd dir = Q * eig.eigenvectors().col(e) * std::sqrt(lambda);
+    // Sign convention (an eigenvector's sign is arbitrary): the offsets of +1 SD sum to a
+    // positive number, so that +beta means the same on every machine.
+    if (dir.sum() < 0.0) dir = -dir;
+    model.shapedirs.col(b) = dir;
+  }
+  model.posedirs = Eigen::MatrixXd::Zero(A.rows(), 0);
+  model.meta.name = "caliper-makehuman-" + sex;
+  model.meta.gender = sex;
+  model.meta.source =
+      "caliper-modelgen --source makehuman: MakeHuman hm08 CC0 targets fitted to ANSUR II and "
+      "NHANES subjects, principal components";
+  smpl::validate(model, "MakeHuman shape model");
+  return model;
+}
+
+}  // namespace modelgen::mh

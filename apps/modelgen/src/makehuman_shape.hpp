@@ -1,0 +1,99 @@
+/// \file makehuman_shape.hpp
+/// The shape space of the open model v2 from real people (issue 11): MakeHuman's CC0 targets as
+/// a linear basis of T-posed bodies, every survey subject (ANSUR II, NHANES) registered to it by
+/// fitting the target weights to the subject's measurements, and principal components of the
+/// registered bodies per sex (betas ~ N(0, I) over the population).
+///
+/// The basis: the sex's average body (MakeHuman's base plus the mean of its three young ethnic
+/// targets of that sex) and directions, each the T-posed body of the base plus one target (or a
+/// left/right pair) minus the T-posed base: the young macro corners (muscle x weight), the
+/// height and proportion targets of the average corner, the sex's body-shape targets, every
+/// measure target (incr and decr), and belly, buttock, hip and limb-fat targets. Bodies are
+/// linear in the weights, as SMPL bodies are in betas; the T-pose bake is applied to each target
+/// body once (its joints follow the shape), so the basis is the linearisation at the base.
+///
+/// Fitting: measurements are nearly linear in the weights (the premise of the paper); a linear
+/// surrogate of every measurement is fitted over random bodies of the basis, each subject's
+/// weights are solved against it (weighted least squares with a Gaussian prior on each weight),
+/// and then corrected twice with the true measurements of the fitted body (the surrogate's error
+/// at that body subtracted from the targets). Subjects measured in part (NHANES) take the fitted
+/// population of the fully measured ones (ANSUR II) as their prior. Units: metres, kilograms.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "makehuman_rig.hpp"
+#include "smpl/body_model.hpp"
+
+namespace modelgen::mh {
+
+/// The measurements a subject may be fitted on (caliper::measure_all ids), with the tolerance
+/// each residual is divided by.
+struct FitMeasure {
+  std::string id;    ///< e.g. "height", "weight", "hip_circumference"
+  double tolerance;  ///< metres (kg for weight): a residual of this size costs 1
+};
+
+/// One survey subject: sex, and values (metres, kg) of some FitMeasure ids; NaN = not measured.
+struct Subject {
+  std::string sex;         ///< "female" or "male"
+  std::string source;      ///< "ANSUR II" or "NHANES"
+  Eigen::VectorXd values;  ///< one per fit_measures(), NaN where the survey has none
+};
+
+/// The measurements fitted, in Subject::values order: height, weight, arm span, crotch height,
+/// shoulder (biacromial) width, hip width, chest, waist (navel level) and hip (buttock)
+/// circumferences.
+const std::vector<FitMeasure>& fit_measures();
+
+/// ANSUR II subjects of both files under `dir` (stature, weightkg, span, crotchheight,
+/// biacromialbreadth, hipbreadth, chest-, waist- and buttockcircumference) and NHANES subjects
+/// of both development files under `nhanes_dir` (BMXHT, BMXWT, BMXHIP; the NHANES waist is at
+/// the iliac crest, not yet a measurement of the model, and is not used). Throws
+/// std::runtime_error naming the file for a missing or malformed one.
+std::vector<Subject> read_subjects(const std::string& ansur_dir, const std::string& nhanes_dir);
+
+/// The target basis (see the file comment).
+struct ShapeBasis {
+  std::vector<std::string> names;  ///< K direction names (target paths, "a+b" for pairs)
+  std::vector<std::string> sex;    ///< K: "female", "male" or "" (both)
+  smpl::Vertices female_mean;      ///< V x 3, T-posed, metres, origin as the template's
+  smpl::Vertices male_mean;
+  Eigen::MatrixXd dirs;  ///< 3V x K (row 3 v + c), metres per unit weight
+  /// Vertices of a body of `sex` with weights `w` (K; the other sex's directions must be 0).
+  smpl::Vertices body(const std::string& sex, const Eigen::VectorXd& w) const;
+};
+
+/// Builds the basis from `assets`, in the frame of `tmpl` (template_model(): the T-posed base
+/// with its pelvis joint at the origin).
+ShapeBasis shape_basis(const Assets& assets, const smpl::BodyModel& tmpl);
+
+/// Per-subject fit result.
+struct FitResult {
+  Eigen::MatrixXd weights;    ///< N x K, one row per subject
+  Eigen::MatrixXd residuals;  ///< N x M true measurement minus survey value (NaN: not measured)
+};
+
+/// Registers every subject (see the file comment). `tmpl` supplies faces and landmarks.
+/// Subjects measured on more than half of the fit_measures() ids (ANSUR II) are fitted first,
+/// each weight with an independent prior; the others (NHANES) then with the population of the first
+/// as their prior (mean and covariance of its weights), so that what they were not measured on
+/// follows from what they were. `threads` >= 1 share the subjects; the result does not depend on
+/// it.
+FitResult fit_subjects(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
+                       const std::vector<Subject>& subjects, int threads = 1);
+
+/// An SMPL-structured model of `sex` ("female", "male", or "neutral": both sexes, each weighted
+/// to half) from the registered subjects: v_template the mean registered body, shapedirs the
+/// first `num_betas` principal components of the registered bodies' vertices, scaled so that
+/// betas ~ N(0, I) over the population (fewer when the population varies along fewer
+/// directions: a subject measured on m values is registered within an m-dimensional family); faces, weights, regressor, texture coordinates and
+/// landmarks from `tmpl`.
+smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
+                            const std::vector<Subject>& subjects, const FitResult& fit,
+                            const std::string& sex, int num_betas);
+
+}  // namespace modelgen::mh
