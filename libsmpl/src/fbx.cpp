@@ -24,6 +24,7 @@
 
 #include "smpl/atomic_file.hpp"
 #include "smpl/evaluate.hpp"
+#include "smpl/text.hpp"
 
 namespace smpl {
 namespace {
@@ -37,14 +38,6 @@ aiMatrix4x4 to_ai(const Eigen::Matrix4d& m) {
     for (unsigned c = 0; c < 4; ++c) out[r][c] = static_cast<ai_real>(m(r, c));
   }
   return out;
-}
-
-bool ends_with_ci(const std::string& s, const std::string& suffix) {
-  if (s.size() < suffix.size()) return false;
-  return std::equal(suffix.rbegin(), suffix.rend(), s.rbegin(), [](char a, char b) {
-    return std::tolower(static_cast<unsigned char>(a)) ==
-           std::tolower(static_cast<unsigned char>(b));
-  });
 }
 
 // ---------------------------------------------------------------------------------------------

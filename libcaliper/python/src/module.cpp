@@ -34,6 +34,7 @@
 #include "smpl/export.hpp"
 #include "smpl/gltf.hpp"
 #include "smpl/io.hpp"
+#include "smpl/text.hpp"
 
 #ifndef CALIPER_VERSION
 #define CALIPER_VERSION "0.0.0"
@@ -501,9 +502,7 @@ std::string lower_extension(const std::string& path) {
   const auto slash = path.find_last_of('/');
   const auto dot = path.find_last_of('.');
   if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-  std::string e = path.substr(dot);
-  for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return e;
+  return smpl::to_lower(path.substr(dot));
 }
 
 /// The asset.extras `caliper create` writes (so that `caliper measure` reads the avatar back).
