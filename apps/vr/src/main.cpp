@@ -601,7 +601,7 @@ int run_simulate(const Args& a) {
       read_protocol(a.get("--protocol", assets + "/protocol/virtual-caliper.json"));
   const std::string sex = a.get("--sex", "female");
   const std::string model_path =
-      a.get("--model", a.get("--models-dir", assets + "/models") + "/caliper-" + sex + ".npz");
+      a.get("--model", default_model_path(a.get("--models-dir", assets + "/models"), sex));
   const smpl::BodyModel model = smpl::load_model(model_path);
   Eigen::VectorXd betas = Eigen::VectorXd::Zero(model.num_betas());
   {
