@@ -4,12 +4,12 @@
 // panel | scene (floor targets, controllers, demonstration, mirror) | views | outputs.
 #include "vr_app.hpp"
 
-#include <time.h>
-
 #include <cmath>
 #include <filesystem>
 #include <sstream>
 
+#include "caliper/assets.hpp"
+#include "caliper/cpu_time.hpp"
 #include "caliper/errors.hpp"
 #include "caliper/measurements.hpp"
 #include "caliper/regressor.hpp"
@@ -38,12 +38,6 @@ constexpr double kMirrorDistance = 1.6;              ///< m in front of the head
 /// The mirror's plane, m in front of the head when the avatar is made (then fixed in the room);
 /// the reflection of the user appears twice as far.
 constexpr double kMirrorPlane = 1.0;
-
-double thread_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 /// Distance of `p` from the segment a-b.
 double segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
@@ -141,9 +135,8 @@ double head_yaw(const Eigen::Quaterniond& head) {
 
 std::shared_ptr<const smpl::BodyModel> load_default_model(const std::string& dir,
                                                           const std::string& sex) {
-  const std::string name = (sex == "female" || sex == "male") ? sex : "neutral";
-  const std::string path = (std::filesystem::path(dir) / ("caliper-" + name + ".npz")).string();
-  return std::make_shared<const smpl::BodyModel>(smpl::load_model(path));
+  return std::make_shared<const smpl::BodyModel>(
+      smpl::load_model(default_model_path(dir, open_model_sex(sex))));
 }
 
 TypedFields typed_fields(const MeasuringSession& session) {
@@ -254,10 +247,7 @@ void VrApp::make_avatar() {
     AvatarOutcome out;
     out.model_path = options_.avatar.model_path;
     if (out.model_path.empty()) {
-      const std::string name = (r.sex == "female" || r.sex == "male") ? r.sex : "neutral";
-      out.model_path =
-          (std::filesystem::path(options_.avatar.models_dir) / ("caliper-" + name + ".npz"))
-              .string();
+      out.model_path = default_model_path(options_.avatar.models_dir, open_model_sex(r.sex));
     }
     out.model = std::make_shared<const smpl::BodyModel>(smpl::load_model(out.model_path));
     const RegressorSet set = options_.avatar.regressors_path.empty()
