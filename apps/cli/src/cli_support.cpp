@@ -213,10 +213,6 @@ std::vector<double> parse_number_list(const std::string& text, const std::string
 // Units
 // ---------------------------------------------------------------------------------------------
 
-std::optional<double> unit_scale(const std::string& unit) {
-  return caliper::unit_scale(unit);
-}
-
 double parse_length(const std::string& text, const std::string& what) {
   try {
     return caliper::parse_length(text, what);
