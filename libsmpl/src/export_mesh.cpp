@@ -114,6 +114,14 @@ void check_pose(const BodyModel& model, const ExportOptions& options) {
   if (!options.pose.allFinite()) throw ModelError("the pose contains NaN or infinity");
 }
 
+void check_pose(const BodyModel& model, const ExportOptions& options, const std::string& context) {
+  try {
+    check_pose(model, options);
+  } catch (const ModelError& e) {
+    throw ModelError(context + ": " + e.what());
+  }
+}
+
 Body export_rest_body(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& betas,
                       const ExportOptions& options, const std::string& context) {
   if (betas.size() > model.num_betas()) {

@@ -47,11 +47,7 @@ aiMatrix4x4 to_ai(const Eigen::Matrix4d& m) {
 std::unique_ptr<aiScene> build_scene(const BodyModel& model,
                                      const Eigen::Ref<const Eigen::VectorXd>& betas,
                                      const ExportOptions& options, const std::string& context) {
-  try {
-    check_pose(model, options);
-  } catch (const ModelError& e) {
-    throw ModelError(context + ": " + e.what());
-  }
+  check_pose(model, options, context);
   const std::vector<std::string> names = bone_names(model, options.bone_names);
   // The bind pose is the exported pose: Assimp's FBX writer takes each cluster's bind matrix
   // (TransformLink) and the scene's BindPose from the nodes, so a pose is baked into the mesh

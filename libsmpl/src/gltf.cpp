@@ -164,11 +164,7 @@ tinygltf::Model build_model(const BodyModel& model, const Eigen::Ref<const Eigen
                      " shape keys asked for but the model has " +
                      std::to_string(model.num_betas()) + " shape components");
   }
-  try {
-    check_pose(model, options);
-  } catch (const ModelError& e) {
-    throw ModelError(context + ": " + e.what());
-  }
+  check_pose(model, options, context);
   const std::vector<std::string> names = bone_names(model, options.bone_names);
   Body body = export_rest_body(model, betas, options, context);
   const auto V = static_cast<size_t>(body.vertices.rows());
