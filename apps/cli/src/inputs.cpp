@@ -53,8 +53,8 @@ std::optional<std::pair<std::string, double>> measurement_column(const std::stri
 std::string normalise_sex(const std::string& value) {
   std::string v;
   for (char c : value)
-    if (!std::isspace(static_cast<unsigned char>(c)))
-      v += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (!std::isspace(static_cast<unsigned char>(c))) v += c;
+  v = smpl::to_lower(v);
   if (v.empty()) return "";
   if (v == "f" || v == "female" || v == "woman" || v == "w") return "female";
   if (v == "m" || v == "male" || v == "man") return "male";
