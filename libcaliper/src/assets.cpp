@@ -28,4 +28,12 @@ std::optional<std::string> find_assets_dir() {
   return std::nullopt;
 }
 
+std::string default_model_file_name(const std::string& sex) {
+  return "caliper-" + sex + ".npz";
+}
+
+std::string default_model_path(const std::string& models_dir, const std::string& sex) {
+  return (fs::path(models_dir) / default_model_file_name(sex)).string();
+}
+
 }  // namespace caliper

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "smpl/constants.hpp"
 #include "smpl/evaluate.hpp"
 
 namespace caliper {
@@ -13,7 +14,7 @@ namespace {
 
 using namespace ik_joint;
 
-constexpr double kPi = 3.14159265358979323846;
+using smpl::kPi;
 /// Below this length a direction is taken as undefined (m, or unit-vector components).
 constexpr double kTiny = 1e-9;
 /// After one foot stepped, the other steps too when it is more than this share of the step

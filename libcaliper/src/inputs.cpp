@@ -9,12 +9,12 @@
 
 #include "caliper/errors.hpp"
 #include "caliper/regressor.hpp"
+#include "smpl/text.hpp"
 
 namespace caliper {
 
 std::optional<double> unit_scale(const std::string& unit_in) {
-  std::string u;
-  for (char c : unit_in) u += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string u = smpl::to_lower(unit_in);
   if (u == "mm") return 0.001;
   if (u == "cm") return 0.01;
   if (u == "m") return 1.0;
@@ -76,8 +76,7 @@ double parse_with_units(const std::string& typed, const std::string& what, bool 
     if (unit.empty()) {
       throw InvalidInputError(what + " '" + text + "': no unit given; state it, " + examples);
     }
-    std::string u;  // units are case-insensitive: "5FT6IN" is "5ft6in"
-    for (char ch : unit) u += static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    const std::string u = smpl::to_lower(unit);  // units are case-insensitive: "5FT6IN" is "5ft6in"
     const auto scale = unit_scale(u);
     const bool unit_is_length = scale && u != "kg" && u != "g" && u != "lb" && u != "lbs";
     if (!scale || unit_is_length != is_length) {
@@ -140,8 +139,7 @@ std::string default_regressor(const MeasurementMap& inputs) {
 
 std::string normalise_regressor_name(const std::string& text, const std::string& what) {
   if (auto k = parse_regressor_kind(text)) return to_string(*k);
-  std::string t;
-  for (char c : text) t += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string t = smpl::to_lower(text);
   if (t == "noise-aware" || t == "noise_aware" || t == "noiseaware" || t == "na" || t == "bayes")
     return "noise-aware";
   throw InvalidInputError(what + " " + text + ": expected R2, R4, R5, R6 or noise-aware");

@@ -1,9 +1,8 @@
 // Session journal: append-only JSON Lines that survives being cut at any byte.
 #include "caliper/journal.hpp"
+#include "smpl/text.hpp"
 
 #include <cmath>
-#include <fstream>
-#include <sstream>
 
 #include <unistd.h>
 
@@ -108,11 +107,9 @@ JournalContents parse_journal(const std::string& text, const std::string& name) 
 }
 
 JournalContents read_journal(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw JournalError(path + ": cannot open the session journal (does the file exist?)");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_journal(ss.str(), path);
+  const std::optional<std::string> text = smpl::read_file(path);
+  if (!text) throw JournalError(path + ": cannot open the session journal (does the file exist?)");
+  return parse_journal(*text, path);
 }
 
 void check_journal_protocol(const JournalContents& contents, const std::string& protocol_name,

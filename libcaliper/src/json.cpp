@@ -2,13 +2,12 @@
 #include "caliper/json.hpp"
 
 #include "smpl/atomic_file.hpp"
+#include "smpl/text.hpp"
 
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <limits>
-#include <sstream>
 
 namespace caliper {
 namespace {
@@ -207,24 +206,6 @@ class Parser {
     return v;
   }
 
-  static void append_utf8(std::string& out, unsigned cp) {
-    if (cp < 0x80) {
-      out += static_cast<char>(cp);
-    } else if (cp < 0x800) {
-      out += static_cast<char>(0xC0 | (cp >> 6));
-      out += static_cast<char>(0x80 | (cp & 0x3F));
-    } else if (cp < 0x10000) {
-      out += static_cast<char>(0xE0 | (cp >> 12));
-      out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
-      out += static_cast<char>(0x80 | (cp & 0x3F));
-    } else {
-      out += static_cast<char>(0xF0 | (cp >> 18));
-      out += static_cast<char>(0x80 | ((cp >> 12) & 0x3F));
-      out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
-      out += static_cast<char>(0x80 | (cp & 0x3F));
-    }
-  }
-
   std::string parse_string() {
     ++pos_;  // opening quote
     std::string out;
@@ -276,7 +257,7 @@ class Parser {
               fail("unpaired surrogate");
             }
           }
-          append_utf8(out, cp);
+          smpl::append_utf8(out, cp);
           break;
         }
         default:
@@ -518,12 +499,10 @@ Json parse_json(const std::string& text) {
 }
 
 Json read_json_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw JsonError(path + ": cannot open the file for reading");
-  std::ostringstream ss;
-  ss << in.rdbuf();
+  const std::optional<std::string> text = smpl::read_file(path);
+  if (!text) throw JsonError(path + ": cannot open the file for reading");
   try {
-    return parse_json(ss.str());
+    return parse_json(*text);
   } catch (const JsonError& e) {
     throw JsonError(path + ": " + e.what(), e.line, e.column);
   }

@@ -12,23 +12,9 @@
 #include "caliper/errors.hpp"
 #include "caliper/volume.hpp"
 #include "caliper/weight.hpp"
+#include "smpl/text.hpp"
 
 namespace caliper {
-
-namespace {
-
-std::string fmt(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.4g", v);
-  return buf;
-}
-std::string fmt3(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
-}
-
-}  // namespace
 
 // ---------------------------------------------------------------------------------------------
 // Definitions and landmark tables
@@ -303,22 +289,26 @@ std::vector<ValidationMessage> validate_measurements(const MeasurementMap& value
     }
     const std::string u = unit(id);
     if (!std::isfinite(value)) {
-      out.push_back(
-          {Severity::Error, id, value, r.error_min, r.error_max,
-           id + " is not a number; expected " + fmt(r.error_min) + " to " + fmt(r.error_max) + u});
+      out.push_back({Severity::Error, id, value, r.error_min, r.error_max,
+                     id + " is not a number; expected " + smpl::format_general(r.error_min, 4) +
+                         " to " + smpl::format_general(r.error_max, 4) + u});
     } else if (value <= 0.0) {
       out.push_back({Severity::Error, id, value, r.error_min, r.error_max,
-                     id + " = " + fmt(value) + u + " must be positive; expected " +
-                         fmt(r.error_min) + " to " + fmt(r.error_max) + u});
+                     id + " = " + smpl::format_general(value, 4) + u +
+                         " must be positive; expected " + smpl::format_general(r.error_min, 4) +
+                         " to " + smpl::format_general(r.error_max, 4) + u});
     } else if (value < r.error_min || value > r.error_max) {
       out.push_back({Severity::Error, id, value, r.error_min, r.error_max,
-                     id + " = " + fmt(value) + u + " is outside the plausible range " +
-                         fmt(r.error_min) + " to " + fmt(r.error_max) + u +
+                     id + " = " + smpl::format_general(value, 4) + u +
+                         " is outside the plausible range " + smpl::format_general(r.error_min, 4) +
+                         " to " + smpl::format_general(r.error_max, 4) + u +
                          " (check the unit: metres and kilograms)"});
     } else if (value < r.warning_min || value > r.warning_max) {
       out.push_back({Severity::Warning, id, value, r.warning_min, r.warning_max,
-                     id + " = " + fmt(value) + u + " is unusual for an adult (typical " +
-                         fmt(r.warning_min) + " to " + fmt(r.warning_max) + u + ")"});
+                     id + " = " + smpl::format_general(value, 4) + u +
+                         " is unusual for an adult (typical " +
+                         smpl::format_general(r.warning_min, 4) + " to " +
+                         smpl::format_general(r.warning_max, 4) + u + ")"});
     }
   }
   const auto good = [&](const char* id) {
@@ -340,21 +330,26 @@ std::vector<ValidationMessage> validate_measurements(const MeasurementMap& value
     if (!good(q.num) || !good(q.den)) continue;
     const double ratio = values.at(q.num) / values.at(q.den);
     const std::string id = std::string(q.num) + "/" + q.den;
-    const std::string what = std::string(q.num) + " = " + fmt(values.at(q.num)) + " m is " +
-                             fmt3(ratio) + " times " + q.den + " = " + fmt(values.at(q.den)) + " m";
+    const std::string what = std::string(q.num) + " = " +
+                             smpl::format_general(values.at(q.num), 4) + " m is " +
+                             smpl::format_general(ratio, 3) + " times " + q.den + " = " +
+                             smpl::format_general(values.at(q.den), 4) + " m";
     if (ratio < q.emin || ratio > q.emax) {
       out.push_back({Severity::Error, id, ratio, q.emin, q.emax,
-                     what + "; expected " + fmt(q.emin) + " to " + fmt(q.emax) + " times"});
+                     what + "; expected " + smpl::format_general(q.emin, 4) + " to " +
+                         smpl::format_general(q.emax, 4) + " times"});
     } else if (ratio < q.wmin || ratio > q.wmax) {
       out.push_back({Severity::Warning, id, ratio, q.wmin, q.wmax,
-                     what + "; typical " + fmt(q.wmin) + " to " + fmt(q.wmax) + " times"});
+                     what + "; typical " + smpl::format_general(q.wmin, 4) + " to " +
+                         smpl::format_general(q.wmax, 4) + " times"});
     }
   }
   if (good("weight") && good("height")) {
     const double h = values.at("height");
     const double bmi = values.at("weight") / (h * h);
-    const std::string what = "weight " + fmt(values.at("weight")) + " kg at height " + fmt(h) +
-                             " m gives a BMI of " + fmt3(bmi) + " kg/m^2";
+    const std::string what = "weight " + smpl::format_general(values.at("weight"), 4) +
+                             " kg at height " + smpl::format_general(h, 4) + " m gives a BMI of " +
+                             smpl::format_general(bmi, 3) + " kg/m^2";
     if (bmi < 10.0 || bmi > 80.0) {
       out.push_back({Severity::Error, "bmi", bmi, 10.0, 80.0, what + "; expected 10 to 80"});
     } else if (bmi < 15.0 || bmi > 45.0) {

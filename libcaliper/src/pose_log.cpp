@@ -4,10 +4,10 @@
 #include <cctype>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <sstream>
 
 #include "smpl/atomic_file.hpp"
+#include "smpl/text.hpp"
 
 namespace caliper {
 namespace {
@@ -162,18 +162,13 @@ PoseLogHeader parse_header(const Json& j, const std::string& name) {
 void append_number(std::string& out, double v, int decimals) {
   if (!std::isfinite(v))
     throw PoseLogError("pose log writer: refusing to write a NaN or infinite value", 0);
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  const std::string text = smpl::format_fixed(v, decimals);
   // "-0.000000" -> "0.000000" keeps logs stable.
-  if (std::strncmp(buf, "-0.", 3) == 0) {
-    bool zero = true;
-    for (const char* c = buf + 3; *c; ++c) zero = zero && *c == '0';
-    if (zero) {
-      out += buf + 1;
-      return;
-    }
+  if (text.compare(0, 3, "-0.") == 0 && text.find_first_not_of('0', 3) == std::string::npos) {
+    out.append(text, 1, std::string::npos);
+    return;
   }
-  out += buf;
+  out += text;
 }
 
 }  // namespace
@@ -290,11 +285,9 @@ PoseLog parse_pose_log(const std::string& text, const std::string& name,
 }
 
 PoseLog read_pose_log(const std::string& path, const PoseLogLimits& limits) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw PoseLogError(path + ": cannot open the pose log (does the file exist?)", 0);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_pose_log(ss.str(), path, limits);
+  const std::optional<std::string> text = smpl::read_file(path);
+  if (!text) throw PoseLogError(path + ": cannot open the pose log (does the file exist?)", 0);
+  return parse_pose_log(*text, path, limits);
 }
 
 std::string pose_log_header_line(const PoseLogHeader& header) {

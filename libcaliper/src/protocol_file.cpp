@@ -3,12 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <set>
-#include <sstream>
 
 #include "caliper/json.hpp"
 #include "caliper/measurements.hpp"
+#include "smpl/text.hpp"
 
 namespace caliper {
 namespace {
@@ -179,11 +178,9 @@ Protocol parse_protocol(const std::string& text, const std::string& name) {
 }
 
 Protocol read_protocol(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ProtocolError(path + ": cannot open the protocol file (does it exist?)");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_protocol(ss.str(), path);
+  const std::optional<std::string> text = smpl::read_file(path);
+  if (!text) throw ProtocolError(path + ": cannot open the protocol file (does it exist?)");
+  return parse_protocol(*text, path);
 }
 
 Protocol default_protocol() {

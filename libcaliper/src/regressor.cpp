@@ -14,6 +14,7 @@
 #include <Eigen/QR>
 
 #include "caliper/errors.hpp"
+#include "smpl/text.hpp"
 
 namespace caliper {
 
@@ -23,12 +24,6 @@ std::string upper(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(),
                  [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
   return s;
-}
-
-std::string num(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
 }
 
 Json matrix_json(const Eigen::MatrixXd& m) {
@@ -242,8 +237,8 @@ void ModelSignature::check(const smpl::BodyModel& model) const {
   if (fingerprint != 0.0) {
     const double other = model_fingerprint(model, num_betas);
     if (std::abs(other - fingerprint) > 1e-9 * (std::abs(fingerprint) + 1.0)) {
-      fail("the template or shape directions differ (fingerprint " + num(fingerprint) + " vs " +
-           num(other) + ")");
+      fail("the template or shape directions differ (fingerprint " +
+           smpl::format_general(fingerprint, 6) + " vs " + smpl::format_general(other, 6) + ")");
     }
     return;
   }
@@ -258,7 +253,8 @@ void ModelSignature::check(const smpl::BodyModel& model) const {
 double input_feature(const std::string& id, double value, const WeightFormula& formula) {
   if (!std::isfinite(value)) throw InvalidInputError("input '" + id + "' is not a number");
   if (value <= 0.0) {
-    throw InvalidInputError("input '" + id + "' = " + num(value) + " must be positive");
+    throw InvalidInputError("input '" + id + "' = " + smpl::format_general(value, 6) +
+                            " must be positive");
   }
   return id == "weight" ? weight_feature(value, formula) : value;
 }
@@ -395,7 +391,7 @@ NoiseAwareRegressor NoiseAwareRegressor::fit(const TrainingSet& training,
   r.noise_ = noise;
   for (const auto& [id, sd] : noise) {
     if (!std::isfinite(sd) || sd < 0.0) {
-      throw InvalidInputError("noise level of '" + id + "' = " + num(sd) +
+      throw InvalidInputError("noise level of '" + id + "' = " + smpl::format_general(sd, 6) +
                               " must be finite and >= 0");
     }
   }
@@ -435,7 +431,7 @@ Posterior NoiseAwareRegressor::predict(const MeasurementMap& values,
     }
     double sd = given != noise.end() ? given->second : stored->second;
     if (!std::isfinite(sd) || sd < 0.0) {
-      throw InvalidInputError("noise level of '" + id + "' = " + num(sd) +
+      throw InvalidInputError("noise level of '" + id + "' = " + smpl::format_general(sd, 6) +
                               " must be finite and >= 0");
     }
     if (id == "weight") sd /= 3.0 * formula_.coefficient * feature * feature;  // delta method

@@ -5,27 +5,14 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
-#include <sstream>
 
 #include "caliper/errors.hpp"
 #include "caliper/measurements.hpp"
 #include "caliper/protocol.hpp"
+#include "smpl/text.hpp"
 
 namespace caliper {
 namespace {
-
-std::string fmt(double v, int decimals) {
-  std::ostringstream s;
-  if (std::abs(v) < 1e9) {
-    s.setf(std::ios::fixed);  // an absurd value is printed short: 1e308 as 1.000e+308
-    s.precision(decimals);
-  } else {
-    s.setf(std::ios::scientific);
-    s.precision(3);
-  }
-  s << v;
-  return s.str();
-}
 
 const char* hand_name(Tip t) {
   return t == Tip::Left ? "left" : "right";
@@ -184,8 +171,9 @@ std::vector<SessionEvent> MeasuringSession::update(const SessionFrame& frame) {
   };
   const double elapsed = frame.time - hold_start_;
   if (input(view_.hold_hand).trigger < options_.trigger_release) {
-    reject("Trigger released after " + fmt(elapsed, 2) + " s; hold it for " +
-               fmt(protocol_.hold_seconds, 1) + " s until the ring is full.",
+    reject("Trigger released after " + smpl::format_fixed_or_short(elapsed, 2) +
+               " s; hold it for " + smpl::format_fixed_or_short(protocol_.hold_seconds, 1) +
+               " s until the ring is full.",
            all_released);
     return events;
   }
@@ -219,8 +207,10 @@ std::vector<SessionEvent> MeasuringSession::update(const SessionFrame& frame) {
   if (elapsed + kTimeSlack < protocol_.hold_seconds) return events;
 
   if (jitter > protocol_.max_jitter_m) {
-    reject("The tip moved " + fmt(jitter * 1000.0, 1) + " mm during the hold (limit " +
-               fmt(protocol_.max_jitter_m * 1000.0, 1) + " mm); rest your hand and hold still.",
+    reject("The tip moved " + smpl::format_fixed_or_short(jitter * 1000.0, 1) +
+               " mm during the hold (limit " +
+               smpl::format_fixed_or_short(protocol_.max_jitter_m * 1000.0, 1) +
+               " mm); rest your hand and hold still.",
            false);
     return events;
   }
@@ -228,7 +218,8 @@ std::vector<SessionEvent> MeasuringSession::update(const SessionFrame& frame) {
     const Eigen::Vector2d target = protocol_.floor.targets[static_cast<size_t>(view_.floor_target)];
     const double d = (Eigen::Vector2d(means[0].x(), means[0].z()) - target).norm();
     if (d > options_.max_target_distance) {
-      reject("The tip was " + fmt(d, 2) + " m away from the glowing ring; put it inside the ring.",
+      reject("The tip was " + smpl::format_fixed_or_short(d, 2) +
+                 " m away from the glowing ring; put it inside the ring.",
              false);
       return events;
     }
@@ -257,7 +248,7 @@ std::string MeasuringSession::bad_take(const ProtocolStep& step,
   const double value = step_value(step, tips);
   if (std::isfinite(value) && value > 0.0) return "";
   if (step.kind == StepKind::Height)
-    return "The tip was " + fmt(-value * 1000.0, 1) +
+    return "The tip was " + smpl::format_fixed_or_short(-value * 1000.0, 1) +
            " mm below the calibrated floor; put it on the top of the head and take it again (if "
            "this repeats, redo the floor calibration).";
   return "The two tips were at the same point; put them on the two landmarks and take it again.";
@@ -294,12 +285,14 @@ std::vector<SessionEvent> MeasuringSession::complete_floor(double time) {
   try {
     fit = calibrate_floor(floor_.samples);
     if (fit.tilt_degrees > protocol_.floor.max_tilt_deg)
-      problem = "the floor points tilt by " + fmt(fit.tilt_degrees, 1) + " degrees (limit " +
-                fmt(protocol_.floor.max_tilt_deg, 1) + ")";
+      problem = "the floor points tilt by " + smpl::format_fixed_or_short(fit.tilt_degrees, 1) +
+                " degrees (limit " + smpl::format_fixed_or_short(protocol_.floor.max_tilt_deg, 1) +
+                ")";
     else if (fit.rms_residual > protocol_.floor.max_residual_m)
-      problem = "the floor points are " + fmt(fit.rms_residual * 1000.0, 1) +
-                " mm off a plane (limit " + fmt(protocol_.floor.max_residual_m * 1000.0, 1) +
-                " mm)";
+      problem = "the floor points are " +
+                smpl::format_fixed_or_short(fit.rms_residual * 1000.0, 1) +
+                " mm off a plane (limit " +
+                smpl::format_fixed_or_short(protocol_.floor.max_residual_m * 1000.0, 1) + " mm)";
   } catch (const CalibrationError& e) {
     problem = std::string("the floor points do not span a plane (") + e.what() + ")";
   }
@@ -321,11 +314,12 @@ std::vector<SessionEvent> MeasuringSession::complete_floor(double time) {
   floor_.offset = fit.floor_height;
   floor_.tilt_deg = fit.tilt_degrees;
   floor_.residual = fit.rms_residual;
-  events.push_back(make_event(EventType::FloorCalibrated, "floor",
-                              "Floor calibrated: offset " + fmt(fit.floor_height * 1000.0, 1) +
-                                  " mm, tilt " + fmt(fit.tilt_degrees, 2) + " degrees, residual " +
-                                  fmt(fit.rms_residual * 1000.0, 1) + " mm.",
-                              fit.floor_height));
+  events.push_back(make_event(
+      EventType::FloorCalibrated, "floor",
+      "Floor calibrated: offset " + smpl::format_fixed_or_short(fit.floor_height * 1000.0, 1) +
+          " mm, tilt " + smpl::format_fixed_or_short(fit.tilt_degrees, 2) + " degrees, residual " +
+          smpl::format_fixed_or_short(fit.rms_residual * 1000.0, 1) + " mm.",
+      fit.floor_height));
   append(events, enter_step(0, time));
   return events;
 }
@@ -376,7 +370,7 @@ std::vector<SessionEvent> MeasuringSession::accept_step(const std::vector<Eigen:
   r.time = time;
   SessionEvent e = make_event(EventType::SampleAccepted, s.id,
                               s.title + ": take " + std::to_string(st.takes.size()) + " = " +
-                                  fmt(value * 100.0, 1) + " cm.",
+                                  smpl::format_fixed_or_short(value * 100.0, 1) + " cm.",
                               value);
   e.hand = hand;
   e.record = r;
@@ -395,11 +389,12 @@ std::vector<SessionEvent> MeasuringSession::finish_step(double time) {
   if (st.takes.size() == 2 &&
       isak_needs_third(st.takes[0], st.takes[1], protocol_.isak_threshold)) {
     const double rel = isak_relative_difference(st.takes[0], st.takes[1]);
-    SessionEvent e =
-        make_event(EventType::ThirdTakeRequested, s.id,
-                   "The two takes differ by " + fmt(rel * 100.0, 1) + " % (more than " +
-                       fmt(protocol_.isak_threshold * 100.0, 1) + " %): take it a third time.",
-                   rel);
+    SessionEvent e = make_event(
+        EventType::ThirdTakeRequested, s.id,
+        "The two takes differ by " + smpl::format_fixed_or_short(rel * 100.0, 1) +
+            " % (more than " + smpl::format_fixed_or_short(protocol_.isak_threshold * 100.0, 1) +
+            " %): take it a third time.",
+        rel);
     view_.message = e.message;
     events.push_back(e);
     return events;
@@ -408,8 +403,8 @@ std::vector<SessionEvent> MeasuringSession::finish_step(double time) {
   st.done = true;
   st.value = isak.value;
   events.push_back(make_event(EventType::StepCompleted, s.id,
-                              s.title + ": " + fmt(isak.value * 100.0, 1) + " cm (" +
-                                  std::to_string(isak.takes_used) + " takes).",
+                              s.title + ": " + smpl::format_fixed_or_short(isak.value * 100.0, 1) +
+                                  " cm (" + std::to_string(isak.takes_used) + " takes).",
                               isak.value));
   append(events, enter_step(view_.step + 1, time));
   return events;
@@ -440,13 +435,15 @@ std::vector<SessionEvent> MeasuringSession::set_typed(const std::string& measure
     } catch (const InvalidInputError&) {
     }
     if (range && (value.as_number() < range->error_min || value.as_number() > range->error_max)) {
-      view_.message = s.title + ": " + fmt(value.as_number(), 1) + " " + s.unit +
-                      " is not a plausible value (expected " + fmt(range->error_min, 1) + " to " +
-                      fmt(range->error_max, 1) + " " + s.unit + "); type it again.";
+      view_.message = s.title + ": " + smpl::format_fixed_or_short(value.as_number(), 1) + " " +
+                      s.unit + " is not a plausible value (expected " +
+                      smpl::format_fixed_or_short(range->error_min, 1) + " to " +
+                      smpl::format_fixed_or_short(range->error_max, 1) + " " + s.unit +
+                      "); type it again.";
       return events;
     }
     st.value = value.as_number();
-    shown = fmt(value.as_number(), 1) + " " + s.unit;
+    shown = smpl::format_fixed_or_short(value.as_number(), 1) + " " + s.unit;
   } else if (s.kind == StepKind::TypedChoice) {
     if (!value.is_string() ||
         std::find(s.choices.begin(), s.choices.end(), value.as_string()) == s.choices.end()) {

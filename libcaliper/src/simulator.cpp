@@ -9,12 +9,13 @@
 #include "caliper/body_ik.hpp"
 #include "caliper/errors.hpp"
 #include "caliper/measurements.hpp"
+#include "smpl/constants.hpp"
 #include "smpl/evaluate.hpp"
 
 namespace caliper {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using smpl::kPi;
 
 /// Gaussian numbers from mt19937_64 with our own Box-Muller, identical on every standard library.
 class Normal {

@@ -22,6 +22,7 @@
 
 #include "caliper/errors.hpp"
 #include "caliper/random.hpp"
+#include "smpl/constants.hpp"
 
 namespace caliper {
 
@@ -49,7 +50,7 @@ double uniform_open_closed(Xoshiro256& rng) {
   return (static_cast<double>(rng.next() >> 11) + 1.0) * 0x1.0p-53;
 }
 
-constexpr double kTwoPi = 6.283185307179586476925;
+constexpr double kTwoPi = 2 * smpl::kPi;
 
 }  // namespace
 

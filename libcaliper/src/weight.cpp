@@ -8,21 +8,9 @@
 #include <string>
 
 #include "caliper/errors.hpp"
+#include "smpl/text.hpp"
 
 namespace caliper {
-
-namespace {
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
-std::string num(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
-}  // namespace
 
 WeightFormula female_weight_formula() {
   return {1001.44, -2.36, "female"};
@@ -36,7 +24,7 @@ WeightFormula neutral_weight_formula() {
 }
 
 WeightFormula weight_formula_for(const std::string& gender) {
-  const std::string g = lower(gender);
+  const std::string g = smpl::to_lower(gender);
   if (g == "female" || g == "f") return female_weight_formula();
   if (g == "male" || g == "m") return male_weight_formula();
   return neutral_weight_formula();
@@ -44,7 +32,8 @@ WeightFormula weight_formula_for(const std::string& gender) {
 
 double weight_from_volume(double volume_m3, const WeightFormula& formula) {
   if (!std::isfinite(volume_m3)) {
-    throw InvalidInputError("weight_from_volume: the volume is " + num(volume_m3) +
+    throw InvalidInputError("weight_from_volume: the volume is " +
+                            smpl::format_general(volume_m3, 6) +
                             "; a finite volume in m^3 is needed");
   }
   return formula.coefficient * volume_m3 + formula.intercept;
@@ -52,12 +41,12 @@ double weight_from_volume(double volume_m3, const WeightFormula& formula) {
 
 double volume_from_weight(double weight_kg, const WeightFormula& formula) {
   if (!std::isfinite(weight_kg)) {
-    throw InvalidInputError("weight " + num(weight_kg) +
+    throw InvalidInputError("weight " + smpl::format_general(weight_kg, 6) +
                             " kg is not a number; give a weight in kg");
   }
   const double v = (weight_kg - formula.intercept) / formula.coefficient;
   if (!(v > 0.0)) {
-    throw InvalidInputError("weight " + num(weight_kg) +
+    throw InvalidInputError("weight " + smpl::format_general(weight_kg, 6) +
                             " kg implies a non-positive body volume; give a positive weight in kg");
   }
   return v;

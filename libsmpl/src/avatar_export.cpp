@@ -6,6 +6,7 @@
 
 #include "smpl/fbx.hpp"
 #include "smpl/gltf.hpp"
+#include "smpl/text.hpp"
 
 namespace smpl {
 
@@ -26,9 +27,7 @@ const ExportFormat* export_format_of(const std::string& path) {
   if (dot == std::string::npos || path.find_first_of("/\\", dot) != std::string::npos) {
     return nullptr;
   }
-  std::string ext = path.substr(dot);
-  std::transform(ext.begin(), ext.end(), ext.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string ext = to_lower(path.substr(dot));
   for (const auto& f : export_formats()) {
     if (f.extension == ext) return &f;
   }

@@ -16,6 +16,7 @@
 
 #include "smpl/atomic_file.hpp"
 #include "smpl/export.hpp"
+#include "smpl/text.hpp"
 
 namespace smpl {
 namespace {
@@ -43,15 +44,6 @@ void check_uvs(const TexCoords& uvs, const Faces& uv_faces, const Faces& faces,
     }
   }
   if (!uvs.allFinite()) throw ModelError(context + ": a texture coordinate is NaN or infinite");
-}
-
-bool ends_with_ci(const std::string& s, const std::string& suffix) {
-  if (s.size() < suffix.size()) return false;
-  for (size_t i = 0; i < suffix.size(); ++i) {
-    const char a = s[s.size() - suffix.size() + i];
-    if (std::tolower(static_cast<unsigned char>(a)) != suffix[i]) return false;
-  }
-  return true;
 }
 
 // printf into a std::string (each call's output is short: one line of numbers).
@@ -120,6 +112,14 @@ void check_pose(const BodyModel& model, const ExportOptions& options) {
                      " (axis-angle, joint 0 = global orientation)");
   }
   if (!options.pose.allFinite()) throw ModelError("the pose contains NaN or infinity");
+}
+
+void check_pose(const BodyModel& model, const ExportOptions& options, const std::string& context) {
+  try {
+    check_pose(model, options);
+  } catch (const ModelError& e) {
+    throw ModelError(context + ": " + e.what());
+  }
 }
 
 Body export_rest_body(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& betas,

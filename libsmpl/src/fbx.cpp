@@ -24,6 +24,7 @@
 
 #include "smpl/atomic_file.hpp"
 #include "smpl/evaluate.hpp"
+#include "smpl/text.hpp"
 
 namespace smpl {
 namespace {
@@ -39,14 +40,6 @@ aiMatrix4x4 to_ai(const Eigen::Matrix4d& m) {
   return out;
 }
 
-bool ends_with_ci(const std::string& s, const std::string& suffix) {
-  if (s.size() < suffix.size()) return false;
-  return std::equal(suffix.rbegin(), suffix.rend(), s.rbegin(), [](char a, char b) {
-    return std::tolower(static_cast<unsigned char>(a)) ==
-           std::tolower(static_cast<unsigned char>(b));
-  });
-}
-
 // ---------------------------------------------------------------------------------------------
 // 1. Avatar -> aiScene
 // ---------------------------------------------------------------------------------------------
@@ -54,11 +47,7 @@ bool ends_with_ci(const std::string& s, const std::string& suffix) {
 std::unique_ptr<aiScene> build_scene(const BodyModel& model,
                                      const Eigen::Ref<const Eigen::VectorXd>& betas,
                                      const ExportOptions& options, const std::string& context) {
-  try {
-    check_pose(model, options);
-  } catch (const ModelError& e) {
-    throw ModelError(context + ": " + e.what());
-  }
+  check_pose(model, options, context);
   const std::vector<std::string> names = bone_names(model, options.bone_names);
   // The bind pose is the exported pose: Assimp's FBX writer takes each cluster's bind matrix
   // (TransformLink) and the scene's BindPose from the nodes, so a pose is baked into the mesh

@@ -27,6 +27,7 @@
 #include "smpl/evaluate.hpp"
 #include "smpl/export.hpp"
 #include "smpl/npz.hpp"
+#include "smpl/text.hpp"
 
 #include <Eigen/Geometry>
 
@@ -163,11 +164,7 @@ tinygltf::Model build_model(const BodyModel& model, const Eigen::Ref<const Eigen
                      " shape keys asked for but the model has " +
                      std::to_string(model.num_betas()) + " shape components");
   }
-  try {
-    check_pose(model, options);
-  } catch (const ModelError& e) {
-    throw ModelError(context + ": " + e.what());
-  }
+  check_pose(model, options, context);
   const std::vector<std::string> names = bone_names(model, options.bone_names);
   Body body = export_rest_body(model, betas, options, context);
   const auto V = static_cast<size_t>(body.vertices.rows());
@@ -372,14 +369,6 @@ tinygltf::Model build_model(const BodyModel& model, const Eigen::Ref<const Eigen
   return g;
 }
 
-bool ends_with(const std::string& s, const std::string& suffix) {
-  if (s.size() < suffix.size()) return false;
-  return std::equal(suffix.rbegin(), suffix.rend(), s.rbegin(), [](char a, char b) {
-    return std::tolower(static_cast<unsigned char>(a)) ==
-           std::tolower(static_cast<unsigned char>(b));
-  });
-}
-
 }  // namespace
 
 GltfSkinWeights gltf_skin_weights(const BodyModel& model) {
@@ -418,8 +407,8 @@ std::vector<std::uint8_t> glb_bytes(const BodyModel& model,
 
 void write_gltf(const std::string& path, const BodyModel& model,
                 const Eigen::Ref<const Eigen::VectorXd>& betas, const GltfOptions& options) {
-  const bool binary = ends_with(path, ".glb");
-  if (!binary && !ends_with(path, ".gltf")) {
+  const bool binary = ends_with_ci(path, ".glb");
+  if (!binary && !ends_with_ci(path, ".gltf")) {
     throw ModelError(path + ": unknown glTF file extension; use .glb (binary) or .gltf (JSON)");
   }
   write_file_atomic(path, serialise(build_model(model, betas, options, path), binary, path));
@@ -562,7 +551,7 @@ std::vector<std::uint8_t> vrm_bytes(const BodyModel& model,
 
 void write_vrm(const std::string& path, const BodyModel& model,
                const Eigen::Ref<const Eigen::VectorXd>& betas, const ExportOptions& options) {
-  if (!ends_with(path, ".vrm")) throw ModelError(path + ": a VRM file name must end in .vrm");
+  if (!ends_with_ci(path, ".vrm")) throw ModelError(path + ": a VRM file name must end in .vrm");
   write_file_atomic(path, serialise(build_vrm(model, betas, options, path), true, path));
 }
 

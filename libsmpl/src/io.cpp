@@ -9,6 +9,7 @@
 
 #include "smpl/npz.hpp"
 #include "smpl/pickle.hpp"
+#include "smpl/text.hpp"
 
 namespace smpl {
 namespace {
@@ -226,11 +227,6 @@ std::vector<int> int_vector(const Source& src, const std::string& key, const Npy
   return out;
 }
 
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
 std::string single_string(const Source& src, const std::string& key) {
   const std::vector<std::string> s = src.strings(key);
   if (s.size() != 1) fail(src.context(), "'" + key + "' must hold exactly one string");
@@ -340,7 +336,7 @@ BodyModel build_model(const Source& src, const LoadOptions& options) {
   if (src.has("meta_gender")) {
     m.meta.gender = single_string(src, "meta_gender");
   } else {
-    const std::string b = lower(base);
+    const std::string b = to_lower(base);
     if (b.find("female") != std::string::npos || b.find("_f_") != std::string::npos) {
       m.meta.gender = "female";
     } else if (b.find("male") != std::string::npos || b.find("_m_") != std::string::npos) {

@@ -9,6 +9,7 @@
 
 #include "smpl/atomic_file.hpp"
 #include "smpl/npz.hpp"
+#include "smpl/text.hpp"
 
 namespace smpl {
 namespace {
@@ -272,24 +273,6 @@ void for_each_numeric(const NpyArray& a, const F& f) {
 void check_numeric(const NpyArray& a) {
   if (a.kind() == 'O') throw ModelError(object_array_message());
   if (!a.is_numeric()) throw ModelError("array of dtype '" + a.dtype + "' is not numeric");
-}
-
-void append_utf8(std::string& out, std::uint32_t cp) {
-  if (cp < 0x80) {
-    out += static_cast<char>(cp);
-  } else if (cp < 0x800) {
-    out += static_cast<char>(0xC0 | (cp >> 6));
-    out += static_cast<char>(0x80 | (cp & 0x3F));
-  } else if (cp < 0x10000) {
-    out += static_cast<char>(0xE0 | (cp >> 12));
-    out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
-    out += static_cast<char>(0x80 | (cp & 0x3F));
-  } else {
-    out += static_cast<char>(0xF0 | (cp >> 18));
-    out += static_cast<char>(0x80 | ((cp >> 12) & 0x3F));
-    out += static_cast<char>(0x80 | ((cp >> 6) & 0x3F));
-    out += static_cast<char>(0x80 | (cp & 0x3F));
-  }
 }
 
 std::vector<std::uint32_t> decode_utf8(const std::string& s) {

@@ -13,12 +13,12 @@
 // median, 95th percentile and maximum over the frames. The one frame that makes the avatar
 // (regressor training and create_avatar, once per session) is reported separately as max_ms.
 #include <benchmark/benchmark.h>
-#include <time.h>
 
 #include <algorithm>
 #include <filesystem>
 
 #include "caliper/body_ik.hpp"
+#include "caliper/cpu_time.hpp"
 #include "caliper/measurements.hpp"
 #include "caliper/protocol_file.hpp"
 #include "caliper/simulator.hpp"
@@ -35,12 +35,6 @@ using namespace caliper;
 using namespace caliper::vr;
 
 constexpr int kEyeWidth = 1440, kEyeHeight = 1600;  // HTC Vive Pro / Valve Index per eye
-
-double thread_cpu() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 void BM_VrReplayFrameCpu(benchmark::State& state) {
   const std::string assets = std::string(CALIPER_SOURCE_DIR) + "/assets";
@@ -73,14 +67,14 @@ void BM_VrReplayFrameCpu(benchmark::State& state) {
     render::Scene scene;
     double total = 0.0;
     while (true) {
-      const double c0 = thread_cpu();
+      const double c0 = caliper::thread_cpu_seconds();
       std::optional<PoseFrame> f = source.next_frame();
       if (!f) break;
       app.advance(*f, &source);
       app.build_scene(scene);
       const std::vector<render::View> views = app.stereo_views(kEyeWidth, kEyeHeight);
       benchmark::DoNotOptimize(views.data());
-      const double dt = thread_cpu() - c0;
+      const double dt = caliper::thread_cpu_seconds() - c0;
       frame_ms.push_back(1e3 * dt);
       total += dt;
     }
@@ -131,15 +125,15 @@ void BM_BodyIkSolveCpu(benchmark::State& state) {
       }
       in.floor = so.runtime_floor_offset;
       in.time = f.time;
-      double c0 = thread_cpu();
+      double c0 = caliper::thread_cpu_seconds();
       const IkPose& p = ik.solve(in);
       benchmark::DoNotOptimize(p.joints.data());
       if (skinning) {  // the baseline: time the skinning of this frame's pose instead
-        c0 = thread_cpu();
+        c0 = caliper::thread_cpu_seconds();
         smpl::evaluate(model, betas, p.axis_angle(), p.translation, ws, body);
         benchmark::DoNotOptimize(body.vertices.data());
       }
-      const double dt = thread_cpu() - c0;
+      const double dt = caliper::thread_cpu_seconds() - c0;
       frame_us.push_back(1e6 * dt);
       total += dt;
     }

@@ -64,3 +64,13 @@ TEST(Assets, WithoutTheVariableLooksBesideTheExecutable) {
   ASSERT_TRUE(found.has_value());
   EXPECT_TRUE(fs::exists(fs::path(*found) / "models" / "caliper-female.npz")) << *found;
 }
+
+TEST(Assets, DefaultModelPathJoinsFolderAndSex) {
+  EXPECT_EQ(caliper::default_model_file_name("neutral"), "caliper-neutral.npz");
+  EXPECT_EQ(caliper::default_model_path("assets/models", "male"), "assets/models/caliper-male.npz");
+  // Joined as std::filesystem::path joins: a trailing separator is not doubled.
+  EXPECT_EQ(caliper::default_model_path("assets/models/", "female"),
+            "assets/models/caliper-female.npz");
+  // The sex is used as given; loading reports a file that does not exist.
+  EXPECT_EQ(caliper::default_model_path("m", "other"), "m/caliper-other.npz");
+}

@@ -15,6 +15,7 @@
 #include "caliper/measurements.hpp"
 #include "caliper/protocol_file.hpp"
 #include "caliper/simulator.hpp"
+#include "smpl/constants.hpp"
 #include "smpl/evaluate.hpp"
 #include "smpl/export.hpp"
 #include "smpl/io.hpp"
@@ -23,7 +24,7 @@ namespace caliper {
 namespace {
 
 using namespace ik_joint;
-constexpr double kPi = 3.14159265358979323846;
+using smpl::kPi;
 // Closed-form results in double precision: equal to rounding.
 constexpr double kExact = 1e-9;
 // The forward pass of smpl::evaluate composes 24 rotations in another order: rounding only.

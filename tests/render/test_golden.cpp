@@ -17,6 +17,7 @@
 
 #include "render/colour_map.hpp"
 #include "render/render_mesh.hpp"
+#include "smpl/constants.hpp"
 
 namespace cr = caliper::render;
 
@@ -32,7 +33,7 @@ void add_ellipsoid(smpl::Vertices& v, smpl::Faces& f, const Eigen::Vector3d& cen
   const int base = static_cast<int>(v.rows());
   const int nv = rings * segments + 2;
   v.conservativeResize(base + nv, 3);
-  const double pi = 3.14159265358979323846;
+  const double pi = smpl::kPi;
   v.row(base) = centre + Eigen::Vector3d(0, radii.y(), 0);
   for (int r = 0; r < rings; ++r) {
     const double theta = pi * (r + 1) / (rings + 1);

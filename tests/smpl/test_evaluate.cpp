@@ -15,6 +15,7 @@
 
 #include "caliper_test/matrix_compare.hpp"
 #include "caliper_test/random_model.hpp"
+#include "smpl/constants.hpp"
 #include "smpl/evaluate.hpp"
 #include "smpl/npz.hpp"
 
@@ -25,7 +26,7 @@ using caliper::test::make_random_model;
 using caliper::test::random_betas;
 using caliper::test::random_pose;
 
-constexpr double kPi = 3.14159265358979323846;
+using smpl::kPi;
 // Double-precision agreement with the numpy reference (the requirement): both sides sum a few
 // hundred products of O(1) numbers, so rounding differences are ~1e-14 m; 1e-9 m is the contract.
 constexpr double kReferenceTol = 1e-9;

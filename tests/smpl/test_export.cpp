@@ -137,3 +137,21 @@ TEST(Export, ErrorsNameTheFile) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(Export, CheckPoseWithAContextPrefixesTheMessage) {
+  const auto m = caliper::test::make_random_model(1, 24, false);
+  smpl::ExportOptions o;
+  o.pose = Eigen::VectorXd::Zero(5);
+  try {
+    smpl::check_pose(m, o, "out.glb");
+    ADD_FAILURE() << "a 5-number pose was accepted";
+  } catch (const smpl::ModelError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("out.glb: the pose has 5 numbers", 0), 0u) << e.what();
+  }
+  o.pose = Eigen::VectorXd::Zero(3 * m.num_joints());
+  EXPECT_NO_THROW(smpl::check_pose(m, o, "out.glb"));
+}
+
+}  // namespace

@@ -1,5 +1,6 @@
 // Random, valid, full-size SMPL-shaped body models for tests (no licensed data involved).
 #include "caliper_test/random_model.hpp"
+#include "smpl/constants.hpp"
 
 #include <algorithm>
 #include <array>
@@ -20,7 +21,7 @@
 namespace caliper::test {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using smpl::kPi;
 // The ellipsoid that stands in for a body: centre and semi-axes, metres.
 const Eigen::Vector3d kCentre(0.0, -0.26, 0.0);
 const Eigen::Vector3d kRadii(0.18, 0.86, 0.12);

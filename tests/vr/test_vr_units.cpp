@@ -13,6 +13,7 @@
 #include "pivot.hpp"
 #include "pose_source.hpp"
 #include "render/text.hpp"
+#include "smpl/constants.hpp"
 #include "smpl/evaluate.hpp"
 #include "smpl/io.hpp"
 #include "video.hpp"
@@ -274,7 +275,7 @@ TEST(Mirror, TheUsersLeftHandIsTheReflectionsRight) {
   // appears on the user's own left, and it is the reflection's right hand; an avatar merely
   // turned round to face the user would raise its left hand on the user's right.
   using namespace ik_joint;
-  constexpr double kPi = 3.14159265358979323846;
+  using smpl::kPi;
   const smpl::BodyModel model =
       smpl::load_model(std::string(CALIPER_SOURCE_DIR) + "/assets/models/caliper-female.npz");
   const Eigen::VectorXd betas = Eigen::VectorXd::Zero(model.num_betas());

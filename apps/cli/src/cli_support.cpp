@@ -3,6 +3,7 @@
 #include "caliper/assets.hpp"
 #include "caliper/errors.hpp"
 #include "caliper/inputs.hpp"
+#include "smpl/text.hpp"
 
 #include <unistd.h>
 
@@ -13,7 +14,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
@@ -213,10 +213,6 @@ std::vector<double> parse_number_list(const std::string& text, const std::string
 // Units
 // ---------------------------------------------------------------------------------------------
 
-std::optional<double> unit_scale(const std::string& unit) {
-  return caliper::unit_scale(unit);
-}
-
 double parse_length(const std::string& text, const std::string& what) {
   try {
     return caliper::parse_length(text, what);
@@ -240,13 +236,9 @@ double parse_mass(const std::string& text, const std::string& what) {
 int CsvTable::column(const std::string& name) const {
   for (size_t i = 0; i < header.size(); ++i)
     if (header[i] == name) return static_cast<int>(i);
-  auto lower = [](std::string s) {
-    for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-  };
-  const std::string ln = lower(name);
+  const std::string ln = smpl::to_lower(name);
   for (size_t i = 0; i < header.size(); ++i)
-    if (lower(header[i]) == ln) return static_cast<int>(i);
+    if (smpl::to_lower(header[i]) == ln) return static_cast<int>(i);
   return -1;
 }
 
@@ -361,11 +353,9 @@ CsvTable parse_csv(const std::string& text, const std::string& source, bool per_
 }
 
 CsvTable read_csv(const std::string& path, bool per_row_errors) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw RuntimeError(path + ": cannot open the CSV file (does it exist?)");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return parse_csv(s.str(), path, per_row_errors);
+  const std::optional<std::string> text = smpl::read_file(path);
+  if (!text) throw RuntimeError(path + ": cannot open the CSV file (does it exist?)");
+  return parse_csv(*text, path, per_row_errors);
 }
 
 std::string csv_escape(const std::string& cell) {
@@ -400,9 +390,7 @@ bool file_exists(const std::string& path) {
 }
 
 std::string extension_of(const std::string& path) {
-  std::string e = fs::path(path).extension().string();
-  for (auto& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return e;
+  return smpl::to_lower(fs::path(path).extension().string());
 }
 
 bool stderr_is_terminal() {

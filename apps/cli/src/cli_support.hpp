@@ -101,9 +101,6 @@ std::vector<double> parse_number_list(const std::string& text, const std::string
 double parse_length(const std::string& text, const std::string& what);
 /// A mass with its unit stated: kg, g, lb/lbs. Returns kilograms. Throws UsageError.
 double parse_mass(const std::string& text, const std::string& what);
-/// Metres (for a length) or kilograms per unit of a CSV header suffix: "mm", "cm", "m", "in",
-/// "kg", "g", "lb". Returns nullopt for an unknown suffix.
-std::optional<double> unit_scale(const std::string& unit);
 
 // ---------------------------------------------------------------------------------------------
 // CSV

@@ -20,6 +20,7 @@
 #include "mesh_io.hpp"
 #include "report.hpp"
 #include "smpl/atomic_file.hpp"
+#include "smpl/text.hpp"
 
 namespace caliper::cli {
 
@@ -54,23 +55,15 @@ std::vector<std::string> avatar_file_names(const std::vector<Person>& people,
   std::set<std::string> taken;
   std::vector<std::string> names;
   names.reserve(people.size());
-  auto lower = [](std::string s) {
-    for (auto& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-  };
   for (const Person& p : people) {
     const std::string base = file_safe(p.id);
     std::string name = base + "." + format;
-    for (int n = 2; taken.count(lower(name)); ++n)
+    for (int n = 2; taken.count(smpl::to_lower(name)); ++n)
       name = base + "-" + std::to_string(n) + "." + format;
-    taken.insert(lower(name));
+    taken.insert(smpl::to_lower(name));
     names.push_back(name);
   }
   return names;
-}
-
-std::string num(double v, int decimals) {
-  return format_number(v, decimals);
 }
 
 /// Fails before any work when `dir` cannot hold new files: creates it, then writes and removes
@@ -392,23 +385,24 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
     for (const auto& id : inputs) {
       auto it = p.inputs.find(id);
       *out << ",";
-      if (it != p.inputs.end()) *out << num(it->second * display_unit(id).second, 2);
+      if (it != p.inputs.end()) *out << format_number(it->second * display_unit(id).second, 2);
     }
     for (const auto& id : result_ids) {
       auto it = o.achieved.find(id);
       *out << ",";
-      if (it != o.achieved.end()) *out << num(it->second * display_unit(id).second, 2);
+      if (it != o.achieved.end()) *out << format_number(it->second * display_unit(id).second, 2);
     }
     if (o.status == "ok") {
-      *out << "," << num(o.plausibility.mahalanobis, 4) << "," << num(o.plausibility.p_value, 6)
-           << "," << o.plausibility.beyond_2sd.size() << "," << o.plausibility.beyond_3sd.size()
-           << "," << (o.plausibility.plausible ? "yes" : "no");
+      *out << "," << format_number(o.plausibility.mahalanobis, 4) << ","
+           << format_number(o.plausibility.p_value, 6) << "," << o.plausibility.beyond_2sd.size()
+           << "," << o.plausibility.beyond_3sd.size() << ","
+           << (o.plausibility.plausible ? "yes" : "no");
     } else {
       *out << ",,,,,";
     }
     for (int b = 0; b < max_betas; ++b) {
       *out << ",";
-      if (b < o.betas.size()) *out << num(o.betas[b], 5);
+      if (b < o.betas.size()) *out << format_number(o.betas[b], 5);
     }
     if (out_dir) *out << "," << (o.status == "ok" ? csv_escape(file_names[i]) : "");
     *out << "," << csv_escape(o.message) << "\n";

@@ -4,6 +4,7 @@
 #include <iomanip>
 #include <ostream>
 
+#include "caliper/assets.hpp"
 #include "caliper/measurements.hpp"
 #include "command_common.hpp"
 #include "commands.hpp"
@@ -61,7 +62,7 @@ int cmd_models(const std::vector<std::string>& args, Io& io) {
   if (assets) {
     const std::filesystem::path dir = std::filesystem::path(*assets) / "models";
     for (const char* sex : {"female", "male", "neutral"}) {
-      const std::string p = (dir / ("caliper-" + std::string(sex) + ".npz")).string();
+      const std::string p = default_model_path(dir.string(), sex);
       if (file_exists(p)) {
         paths.push_back(p);
       } else {

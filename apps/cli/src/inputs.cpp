@@ -1,4 +1,6 @@
 #include "inputs.hpp"
+#include "caliper/inputs.hpp"
+#include "smpl/text.hpp"
 
 #include <cctype>
 #include <cmath>
@@ -9,13 +11,12 @@
 namespace caliper::cli {
 
 std::optional<std::pair<std::string, double>> measurement_column(const std::string& header_in) {
-  std::string header;
-  for (char c : header_in) header += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string header = smpl::to_lower(header_in);
   const size_t us = header.rfind('_');
   if (us == std::string::npos) return std::nullopt;
   std::string id = header.substr(0, us);
   const std::string unit = header.substr(us + 1);
-  const auto scale = unit_scale(unit);
+  const auto scale = caliper::unit_scale(unit);
   if (!scale) return std::nullopt;
   static const std::map<std::string, std::string> kAliases = {
       {"stature", "height"},           {"arm_span", "arm_span_fingertips"},
@@ -52,8 +53,8 @@ std::optional<std::pair<std::string, double>> measurement_column(const std::stri
 std::string normalise_sex(const std::string& value) {
   std::string v;
   for (char c : value)
-    if (!std::isspace(static_cast<unsigned char>(c)))
-      v += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (!std::isspace(static_cast<unsigned char>(c))) v += c;
+  v = smpl::to_lower(v);
   if (v.empty()) return "";
   if (v == "f" || v == "female" || v == "woman" || v == "w") return "female";
   if (v == "m" || v == "male" || v == "man") return "male";

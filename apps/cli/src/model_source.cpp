@@ -3,6 +3,7 @@
 #include <chrono>
 #include <filesystem>
 
+#include "caliper/assets.hpp"
 #include "caliper/errors.hpp"
 #include "caliper/inputs.hpp"
 #include "cli_support.hpp"
@@ -20,14 +21,16 @@ std::string resolve_model_path(const std::optional<std::string>& model_file,
     }
     return *model_file;
   }
-  const std::string name = "caliper-" + (sex.empty() ? std::string("neutral") : sex) + ".npz";
+  const std::string model_sex = sex.empty() ? std::string("neutral") : sex;
+  const std::string name = default_model_file_name(model_sex);
   const auto assets = find_assets_dir();
   if (!assets) {
     throw RuntimeError("the open default model " + name +
                        " was not found: no assets folder (tried " + tried_assets_dirs() +
                        "). Set CALIPER_ASSETS=/path/to/assets or pass --model FILE");
   }
-  const std::string path = (std::filesystem::path(*assets) / "models" / name).string();
+  const std::string path =
+      default_model_path((std::filesystem::path(*assets) / "models").string(), model_sex);
   if (!file_exists(path)) {
     throw RuntimeError("the open default model " + path +
                        " does not exist: build it with caliper-modelgen (docs/models.md), set "

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "caliper/circumference.hpp"
+#include "smpl/text.hpp"
 
 namespace caliper::cli {
 
@@ -42,15 +43,8 @@ std::pair<std::string, double> display_unit(const std::string& id) {
 }
 
 std::string format_number(double v, int decimals) {
-  char buf[64];
-  if (std::isnan(v)) return "nan";
-  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  if (std::abs(v) < 1e9) {
-    std::snprintf(buf, sizeof buf, "%.*f", std::clamp(decimals, 0, 17), v);
-  } else {
-    std::snprintf(buf, sizeof buf, "%.3e", v);
-  }
-  return buf;
+  if (std::isnan(v)) return "nan";  // never "-nan"
+  return smpl::format_fixed_or_short(v, std::clamp(decimals, 0, 17));
 }
 
 std::string format_value(const std::string& id, double si_value, int decimals) {
@@ -67,8 +61,7 @@ std::string format_difference(const std::string& id, double si_difference, int d
 }
 
 bool is_imperial_text(const std::string& text) {
-  std::string t;
-  for (char c : text) t += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string t = smpl::to_lower(text);
   for (const char* u : {"in", "ft", "feet", "foot", "inch", "lb", "'", "\""}) {
     if (t.find(u) != std::string::npos) return true;
   }

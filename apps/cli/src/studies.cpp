@@ -13,6 +13,7 @@
 #include "caliper/weight.hpp"
 #include "command_common.hpp"
 #include "report.hpp"
+#include "smpl/text.hpp"
 
 namespace caliper::cli {
 
@@ -94,12 +95,6 @@ double mean_v2v(const smpl::Vertices& a, const smpl::Vertices& b) {
   return (aligned(a) - aligned(b)).rowwise().norm().mean();
 }
 
-std::string fmt(double v, int decimals) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
-}
-
 double percentile(std::vector<double> v, double q) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
@@ -170,7 +165,7 @@ std::string table1_markdown(const Table1Result& r, bool with_paper) {
         const bool input = std::find(used.begin(), used.end(), id) != used.end();
         const double v = which == 0 ? r.mean_abs(static_cast<Eigen::Index>(k), c)
                                     : r.max_abs(static_cast<Eigen::Index>(k), c);
-        const std::string cell = fmt(v, 2);
+        const std::string cell = smpl::format_fixed(v, 2);
         s << " " << (input ? cell : "**" + cell + "**") << " |";
       }
       s << "\n";
@@ -242,9 +237,10 @@ std::string simulation_markdown(const std::vector<SimulationRow>& rows) {
   s << "| input | regressor | mean v2v (mm) | 90th pct (mm) | avatars beyond 3 SD | beyond 3 SD "
        "where the true body is within 2 SD |\n|---|---|---|---|---|---|\n";
   for (const auto& r : rows) {
-    s << "| " << r.condition << " | " << r.regressor << " | " << fmt(r.mean_v2v_mm, 2) << " | "
-      << fmt(r.p90_v2v_mm, 2) << " | " << r.beyond_3sd << " / " << r.bodies << " | "
-      << r.beyond_3sd_true_within_2sd << " / " << r.true_within_2sd << " |\n";
+    s << "| " << r.condition << " | " << r.regressor << " | "
+      << smpl::format_fixed(r.mean_v2v_mm, 2) << " | " << smpl::format_fixed(r.p90_v2v_mm, 2)
+      << " | " << r.beyond_3sd << " / " << r.bodies << " | " << r.beyond_3sd_true_within_2sd
+      << " / " << r.true_within_2sd << " |\n";
   }
   return s.str();
 }
@@ -378,8 +374,8 @@ std::string ansur_markdown(const std::vector<AnsurRow>& rows) {
     if (r.failed) s << " (" << r.failed << " failed)";
     s << " |";
     for (size_t t = 0; t < r.mae_mm.size(); ++t)
-      s << " " << fmt(r.mae_mm[t], 1) << " (" << (r.bias_mm[t] >= 0 ? "+" : "")
-        << fmt(r.bias_mm[t], 1) << ") |";
+      s << " " << smpl::format_fixed(r.mae_mm[t], 1) << " (" << (r.bias_mm[t] >= 0 ? "+" : "")
+        << smpl::format_fixed(r.bias_mm[t], 1) << ") |";
     s << "\n";
   }
   return s.str();

@@ -7,7 +7,6 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <sstream>
 
 #include "caliper/errors.hpp"
@@ -15,25 +14,13 @@
 #include "caliper/json.hpp"
 #include "smpl/avatar_export.hpp"
 #include "smpl/io.hpp"
+#include "smpl/text.hpp"
 
 namespace caliper::app {
 
 // ---------------------------------------------------------------------------------------------
 // Regressor choices
 namespace {
-
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
-
-std::string format_value(const std::string& id, double si, UnitSystem units) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.1f %s", to_display(id, si, units),
-                unit_label(id, units).c_str());
-  return buf;
-}
 
 constexpr size_t kMaxUndo = 200;
 constexpr size_t kMaxMessages = 50;
@@ -57,7 +44,7 @@ std::string to_string(RegressorChoice choice) {
 }
 
 std::optional<RegressorChoice> parse_regressor_choice(const std::string& text) {
-  const std::string t = lower(text);
+  const std::string t = smpl::to_lower(text);
   if (t == "r2") return RegressorChoice::R2;
   if (t == "r4") return RegressorChoice::R4;
   if (t == "r5") return RegressorChoice::R5;
@@ -155,7 +142,7 @@ bool EditorCore::select_model(int index) {
 
 bool EditorCore::select_sex(const std::string& sex) {
   for (size_t i = 0; i < models_.size(); ++i) {
-    if (lower(models_[i].model->meta.gender) == lower(sex))
+    if (smpl::to_lower(models_[i].model->meta.gender) == smpl::to_lower(sex))
       return select_model(static_cast<int>(i));
   }
   post(Message::Level::Error, "no " + sex + " model is loaded");
@@ -329,10 +316,10 @@ bool EditorCore::check_value(const std::string& id, double v) {
     return false;
   }
   if (v < r.error_min || v > r.error_max) {
-    post(Message::Level::Error,
-         id + " = " + format_value(id, v, view_.units) + " is out of range (" +
-             format_value(id, r.error_min, view_.units) + " to " +
-             format_value(id, r.error_max, view_.units) + "); the avatar is unchanged");
+    post(Message::Level::Error, id + " = " + value_text(id, v, view_.units) + " is out of range (" +
+                                    value_text(id, r.error_min, view_.units) + " to " +
+                                    value_text(id, r.error_max, view_.units) +
+                                    "); the avatar is unchanged");
     return false;
   }
   MeasurementMap trial;
@@ -350,7 +337,7 @@ bool EditorCore::check_value(const std::string& id, double v) {
   }
   if (v < r.warning_min || v > r.warning_max) {
     post(Message::Level::Warning,
-         id + " = " + format_value(id, v, view_.units) + " is unusual for an adult");
+         id + " = " + value_text(id, v, view_.units) + " is unusual for an adult");
   }
   return true;
 }
@@ -730,11 +717,9 @@ void collect_measurements(const Json& m, MeasurementMap& out) {
 bool EditorCore::open_session(const std::string& path) {
   clear_stale_messages();
   try {
-    std::ifstream f(path, std::ios::binary);
-    if (!f) throw InvalidInputError("cannot open the file");
-    std::stringstream ss;
-    ss << f.rdbuf();
-    const std::string text = ss.str();
+    const std::optional<std::string> contents = smpl::read_file(path);
+    if (!contents) throw InvalidInputError("cannot open the file");
+    const std::string& text = *contents;
     MeasurementMap found;
     bool parsed = false;
     try {

@@ -5,15 +5,11 @@
 #include <cstdio>
 
 #include "caliper/measurements.hpp"
+#include "smpl/text.hpp"
 
 namespace caliper::app {
 
 namespace {
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return s;
-}
 constexpr double kCubicMetresPerCubicFoot = 0.028316846592;  // 0.3048^3
 }  // namespace
 
@@ -22,7 +18,7 @@ std::string to_string(UnitSystem units) {
 }
 
 std::optional<UnitSystem> parse_unit_system(const std::string& text) {
-  const std::string t = lower(text);
+  const std::string t = smpl::to_lower(text);
   if (t == "metric" || t == "cm" || t == "si") return UnitSystem::Metric;
   if (t == "imperial" || t == "in" || t == "us") return UnitSystem::Imperial;
   return std::nullopt;
@@ -72,7 +68,7 @@ std::string unit_label(const std::string& id, UnitSystem units) {
 
 std::optional<double> to_si_with_suffix(const std::string& id, double value,
                                         const std::string& suffix) {
-  const std::string s = lower(suffix);
+  const std::string s = smpl::to_lower(suffix);
   const Quantity q = quantity_of(id);
   if (q == Quantity::Length) {
     if (s == "cm") return value / 100.0;
@@ -95,10 +91,12 @@ std::string measurement_name(const std::string& id) {
   return id;
 }
 
+std::string value_text(const std::string& id, double value_si, UnitSystem units) {
+  return smpl::format_fixed(to_display(id, value_si, units), 1) + " " + unit_label(id, units);
+}
+
 std::string measurement_text(const std::string& id, double value_si, UnitSystem units) {
-  char value[32];
-  std::snprintf(value, sizeof value, "%.1f", to_display(id, value_si, units));
-  return measurement_name(id) + " " + value + " " + unit_label(id, units);
+  return measurement_name(id) + " " + value_text(id, value_si, units);
 }
 
 }  // namespace caliper::app

@@ -47,10 +47,7 @@ std::vector<float> to_floats(const smpl::Vertices& v) {
 }
 
 std::string display(const app::EditorCore& core, const std::string& id, double si) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.1f %s", app::to_display(id, si, core.view().units),
-                app::unit_label(id, core.view().units).c_str());
-  return buf;
+  return app::value_text(id, si, core.view().units);
 }
 
 /// A typed number with an optional unit: "170", "170.5", "170,5" (decimal comma), "1.68 m",

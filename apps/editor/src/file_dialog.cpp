@@ -1,5 +1,6 @@
 // The editor's file dialog: per-action settings, path resolution and the ImGui window.
 #include "file_dialog.hpp"
+#include "smpl/text.hpp"
 
 #include <imgui.h>
 
@@ -14,11 +15,6 @@ namespace caliper::editor {
 namespace fs = std::filesystem;
 
 namespace {
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
 
 std::string join(const std::vector<std::string>& v) {
   std::string s;
@@ -62,7 +58,7 @@ fs::path resolve_dialog_path(const fs::path& dir, const std::string& name,
   fs::path p = fs::path(trimmed).is_absolute() ? fs::path(trimmed) : dir / trimmed;
   if (!p.has_filename() || trimmed.back() == '/')
     throw std::invalid_argument("'" + trimmed + "' is a folder: type a file name");
-  const std::string ext = lower(p.extension().string());
+  const std::string ext = smpl::to_lower(p.extension().string());
   const bool known =
       std::find(info.extensions.begin(), info.extensions.end(), ext) != info.extensions.end();
   if (known) return p.lexically_normal();
@@ -102,7 +98,7 @@ void FileDialog::list_folder() {
     if (it->is_directory(e2)) {
       folders_.push_back(n);
     } else {
-      const std::string ext = lower(it->path().extension().string());
+      const std::string ext = smpl::to_lower(it->path().extension().string());
       if (std::find(info_.extensions.begin(), info_.extensions.end(), ext) !=
           info_.extensions.end())
         files_.push_back(n);

@@ -123,7 +123,7 @@ void load_models(EditorCore& core, const Options& o) {
   for (const fs::path& dir : model_dirs(o)) {
     bool any = false;
     for (const char* sex : {"female", "male", "neutral"}) {
-      const fs::path p = dir / (std::string("caliper-") + sex + ".npz");
+      const fs::path p = caliper::default_model_path(dir.string(), sex);
       if (fs::exists(p)) {
         any = true;
         const int before = core.current_model();

@@ -12,6 +12,7 @@
 
 #include "ansur_stats.hpp"
 #include "caliper/portable_math.hpp"
+#include "smpl/constants.hpp"
 
 namespace modelgen {
 
@@ -19,7 +20,7 @@ namespace modelgen {
 namespace pm = caliper::portable;
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using smpl::kPi;
 
 // SMPL joint ids.
 enum Joint : int {

@@ -19,6 +19,8 @@
 #include "caliper/portable_math.hpp"
 #include "caliper/volume.hpp"
 #include "caliper/weight.hpp"
+#include "smpl/constants.hpp"
+#include "smpl/text.hpp"
 #include "subdivision.hpp"
 
 namespace modelgen {
@@ -39,7 +41,7 @@ double Rng::normal() {
   }
   const double u1 = uniform(), u2 = uniform();
   const double r = std::sqrt(-2.0 * pm::log(u1));
-  const double t = 2.0 * 3.14159265358979323846 * u2;
+  const double t = 2.0 * smpl::kPi * u2;
   spare_ = r * pm::sin(t);
   has_spare_ = true;
   return r * pm::cos(t);
@@ -338,8 +340,7 @@ HangingArms hanging_arms(const smpl::BodyModel& model, const smpl::Vertices& ver
     // T-pose arm along +x (left) or -x (right); hanging: rotated 90 degrees down about z.
     const double sign = s == 0 ? -1.0 : 1.0;
     const Eigen::Matrix3d r =
-        Eigen::AngleAxisd(sign * 0.5 * 3.14159265358979323846, Eigen::Vector3d::UnitZ())
-            .toRotationMatrix();
+        Eigen::AngleAxisd(sign * 0.5 * smpl::kPi, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     Eigen::Vector3d acromion = Eigen::Vector3d::Zero();
     const std::vector<int> a = landmark(kAcromion[s]);
     for (int v : a) {
@@ -410,12 +411,6 @@ void log_line(GenerationReport* r, const std::string& s) {
   }
 }
 
-std::string num(double v, int precision) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", precision, v);
-  return buf;
-}
-
 // Calibrates the dimension mapping of one sex so that measured means and SDs of the refined
 // population match the survey.
 DimMapping calibrate(const Sampler& sampler, bool female, const ModelTopology& topo,
@@ -461,7 +456,7 @@ DimMapping calibrate(const Sampler& sampler, bool female, const ModelTopology& t
         map.offset[d] += tm - mean;
         map.scale[d] *= std::clamp(ts / sd, 0.7, 1.4);
       }
-      line += " " + id + " " + num(mean, 4) + "/" + num(tm, 4);
+      line += " " + id + " " + smpl::format_fixed(mean, 4) + "/" + smpl::format_fixed(tm, 4);
     }
     log_line(report, line);
   }
@@ -617,7 +612,7 @@ smpl::BodyModel generate_model(const SurveyStats& stats, const std::string& gend
     report->explained_variance = explained;
   }
   log_line(report, "PCA: population " + std::to_string(n) + ", " + std::to_string(k) +
-                       " components explain " + num(100.0 * explained.sum(), 2) +
+                       " components explain " + smpl::format_fixed(100.0 * explained.sum(), 2) +
                        " % of the variance");
 
   // Assembly.

@@ -1,4 +1,5 @@
 #include "render/camera.hpp"
+#include "smpl/constants.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +9,7 @@
 namespace caliper::render {
 
 namespace {
-constexpr float kPi = 3.14159265358979f;
+using smpl::kPiF;
 }
 
 Mat4 look_at(const Vec3& eye, const Vec3& target, const Vec3& up) {
@@ -60,7 +61,8 @@ Mat4 projection_matrix(const Camera& camera, float aspect) {
     const float h = camera.ortho_half_height;
     return orthographic(-h * aspect, h * aspect, -h, h, camera.near_plane, camera.far_plane);
   }
-  return perspective(camera.fov_y_degrees * kPi / 180, aspect, camera.near_plane, camera.far_plane);
+  return perspective(camera.fov_y_degrees * kPiF / 180, aspect, camera.near_plane,
+                     camera.far_plane);
 }
 
 float view_azimuth_degrees(StandardView view) {
@@ -91,10 +93,10 @@ Camera frame_box(const Vec3& lo, const Vec3& hi, float azimuth_degrees, float as
   Camera c;
   const Vec3 centre = (lo + hi) / 2;
   const float radius = std::max(0.05f, (hi - lo).norm() / 2);
-  const float az = azimuth_degrees * kPi / 180;
-  const float el = elevation_degrees * kPi / 180;
+  const float az = azimuth_degrees * kPiF / 180;
+  const float el = elevation_degrees * kPiF / 180;
   const Vec3 dir(std::sin(az) * std::cos(el), std::sin(el), std::cos(az) * std::cos(el));
-  const float fov = c.fov_y_degrees * kPi / 180;
+  const float fov = c.fov_y_degrees * kPiF / 180;
   // Distance so that the bounding sphere fits the narrower of the two fields of view.
   const float half = std::min(fov / 2, std::atan(std::tan(fov / 2) * aspect));
   const float distance = radius / std::sin(half) * 1.02f;
@@ -118,7 +120,7 @@ Camera frame_points_tight(const std::vector<Vec3>& points, float azimuth_degrees
   const Vec3 back = (c.eye - centre).normalized();  // from the target towards the eye
   const Vec3 right = c.up.cross(back).normalized();
   const Vec3 up = back.cross(right);
-  const float tan_v = std::tan(c.fov_y_degrees * kPi / 360) * (1 - margin);
+  const float tan_v = std::tan(c.fov_y_degrees * kPiF / 360) * (1 - margin);
   const float tan_h = tan_v * aspect;
   // A point at (x, y, z) in the camera's axes around the target is inside the picture when
   // |x| <= tan_h * (d - z) and |y| <= tan_v * (d - z), with d the eye's distance to the target.

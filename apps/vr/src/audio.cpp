@@ -1,5 +1,6 @@
 // Confirmation tones through OpenAL Soft (Debian libopenal-dev).
 #include "audio.hpp"
+#include "smpl/constants.hpp"
 
 #include <AL/al.h>
 #include <AL/alc.h>
@@ -11,7 +12,7 @@
 namespace caliper::vr {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using smpl::kPi;
 
 void check_al(const char* what) {
   const ALenum e = alGetError();

@@ -2,7 +2,6 @@
 //   caliper-vr [options]                 OpenXR (a headset and a runtime: SteamVR, Monado, ...)
 //   caliper-vr --replay LOG [options]    the same app driven by a pose log, headless (OSMesa)
 //   caliper-vr --simulate LOG [options]  writes the pose log of a simulated person
-#include <time.h>
 
 #include <algorithm>
 #include <chrono>
@@ -18,6 +17,7 @@
 #include <vector>
 
 #include "caliper/assets.hpp"
+#include "caliper/cpu_time.hpp"
 #include "caliper/errors.hpp"
 #include "caliper/measurements.hpp"
 #include "caliper/protocol.hpp"
@@ -198,12 +198,6 @@ std::string assets_dir(const Args& a) {
   if (a.has("--assets")) return a.get("--assets");
   if (const auto found = caliper::find_assets_dir()) return *found;  // $CALIPER_ASSETS, ...
   return CALIPER_VR_SOURCE_ASSETS;
-}
-
-double thread_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
 double median(std::vector<double> v) {
@@ -601,7 +595,7 @@ int run_simulate(const Args& a) {
       read_protocol(a.get("--protocol", assets + "/protocol/virtual-caliper.json"));
   const std::string sex = a.get("--sex", "female");
   const std::string model_path =
-      a.get("--model", a.get("--models-dir", assets + "/models") + "/caliper-" + sex + ".npz");
+      a.get("--model", default_model_path(a.get("--models-dir", assets + "/models"), sex));
   const smpl::BodyModel model = smpl::load_model(model_path);
   Eigen::VectorXd betas = Eigen::VectorXd::Zero(model.num_betas());
   {

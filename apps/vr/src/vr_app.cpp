@@ -4,23 +4,30 @@
 // panel | scene (floor targets, controllers, demonstration, mirror) | views | outputs.
 #include "vr_app.hpp"
 
-#include <time.h>
-
 #include <cmath>
 #include <filesystem>
 #include <sstream>
 
+#include "caliper/assets.hpp"
+#include "caliper/cpu_time.hpp"
 #include "caliper/errors.hpp"
 #include "caliper/measurements.hpp"
 #include "caliper/regressor.hpp"
 #include "render/camera.hpp"
+#include "smpl/constants.hpp"
 #include "smpl/gltf.hpp"
 #include "smpl/io.hpp"
 
 namespace caliper::vr {
 namespace {
 
-constexpr float kPi = 3.14159265358979f;
+using smpl::kPiF;
+
+/// The open default model for a sex: "female" and "male" have their own, anything else
+/// (unknown, not given) the neutral one.
+std::string open_model_sex(const std::string& sex) {
+  return (sex == "female" || sex == "male") ? sex : "neutral";
+}
 constexpr double kFlashSeconds = 0.4;   ///< green tip after an accepted sample
 constexpr double kIpd = 0.064;          ///< m, interpupillary distance of the stereo views
 constexpr float kFovYDegrees = 100.0f;  ///< vertical field of view of the stereo views
@@ -31,12 +38,6 @@ constexpr double kMirrorDistance = 1.6;              ///< m in front of the head
 /// The mirror's plane, m in front of the head when the avatar is made (then fixed in the room);
 /// the reflection of the user appears twice as far.
 constexpr double kMirrorPlane = 1.0;
-
-double thread_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 /// Distance of `p` from the segment a-b.
 double segment_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
@@ -87,7 +88,7 @@ void add_circle(render::Scene& scene, const Eigen::Vector3d& centre, double radi
                 const render::Rgba& colour, double fraction = 1.0, int segments = 40) {
   const int n = std::max(1, static_cast<int>(std::ceil(segments * fraction)));
   for (int i = 0; i < n; ++i) {
-    const double a0 = 2.0 * kPi * fraction * i / n, a1 = 2.0 * kPi * fraction * (i + 1) / n;
+    const double a0 = 2.0 * kPiF * fraction * i / n, a1 = 2.0 * kPiF * fraction * (i + 1) / n;
     render::Line l;
     l.a = f3(centre + radius * Eigen::Vector3d(std::sin(a0), 0.0, std::cos(a0)));
     l.b = f3(centre + radius * Eigen::Vector3d(std::sin(a1), 0.0, std::cos(a1)));
@@ -134,9 +135,8 @@ double head_yaw(const Eigen::Quaterniond& head) {
 
 std::shared_ptr<const smpl::BodyModel> load_default_model(const std::string& dir,
                                                           const std::string& sex) {
-  const std::string name = (sex == "female" || sex == "male") ? sex : "neutral";
-  const std::string path = (std::filesystem::path(dir) / ("caliper-" + name + ".npz")).string();
-  return std::make_shared<const smpl::BodyModel>(smpl::load_model(path));
+  return std::make_shared<const smpl::BodyModel>(
+      smpl::load_model(default_model_path(dir, open_model_sex(sex))));
 }
 
 TypedFields typed_fields(const MeasuringSession& session) {
@@ -247,10 +247,7 @@ void VrApp::make_avatar() {
     AvatarOutcome out;
     out.model_path = options_.avatar.model_path;
     if (out.model_path.empty()) {
-      const std::string name = (r.sex == "female" || r.sex == "male") ? r.sex : "neutral";
-      out.model_path =
-          (std::filesystem::path(options_.avatar.models_dir) / ("caliper-" + name + ".npz"))
-              .string();
+      out.model_path = default_model_path(options_.avatar.models_dir, open_model_sex(r.sex));
     }
     out.model = std::make_shared<const smpl::BodyModel>(smpl::load_model(out.model_path));
     const RegressorSet set = options_.avatar.regressors_path.empty()
@@ -516,7 +513,7 @@ void VrApp::add_demo(render::Scene& scene) {
   if (!demo_model_ || !s) return;
   // The reference avatar faces the user (turned by 180 degrees), half size beside the panel.
   const double scale = 0.45;
-  const Eigen::Matrix3d R = Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(kPiF, Eigen::Vector3d::UnitY()).toRotationMatrix();
   const Eigen::Vector3d base =
       kDemoPosition + Eigen::Vector3d(0.0, session_.floor().offset + 0.9, 0.0);
   const auto place = [&](const Eigen::Vector3d& p) {
@@ -628,7 +625,7 @@ void VrApp::add_mirror(render::Scene& scene, bool own_head) {
   // In the mirror: facing the user, kMirrorDistance in front of the head.
   {
     const Eigen::Matrix3d R =
-        Eigen::AngleAxisd(yaw + kPi, Eigen::Vector3d::UnitY()).toRotationMatrix();
+        Eigen::AngleAxisd(yaw + kPiF, Eigen::Vector3d::UnitY()).toRotationMatrix();
     render::MeshInstance inst;
     inst.mesh = h;
     inst.model.block<3, 3>(0, 0) = R.cast<float>();
@@ -736,8 +733,8 @@ std::vector<render::View> VrApp::stereo_views(int eye_width, int eye_height) con
     v.camera.use_matrices = true;
     v.camera.view = pose_matrix(head.orientation, pos).inverse();
     v.camera.projection = render::perspective(
-        kFovYDegrees * kPi / 180.0f, static_cast<float>(eye_width) / static_cast<float>(eye_height),
-        0.05f, 50.0f);
+        kFovYDegrees * kPiF / 180.0f,
+        static_cast<float>(eye_width) / static_cast<float>(eye_height), 0.05f, 50.0f);
     views.push_back(v);
   }
   return views;
@@ -748,14 +745,15 @@ render::View VrApp::first_person_view(int width, int height, float pitch_degrees
   const double yaw = head_yaw(head.orientation);
   // OpenXR looks along -Z: turn by yaw + 180 degrees about Y, then pitch down.
   const Eigen::Quaterniond q =
-      Eigen::Quaterniond(Eigen::AngleAxisd(yaw + kPi, Eigen::Vector3d::UnitY())) *
-      Eigen::Quaterniond(Eigen::AngleAxisd(-pitch_degrees * kPi / 180.0, Eigen::Vector3d::UnitX()));
+      Eigen::Quaterniond(Eigen::AngleAxisd(yaw + kPiF, Eigen::Vector3d::UnitY())) *
+      Eigen::Quaterniond(
+          Eigen::AngleAxisd(-pitch_degrees * kPiF / 180.0, Eigen::Vector3d::UnitX()));
   render::View v;
   v.viewport = {0, 0, width, height};
   v.camera.use_matrices = true;
   v.camera.view = pose_matrix(q, head.position).inverse();
   v.camera.projection =
-      render::perspective(kFovYDegrees * kPi / 180.0f,
+      render::perspective(kFovYDegrees * kPiF / 180.0f,
                           static_cast<float>(width) / static_cast<float>(height), 0.05f, 50.0f);
   return v;
 }

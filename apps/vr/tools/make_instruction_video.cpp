@@ -16,11 +16,12 @@ extern "C" {
 
 #include "panel.hpp"
 #include "render/text.hpp"
+#include "smpl/constants.hpp"
 
 namespace {
 
 constexpr int kWidth = 192, kHeight = 128, kFps = 12, kFrames = 36;
-constexpr double kPi = 3.14159265358979323846;
+using smpl::kPi;
 
 void quad(caliper::render::Image& img, double ax, double ay, double bx, double by,
           double half_width, const unsigned char rgba[4]) {

@@ -20,4 +20,13 @@ std::vector<std::string> assets_dir_candidates();
 /// setting is reported rather than silently replaced by another folder.
 std::optional<std::string> find_assets_dir();
 
+/// The file name of an open default model: "caliper-<sex>.npz" ("caliper-female.npz"). `sex` is
+/// used as given; the caller picks "female", "male" or "neutral" (an unknown sex names a file
+/// that does not exist, which loading then reports).
+std::string default_model_file_name(const std::string& sex);
+
+/// `models_dir` / default_model_file_name(sex), joined as std::filesystem::path joins
+/// ("assets/models" and "male" give "assets/models/caliper-male.npz").
+std::string default_model_path(const std::string& models_dir, const std::string& sex);
+
 }  // namespace caliper

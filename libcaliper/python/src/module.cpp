@@ -11,7 +11,6 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <ctime>
 #include <exception>
 #include <memory>
 #include <optional>
@@ -21,6 +20,7 @@
 #include <vector>
 
 #include "caliper/avatar.hpp"
+#include "caliper/cpu_time.hpp"
 #include "caliper/errors.hpp"
 #include "caliper/inputs.hpp"
 #include "caliper/json.hpp"
@@ -34,6 +34,7 @@
 #include "smpl/export.hpp"
 #include "smpl/gltf.hpp"
 #include "smpl/io.hpp"
+#include "smpl/text.hpp"
 
 #ifndef CALIPER_VERSION
 #define CALIPER_VERSION "0.0.0"
@@ -501,9 +502,7 @@ std::string lower_extension(const std::string& path) {
   const auto slash = path.find_last_of('/');
   const auto dot = path.find_last_of('.');
   if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
-  std::string e = path.substr(dot);
-  for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return e;
+  return smpl::to_lower(path.substr(dot));
 }
 
 /// The asset.extras `caliper create` writes (so that `caliper measure` reads the avatar back).
@@ -581,14 +580,6 @@ py::dict read_gltf(const std::string& path) {
 //    median of `repeats`.
 // ---------------------------------------------------------------------------------------------
 
-/// CPU time of the calling thread, seconds: the machines are shared, so wall time measures the
-/// neighbours as much as the code (docs/performance.md).
-double thread_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
 double median(std::vector<double> t) {
   std::sort(t.begin(), t.end());
   return t.empty() ? 0.0 : t[t.size() / 2];
@@ -601,12 +592,12 @@ double time_create_cpp(const ModelPtr& model, const RegressorsPtr& regressors,
   py::gil_scoped_release release;
   std::vector<double> t;
   for (int i = 0; i < repeats; ++i) {
-    const double t0 = thread_seconds();
+    const double t0 = caliper::thread_cpu_seconds();
     {  // the avatar is freed inside the timed section, as a Python caller's is
       const PyAvatar a = create_avatar(model, *regressors, r);
       if (a.avatar.betas.size() == 0) throw std::runtime_error("no betas");
     }
-    t.push_back(thread_seconds() - t0);
+    t.push_back(caliper::thread_cpu_seconds() - t0);
   }
   return median(t);
 }
@@ -619,12 +610,12 @@ double time_evaluate_typed(const smpl::BodyModel& model, const caliper::python::
   for (int i = 0; i < repeats; ++i) {
     // A fresh uninitialised output per call, as evaluate() allocates its numpy array: a C++
     // caller also needs somewhere to put N x V x 3 results.
-    const double t0 = thread_seconds();
+    const double t0 = caliper::thread_cpu_seconds();
     {
       std::unique_ptr<Out[]> out(new Out[size]);  // freed inside the timed section
       caliper::python::evaluate_many(model, in, out.get(), static_cast<Out*>(nullptr));
     }
-    t.push_back(thread_seconds() - t0);
+    t.push_back(caliper::thread_cpu_seconds() - t0);
   }
   return median(t);
 }

@@ -71,6 +71,9 @@ const std::vector<std::string>& smpl_fbx_bone_names();
 
 /// Checks `options.pose` against the model (empty or 3K finite values); throws ModelError.
 void check_pose(const BodyModel& model, const ExportOptions& options);
+/// As check_pose(model, options), the ModelError's message prefixed with `context` (the file
+/// being written) and ": ".
+void check_pose(const BodyModel& model, const ExportOptions& options, const std::string& context);
 
 /// The exported rest-pose body: shape(model, betas) lifted onto the floor when
 /// options.stand_on_floor. Throws ModelError for too many betas.

@@ -30,6 +30,9 @@ double to_display(const std::string& id, double value_si, UnitSystem units);
 double from_display(const std::string& id, double shown, UnitSystem units);
 /// "cm", "in", "kg", "lb", "L", "ft3".
 std::string unit_label(const std::string& id, UnitSystem units);
+/// The value as the editor shows it: `value_si` in `units` with one decimal, then the unit
+/// ("191.8 cm", "90.3 kg", "70.9 in").
+std::string value_text(const std::string& id, double value_si, UnitSystem units);
 /// The name people read for a measurement id: the paper measurement's label ("Arm span
 /// (fingertips)", "Overall height"), "Weight", "Volume"; any other id is returned as it is.
 std::string measurement_name(const std::string& id);
