@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "smpl/atomic_file.hpp"
+#include "smpl/text.hpp"
 
 namespace modelgen {
 
@@ -79,15 +80,6 @@ std::vector<std::string> split_csv_line(const std::string& line) {
   return out;
 }
 
-std::string lower(std::string s) {
-  for (char& c : s) {
-    if (c >= 'A' && c <= 'Z') {
-      c = static_cast<char>(c - 'A' + 'a');
-    }
-  }
-  return s;
-}
-
 }  // namespace
 
 Eigen::MatrixXd read_survey_columns(const std::string& csv_path,
@@ -118,7 +110,7 @@ Eigen::MatrixXd read_survey_columns(const std::string& csv_path,
   std::vector<int> col(columns.size(), -1);
   for (size_t d = 0; d < columns.size(); ++d) {
     for (int h = 0; h < static_cast<int>(header.size()); ++h) {
-      if (lower(header[h]) == lower(columns[d])) {
+      if (smpl::to_lower(header[h]) == smpl::to_lower(columns[d])) {
         col[d] = h;
       }
     }
