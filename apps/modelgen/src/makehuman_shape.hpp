@@ -90,8 +90,8 @@ FitResult fit_subjects(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
 /// to half) from the registered subjects: v_template the mean registered body, shapedirs the
 /// first `num_betas` principal components of the registered bodies' vertices, scaled so that
 /// betas ~ N(0, I) over the population (fewer when the population varies along fewer
-/// directions: a subject measured on m values is registered within an m-dimensional family); faces, weights, regressor, texture coordinates and
-/// landmarks from `tmpl`.
+/// directions: a subject measured on m values is registered within an m-dimensional family);
+/// faces, weights, regressor, texture coordinates and landmarks from `tmpl`.
 smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
                             const std::vector<Subject>& subjects, const FitResult& fit,
                             const std::string& sex, int num_betas);
