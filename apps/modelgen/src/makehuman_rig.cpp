@@ -418,6 +418,12 @@ std::vector<std::string> default_regressor_targets() {
                   "-young-averagemuscle-averageweight-" + h + "height.target");
     }
   }
+  for (const std::string& m : measure_targets()) t.push_back(m);
+  return t;
+}
+
+std::vector<std::string> measure_targets() {
+  std::vector<std::string> t;
   for (const char* m : {"ankle-circ",       "bust-circ",      "calf-circ",       "frontchest-dist",
                         "hips-circ",        "knee-circ",      "lowerarm-length", "lowerleg-height",
                         "napetowaist-dist", "neck-circ",      "neck-height",     "shoulder-dist",

@@ -83,4 +83,8 @@ smpl::BodyModel template_model(const Assets& assets, const std::vector<std::stri
 /// height extremes and every measure target (paths relative to targets/).
 std::vector<std::string> default_regressor_targets();
 
+/// Every single-measurement target (`measure/measure-*-{decr,incr}.target`: girths, lengths
+/// and distances), paths relative to targets/.
+std::vector<std::string> measure_targets();
+
 }  // namespace modelgen::mh

@@ -137,15 +137,7 @@ std::vector<std::string> direction_names(const std::string& sex) {
                                      "man-rectangle",       "man-thyroid",     "man-trapezoid",
                                      "man-triangle"};
   for (const std::string& s : shapes) d.push_back("bodyshapes/bodyshapes-elvs-" + s + ".target");
-  for (const char* m : {"ankle-circ",       "bust-circ",      "calf-circ",       "frontchest-dist",
-                        "hips-circ",        "knee-circ",      "lowerarm-length", "lowerleg-height",
-                        "napetowaist-dist", "neck-circ",      "neck-height",     "shoulder-dist",
-                        "thigh-circ",       "underbust-circ", "upperarm-circ",   "upperarm-length",
-                        "upperleg-height",  "waist-circ",     "waisttohip-dist", "wrist-circ"}) {
-    for (const char* s : {"decr", "incr"}) {
-      d.push_back(std::string("measure/measure-") + m + "-" + s + ".target");
-    }
-  }
+  for (const std::string& m : measure_targets()) d.push_back(m);
   for (const char* s : {"decr", "incr"}) {
     d.push_back(std::string("stomach/stomach-pregnant-") + s + ".target");
     d.push_back(std::string("buttocks/buttocks-volume-") + s + ".target");
