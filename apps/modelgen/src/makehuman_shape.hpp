@@ -5,12 +5,13 @@
 /// registered bodies per sex (betas ~ N(0, I) over the population).
 ///
 /// The basis: the sex's average body (MakeHuman's base plus the mean of its three young ethnic
-/// targets of that sex) and directions, each the T-posed body of the base plus one target (or a
-/// left/right pair) minus the T-posed base: the young macro corners (muscle x weight), the
-/// height and proportion targets of the average corner, the sex's body-shape targets, every
-/// measure target (incr and decr), and belly, buttock, hip and limb-fat targets. Bodies are
-/// linear in the weights, as SMPL bodies are in betas; the T-pose bake is applied to each target
-/// body once (its joints follow the shape), so the basis is the linearisation at the base.
+/// targets of that sex) and directions, each the T-posed body of that average plus one target
+/// (or a left/right pair) minus the T-posed average: the young macro corners (muscle x weight),
+/// the height and proportion targets of the average corner, the sex's body-shape targets, every
+/// measure target (incr and decr), and belly, buttock, hip and limb-fat targets; each body
+/// centred on its own pelvis joint. Bodies are linear in the weights, as SMPL bodies are in
+/// betas; the T-pose bake is applied to each target body once (its joints follow the shape), so
+/// the basis is the linearisation at the sex's average.
 ///
 /// Fitting: measurements are nearly linear in the weights (the premise of the paper); a linear
 /// surrogate of every measurement is fitted over random bodies of the basis, each subject's
@@ -46,20 +47,20 @@ struct Subject {
 
 /// The measurements fitted, in Subject::values order: height, weight, arm span, crotch height,
 /// shoulder (biacromial) width, hip width, chest, waist (navel level) and hip (buttock)
-/// circumferences.
+/// circumferences, iliac crest height, and the waist at the iliac crest (the NHANES and WHO
+/// waist; the last two are defined in makehuman_shape.cpp, the others are libcaliper's).
 const std::vector<FitMeasure>& fit_measures();
 
-/// ANSUR II subjects of both files under `dir` (stature, weightkg, span, crotchheight,
-/// biacromialbreadth, hipbreadth, chest-, waist- and buttockcircumference) and NHANES subjects
-/// of both development files under `nhanes_dir` (BMXHT, BMXWT, BMXHIP; the NHANES waist is at
-/// the iliac crest, not yet a measurement of the model, and is not used). Throws
-/// std::runtime_error naming the file for a missing or malformed one.
+/// ANSUR II subjects of both files under `ansur_dir` (stature, weightkg, span, crotchheight,
+/// biacromialbreadth, hipbreadth, chest-, waist- and buttockcircumference, iliocristaleheight)
+/// and NHANES subjects of both development files under `nhanes_dir` (BMXHT, BMXWT, BMXHIP,
+/// BMXWAIST). Throws std::runtime_error naming the file for a missing or malformed one.
 std::vector<Subject> read_subjects(const std::string& ansur_dir, const std::string& nhanes_dir);
 
 /// The target basis (see the file comment).
 struct ShapeBasis {
   std::vector<std::string> names;  ///< K direction names (target paths, "a+b" for pairs)
-  std::vector<std::string> sex;    ///< K: "female", "male" or "" (both)
+  std::vector<std::string> sex;    ///< K: the sex whose average the direction was taken at
   smpl::Vertices female_mean;      ///< V x 3, T-posed, metres, origin as the template's
   smpl::Vertices male_mean;
   Eigen::MatrixXd dirs;  ///< 3V x K (row 3 v + c), metres per unit weight
