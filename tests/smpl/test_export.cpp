@@ -8,6 +8,7 @@
 #include <sstream>
 #include <string>
 
+#include "caliper_test/files.hpp"
 #include "caliper_test/matrix_compare.hpp"
 #include "caliper_test/random_model.hpp"
 #include "smpl/export.hpp"
@@ -16,22 +17,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Whole file as bytes (C stdio: GCC 12 warns falsely on istreambuf_iterator under -O3).
-std::string slurp(const fs::path& p) {
-  std::string s;
-  if (FILE* f = std::fopen(p.string().c_str(), "rb")) {
-    char buf[65536];
-    size_t n;
-    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) s.append(buf, n);
-    std::fclose(f);
-  }
-  return s;
-}
+using caliper::test::slurp;
 
 fs::path out_dir() {
-  const fs::path d = fs::path(CALIPER_TEST_DATA_DIR) / "export";
-  fs::create_directories(d);
-  return d;
+  return caliper::test::output_dir(CALIPER_TEST_DATA_DIR, "export");
 }
 
 // A unit cube, 8 vertices, 12 outward triangles.

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <string>
 
+#include "caliper_test/files.hpp"
 #include "caliper_test/matrix_compare.hpp"
 #include "caliper_test/random_model.hpp"
 #include "smpl/evaluate.hpp"
@@ -30,9 +31,7 @@ constexpr double kWeightSumTol = 1e-6;
 constexpr double kHeightTol = 1e-3;
 
 fs::path out_dir() {
-  const fs::path d = fs::path(CALIPER_TEST_DATA_DIR) / "fbx";
-  fs::create_directories(d);
-  return d;
+  return caliper::test::output_dir(CALIPER_TEST_DATA_DIR, "fbx");
 }
 
 const smpl::BodyModel& open_female() {
@@ -41,16 +40,7 @@ const smpl::BodyModel& open_female() {
   return m;
 }
 
-std::string slurp(const fs::path& p) {
-  std::string s;
-  if (FILE* f = std::fopen(p.string().c_str(), "rb")) {
-    char buf[65536];
-    size_t n;
-    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) s.append(buf, n);
-    std::fclose(f);
-  }
-  return s;
-}
+using caliper::test::slurp;
 
 // The bind joints of `read` in the order of `names` (Assimp lists bones by name).
 smpl::Joints by_name(const smpl::FbxAvatar& read, const std::vector<std::string>& names) {

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "caliper_test/files.hpp"
 #include "caliper_test/matrix_compare.hpp"
 #include "caliper_test/random_model.hpp"
 #include "smpl/evaluate.hpp"
@@ -25,22 +26,10 @@ constexpr double kFloatTol = 2.5e-7;
 // Renormalised weights are float32 in [0, 1]: rounding 6e-8, the sum fix-up adds one more ulp.
 constexpr double kWeightTol = 2e-7;
 
-// Whole file as bytes (C stdio: GCC 12 warns falsely on istreambuf_iterator under -O3).
-std::string slurp(const fs::path& p) {
-  std::string s;
-  if (FILE* f = std::fopen(p.string().c_str(), "rb")) {
-    char buf[65536];
-    size_t n;
-    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) s.append(buf, n);
-    std::fclose(f);
-  }
-  return s;
-}
+using caliper::test::slurp;
 
 fs::path out_dir() {
-  const fs::path d = fs::path(CALIPER_TEST_DATA_DIR) / "gltf";
-  fs::create_directories(d);
-  return d;
+  return caliper::test::output_dir(CALIPER_TEST_DATA_DIR, "gltf");
 }
 
 const smpl::BodyModel& model24() {

@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "caliper_test/files.hpp"
 #include "caliper_test/random_model.hpp"
 #include "node_tools.hpp"
 #include "smpl/avatar_export.hpp"
@@ -39,22 +40,10 @@ constexpr double kMorphTol = 1e-8;
 // Renormalised skin weights are float32 in [0, 1]; FBX keeps every weight as float32.
 constexpr double kWeightTol = 2e-7;
 
-// Whole file as bytes (C stdio: GCC 12 warns falsely on istreambuf_iterator under -O3).
-std::string slurp(const fs::path& p) {
-  std::string s;
-  if (FILE* f = std::fopen(p.string().c_str(), "rb")) {
-    char buf[65536];
-    size_t n;
-    while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) s.append(buf, n);
-    std::fclose(f);
-  }
-  return s;
-}
+using caliper::test::slurp;
 
 fs::path out_dir() {
-  const fs::path d = fs::path(CALIPER_TEST_DATA_DIR) / "texcoords";
-  fs::create_directories(d);
-  return d;
+  return caliper::test::output_dir(CALIPER_TEST_DATA_DIR, "texcoords");
 }
 
 // FNV-1a, 64 bits: a fingerprint of a file's bytes.
