@@ -139,8 +139,9 @@ TEST(MakeHumanShape, PrincipalComponentsReproduceThePopulation) {
   REQUIRE_DATA();
   const Registered& s = setup();
   const smpl::BodyModel m = mh::shape_model(s.basis, s.tmpl, s.subjects, s.fit, "female", 16);
-  // The women are registered from 10 (ANSUR II) and 4 (NHANES) measurements: a population
-  // within an 11-dimensional family at most (10 directions and the NHANES prior's mean).
+  // The women are registered from 10 (ANSUR II) and 4 (NHANES) measurements: the ANSUR II fits
+  // span 10 directions, and the NHANES fits move within them (their prior's covariance is the
+  // ANSUR II fits', up to a small floor) plus the prior's offset: 10 or 11 components.
   const int kBetas = m.num_betas();
   EXPECT_GE(kBetas, 10);
   EXPECT_LE(kBetas, 11);
