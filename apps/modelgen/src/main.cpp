@@ -11,6 +11,7 @@
 #include <exception>
 #include <fstream>
 #include <iostream>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -54,8 +55,14 @@ void write_makehuman_shape_models(const modelgen::mh::Assets& assets, const smpl
   };
   const auto t0 = std::chrono::steady_clock::now();
   const mh::ShapeBasis basis = mh::shape_basis(assets, tmpl);
-  const std::vector<mh::Subject> subjects =
-      mh::read_subjects(survey_dir + "/ansur2", survey_dir + "/nhanes");
+  std::vector<mh::Subject> subjects;
+  try {
+    subjects = mh::read_subjects(survey_dir + "/ansur2", survey_dir + "/nhanes");
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(
+        std::string(e.what()) +
+        " (give the folder that holds ansur2/ and nhanes/ with --surveys DIR)");
+  }
   if (!quiet) {
     std::printf("basis: %zu directions, %zu subjects, %.1f s\n", basis.names.size(),
                 subjects.size(), seconds(t0));
