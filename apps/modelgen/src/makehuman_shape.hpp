@@ -16,9 +16,10 @@
 /// Fitting: measurements are nearly linear in the weights (the premise of the paper); a linear
 /// surrogate of every measurement is fitted over random bodies of the basis, each subject's
 /// weights are solved against it (weighted least squares with a Gaussian prior on each weight),
-/// and then corrected twice with the true measurements of the fitted body (the surrogate's error
-/// at that body subtracted from the targets). Subjects measured in part (NHANES) take the fitted
-/// population of the fully measured ones (ANSUR II) as their prior. Units: metres, kilograms.
+/// and then corrected four times with the true measurements of the fitted body (the surrogate's
+/// error at that body subtracted from the targets). Subjects measured in part (NHANES) take the
+/// fitted population of the fully measured ones (ANSUR II) as their prior. Units: metres,
+/// kilograms.
 #pragma once
 
 #include <string>
@@ -47,12 +48,14 @@ struct Subject {
 
 /// The measurements fitted, in Subject::values order: height, weight, arm span, crotch height,
 /// shoulder (biacromial) width, hip width, chest, waist (navel level) and hip (buttock)
-/// circumferences, iliac crest height, and the waist at the iliac crest (the NHANES and WHO
-/// waist; the last two are defined in makehuman_shape.cpp, the others are libcaliper's).
+/// circumferences, iliac crest height, the waist at the iliac crest (the NHANES and WHO waist),
+/// neck, thigh (gluteal furrow), calf, ankle and wrist circumferences and knee height (from the
+/// iliac crest height on defined in makehuman_measures.hpp, the others are libcaliper's).
 const std::vector<FitMeasure>& fit_measures();
 
 /// ANSUR II subjects of both files under `ansur_dir` (stature, weightkg, span, crotchheight,
-/// biacromialbreadth, hipbreadth, chest-, waist- and buttockcircumference, iliocristaleheight)
+/// biacromialbreadth, hipbreadth, chest-, waist- and buttockcircumference, iliocristaleheight,
+/// neck-, thigh-, calf-, ankle- and wristcircumference, lateralfemoralepicondyleheight)
 /// and NHANES subjects of both development files under `nhanes_dir` (BMXHT, BMXWT, BMXHIP,
 /// BMXWAIST). Throws std::runtime_error naming the file for a missing or malformed one.
 std::vector<Subject> read_subjects(const std::string& ansur_dir, const std::string& nhanes_dir);

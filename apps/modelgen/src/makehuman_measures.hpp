@@ -1,0 +1,74 @@
+/// \file makehuman_measures.hpp
+/// The survey measurements the open model v2 is fitted on (fit_measures() ids), taken on a
+/// T-posed body of the MakeHuman topology (issue 11). The paper's measurements, the weight from
+/// the volume and the chest, waist (navel) and hip circumferences are the library's
+/// (caliper::measure(), caliper::circumferences()); the others are defined here, each as a rule
+/// on the T-posed average body of the sex found once, then followed on every body through the
+/// topology's vertices (a landmark vertex gives a height or a plane):
+/// - iliac_crest_height: the average body's lateral torso vertex at ANSUR II's mean iliocristale
+///   height / stature (0.608), above the floor;
+/// - waist_iliac_circumference: the torso's girth at the iliac crest (NHANES's and the WHO's
+///   waist);
+/// - neck_circumference: the narrowest girth of the neck below the jaw (slices from 2 cm under to
+///   3 cm over the average body's narrowest neck level, which lies between the SMPL neck and head
+///   joints; ANSUR II: just below the laryngeal prominence);
+/// - thigh_circumference: ANSUR II's definition, at the lowest point of the gluteal furrow (the
+///   average body's buttock fold: where the back of the leg turns from buttock to thigh), the left
+///   thigh's girth; where the thighs touch, the tape closes along the body's midline plane;
+/// - calf_circumference: the left calf's largest horizontal girth (the average body's level);
+/// - ankle_circumference: the left leg's smallest horizontal girth between 3 cm above the ankle
+///   joint and the calf (the average body's level; ANSUR II: the minimum above the malleoli);
+/// - wrist_circumference: the girth of the left forearm's slice perpendicular to the T-posed arm
+///   through the wrist landmark (ANSUR II: at the styloid processes);
+/// - knee_height: the lateral vertex of the left knee at the SMPL knee joint above the floor
+///   (ANSUR II's lateral femoral epicondyle height).
+/// Girths are tape measures: the perimeter of the convex hull of the slice.
+#pragma once
+
+#include <string>
+
+#include <Eigen/Core>
+
+#include "caliper/measurements.hpp"
+#include "caliper/weight.hpp"
+#include "smpl/body_model.hpp"
+
+namespace modelgen::mh {
+
+/// The vertices that carry the rules above (indices into the topology's vertices).
+struct SurveyVertices {
+  int iliac_crest = -1;    ///< left lateral torso vertex at the iliac crest
+  int neck_front = -1;     ///< front midline vertex of the neck at the neck girth's level
+  int gluteal_fold = -1;   ///< back of the left leg at the buttock fold
+  int calf_back = -1;      ///< back of the left calf at its largest girth
+  int ankle_back = -1;     ///< back of the left ankle at its smallest girth
+  int knee_lateral = -1;   ///< lateral vertex of the left knee at the knee joint
+  double midline_x = 0.0;  ///< the body's midline (mean x of the hip joints)
+};
+
+/// Finds the SurveyVertices on the T-posed body `t` (faces `f`, SMPL joint regressor
+/// `j_regressor`, landmark table of caliper::landmarks_for). Throws std::runtime_error naming the
+/// rule when no vertex fits it.
+SurveyVertices survey_vertices(const smpl::Vertices& t, const smpl::Faces& f,
+                               const smpl::SparseMatrix& j_regressor,
+                               const caliper::LandmarkTable& landmarks);
+
+/// The fit_measures() of bodies of one model and sex, in fit_measures() order (metres, kg); NaN
+/// where a measurement cannot be taken on a body. The rules are placed once on `rest`, a T-posed
+/// body of the sex on `tmpl`'s topology (its average: the fold under the buttock, say, lies
+/// 16 mm under the crotch on MakeHuman's base mesh and 48 mm on its average woman); `tmpl`
+/// supplies the faces, the joint regressor and the landmarks.
+struct Measurer {
+  Measurer(const smpl::BodyModel& tmpl, const smpl::Vertices& rest, const std::string& sex);
+  Eigen::VectorXd operator()(const smpl::Vertices& v) const;
+
+  const smpl::Faces& faces;
+  caliper::LandmarkTable landmarks;
+  caliper::WeightFormula formula;
+  SurveyVertices at;
+  smpl::Faces neck_faces;   ///< the faces of the neck region (the neck slices cut)
+  smpl::Faces leg_faces;    ///< the faces below the crotch (the leg slices cut)
+  smpl::Faces wrist_faces;  ///< the faces of the left forearm's end and hand
+};
+
+}  // namespace modelgen::mh

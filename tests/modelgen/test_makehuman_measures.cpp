@@ -1,0 +1,111 @@
+/// \file test_makehuman_measures.cpp
+/// The survey measurements the open model v2 is fitted on (makehuman_measures.hpp): on the
+/// average woman and man of MakeHuman's targets, each new definition gives a value in proportion
+/// to stature near ANSUR II's (a misplaced rule, a slice meeting another limb or a wrong loop
+/// gives tens of percent), and a left and a right girth agree on the symmetric body.
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "caliper/measurements.hpp"
+#include "makehuman_measures.hpp"
+#include "makehuman_rig.hpp"
+#include "makehuman_shape.hpp"
+
+namespace {
+
+const std::string kMh = CALIPER_MAKEHUMAN_DIR;
+namespace mh = modelgen::mh;
+
+struct Template {
+  mh::Assets assets;
+  smpl::BodyModel tmpl;
+  mh::ShapeBasis basis;
+};
+
+const Template& setup() {
+  static const Template s = [] {
+    Template x;
+    x.assets = mh::read_assets(kMh);
+    x.tmpl = mh::template_model(x.assets, mh::default_regressor_targets());
+    x.basis = mh::shape_basis(x.assets, x.tmpl);
+    return x;
+  }();
+  return s;
+}
+
+int index_of(const std::string& id) {
+  for (size_t i = 0; i < mh::fit_measures().size(); ++i) {
+    if (mh::fit_measures()[i].id == id) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+/// Mean measurement / stature of ANSUR II (both files, 2026-11-25: python over the CSVs), per
+/// sex: the average MakeHuman body is an average adult, so its proportions should be near.
+const std::map<std::string, std::pair<double, double>> kAnsurRatio = {
+    {"neck_circumference", {0.2027, 0.2267}},  {"thigh_circumference", {0.3785, 0.3562}},
+    {"calf_circumference", {0.2293, 0.2235}},  {"wrist_circumference", {0.0951, 0.1002}},
+    {"ankle_circumference", {0.1326, 0.1307}}, {"knee_height", {0.2860, 0.2799}}};
+
+/// How far the average MakeHuman body's proportions may be from the soldiers'. MakeHuman's
+/// average is not ANSUR II's: its woman has slender wrists (-18 %), thighs (-13 %), ankles (-13 %)
+/// and neck (-10 %). A wrong loop or level is off by far more: the first neck rule (halfway up
+/// the neck, nearest loop) measured the mouth, -31 % and -40 %.
+constexpr double kRatioTolerance = 0.20;
+
+TEST(MakeHumanMeasures, AverageBodiesHaveSoldierLikeProportions) {
+  if (!std::ifstream(kMh + "/3dobjs/base.obj")) GTEST_SKIP() << "MakeHuman assets not found";
+  const Template& s = setup();
+  for (const std::string sex : {"female", "male"}) {
+    const mh::Measurer measure(s.tmpl, sex == "female" ? s.basis.female_mean : s.basis.male_mean,
+                               sex);
+    const Eigen::VectorXd w =
+        Eigen::VectorXd::Zero(static_cast<Eigen::Index>(s.basis.names.size()));
+    const Eigen::VectorXd m = measure(s.basis.body(sex, w));
+    const double height = m[index_of("height")];
+    for (const auto& [id, ratios] : kAnsurRatio) {
+      const int i = index_of(id);
+      ASSERT_GE(i, 0) << id;
+      const double ansur = sex == "female" ? ratios.first : ratios.second;
+      const double ratio = m[i] / height;
+      std::printf("%-7s %-22s %.1f mm  ratio %.4f  ANSUR II %.4f\n", sex.c_str(), id.c_str(),
+                  m[i] * 1000.0, ratio, ansur);
+      EXPECT_NEAR(ratio / ansur, 1.0, kRatioTolerance) << sex << " " << id;
+    }
+  }
+}
+
+}  // namespace
+
+// The levels the rules found on the template are where anthropometry puts them: the gluteal
+// fold a few centimetres under the crotch, the calf's largest girth in the upper half of the
+// lower leg, the ankle's smallest above the malleoli, the neck's narrowest under the jaw.
+TEST(MakeHumanMeasures, RuleLevelsAreAnatomical) {
+  if (!std::ifstream(kMh + "/3dobjs/base.obj")) GTEST_SKIP() << "MakeHuman assets not found";
+  const Template& s = setup();
+  const mh::Measurer m(s.tmpl, s.basis.female_mean, "female");
+  const smpl::Vertices& t = s.basis.female_mean;
+  const double floor = t.col(1).minCoeff();
+  const double height = t.col(1).maxCoeff() - floor;
+  const double crotch = caliper::landmark_point(t, m.landmarks.at("crotch")).y();
+  const double fold_drop = crotch - t(m.at.gluteal_fold, 1);
+  EXPECT_GT(fold_drop, 0.02);
+  EXPECT_LT(fold_drop, 0.08);
+  const double knee = t(m.at.knee_lateral, 1) - floor;
+  const double calf = t(m.at.calf_back, 1) - floor;
+  const double ankle = t(m.at.ankle_back, 1) - floor;
+  EXPECT_GT(calf, 0.5 * knee);  // upper half of the lower leg
+  EXPECT_LT(calf, knee);
+  EXPECT_GT(ankle, 0.04 * height);  // above the malleoli (about 4 % of stature)
+  EXPECT_LT(ankle, calf);
+  const double neck = t(m.at.neck_front, 1) - floor;
+  EXPECT_GT(neck / height, 0.80);  // under the chin (about 0.87 H), over the shoulders (0.82 H)
+  EXPECT_LT(neck / height, 0.90);
+  std::printf(
+      "fold %.1f mm under the crotch; knee %.3f H, calf %.3f H, ankle %.3f H, neck %.3f H\n",
+      fold_drop * 1000.0, knee / height, calf / height, ankle / height, neck / height);
+}
