@@ -120,19 +120,15 @@ class Builder final : public nlohmann::json_sax<Ordered> {
   /// `read_to` points at the end of what the lexer has read of the text that starts at `begin`.
   Builder(const char* begin, const char* const* read_to) : begin_(begin), read_to_(read_to) {}
 
-  bool null() override { return put(Json()) != nullptr; }
-  bool boolean(bool b) override { return put(Json(b)) != nullptr; }
-  bool number_integer(number_integer_t i) override {
-    return put(Json(static_cast<double>(i))) != nullptr;
-  }
+  bool null() override { return scalar(Json()); }
+  bool boolean(bool b) override { return scalar(Json(b)); }
+  bool number_integer(number_integer_t i) override { return scalar(Json(static_cast<double>(i))); }
   bool number_unsigned(number_unsigned_t u) override {
-    return put(Json(static_cast<double>(u))) != nullptr;
+    return scalar(Json(static_cast<double>(u)));
   }
   // nlohmann refuses numbers that overflow a double (error 406) before they get here.
-  bool number_float(number_float_t d, const string_t& /*text*/) override {
-    return put(Json(d)) != nullptr;
-  }
-  bool string(string_t& s) override { return put(Json(std::move(s))) != nullptr; }
+  bool number_float(number_float_t d, const string_t& /*text*/) override { return scalar(Json(d)); }
+  bool string(string_t& s) override { return scalar(Json(std::move(s))); }
   bool binary(binary_t& /*bytes*/) override { return false; }  // not produced by JSON text
   bool start_object(std::size_t /*size*/) override { return open(Json::object()); }
   bool key(string_t& k) override {
@@ -179,6 +175,11 @@ class Builder final : public nlohmann::json_sax<Ordered> {
     return &parent.set(key_, std::move(v));
   }
 
+  bool scalar(Json v) {
+    put(std::move(v));
+    return true;
+  }
+
   bool open(Json container) {
     if (open_.size() > kMaxDepth) {
       error_ = "nesting deeper than " + std::to_string(kMaxDepth) + " levels";
@@ -198,8 +199,6 @@ class Builder final : public nlohmann::json_sax<Ordered> {
   std::string error_;
   size_t error_at_ = 0;
 };
-
-Ordered to_ordered(const Json& v);
 
 Ordered number_to_ordered(double d) {
   if (!std::isfinite(d)) throw JsonError("cannot write NaN or infinity as JSON");
