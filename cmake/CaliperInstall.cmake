@@ -37,10 +37,10 @@ install(FILES ${CMAKE_CURRENT_BINARY_DIR}/VirtualCaliperConfig.cmake
 # pkg-config: one file for the three libraries, relocatable (prefix from the file's own folder,
 # so `cmake --install build --prefix P` works for any P). The libraries are static, so their link
 # dependencies are in Requires (not Requires.private): plain `pkg-config --libs` links.
-set(CALIPER_PC_REQUIRES "eigen3 zlib")
+set(CALIPER_PC_REQUIRES "eigen3 zlib nlohmann_json")
 set(CALIPER_PC_LIBS "-lcaliper -lsmpl")
 if(CALIPER_HAVE_GLTF)
-  set(CALIPER_PC_REQUIRES "${CALIPER_PC_REQUIRES} tinygltf nlohmann_json")
+  set(CALIPER_PC_REQUIRES "${CALIPER_PC_REQUIRES} tinygltf")
   set(CALIPER_PC_LIBS "-lcaliper -lsmpl_gltf -lsmpl")
 endif()
 file(RELATIVE_PATH CALIPER_PC_TO_PREFIX /${CMAKE_INSTALL_LIBDIR}/pkgconfig /)

@@ -1,16 +1,32 @@
-// A small JSON reader and writer (RFC 8259) for the project's own files.
+// caliper::Json on nlohmann-json: reading is nlohmann's SAX parser feeding the value below,
+// writing is nlohmann::ordered_json's serialiser. What stays here is the typed access the
+// project's readers use (errors that say what was expected and what was found) and the limits a
+// hostile file must not pass (nesting depth).
 #include "caliper/json.hpp"
+
+#include <nlohmann/json.hpp>
 
 #include "smpl/atomic_file.hpp"
 #include "smpl/text.hpp"
 
+#include <cctype>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
+#include <cstdint>
+#include <iterator>
 #include <limits>
 
 namespace caliper {
 namespace {
+
+using Ordered = nlohmann::ordered_json;
+
+/// Deeper nesting is refused: no honest file of the project comes near, and a hostile one must
+/// not make later recursive code (dump, the readers) run out of stack.
+constexpr size_t kMaxDepth = 256;
+
+/// Integral numbers below this magnitude are written without a fraction ("3", not "3.0"), as the
+/// project's files always have been; every integer up to it is exact in a double.
+constexpr double kWriteAsIntegerBelow = 1e15;
 
 const char* type_name(Json::Type t) {
   switch (t) {
@@ -34,298 +50,191 @@ const char* type_name(Json::Type t) {
   throw JsonError(std::string("expected ") + expected + ", found " + type_name(found));
 }
 
-void append_escaped(std::string& out, const std::string& s) {
-  out += '"';
-  for (unsigned char c : s) {
-    switch (c) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      case '\n':
-        out += "\\n";
-        break;
-      case '\r':
-        out += "\\r";
-        break;
-      case '\t':
-        out += "\\t";
-        break;
-      case '\b':
-        out += "\\b";
-        break;
-      case '\f':
-        out += "\\f";
-        break;
-      default:
-        if (c < 0x20) {
-          char buf[8];
-          std::snprintf(buf, sizeof buf, "\\u%04x", c);
-          out += buf;
-        } else {
-          out += static_cast<char>(c);
-        }
-    }
-  }
-  out += '"';
-}
-
-void append_number(std::string& out, double d) {
-  if (!std::isfinite(d)) throw JsonError("cannot write NaN or infinity as JSON");
-  if (d == std::floor(d) && std::fabs(d) < 1e15) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.0f", d);
-    out += buf;
-    return;
-  }
-  // Shortest of %.15g / %.17g that round-trips.
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.15g", d);
-  if (std::strtod(buf, nullptr) != d) std::snprintf(buf, sizeof buf, "%.17g", d);
-  out += buf;
-}
-
-class Parser {
+/// A character iterator over the text that records how far nlohmann's lexer has read, so that an
+/// error the builder raises (too deep) can say where it is.
+class TrackedIterator {
  public:
-  explicit Parser(const std::string& text) : s_(text) {}
+  using iterator_category = std::forward_iterator_tag;
+  using value_type = char;
+  using difference_type = std::ptrdiff_t;
+  using pointer = const char*;
+  using reference = const char&;
 
-  Json parse_document() {
-    skip_ws();
-    Json v = parse_value(0);
-    skip_ws();
-    if (pos_ != s_.size()) fail("unexpected text after the JSON value");
-    return v;
+  TrackedIterator(const char* at, const char** read_to) : at_(at), read_to_(read_to) {}
+  reference operator*() const { return *at_; }
+  TrackedIterator& operator++() {
+    *read_to_ = ++at_;
+    return *this;
   }
+  TrackedIterator operator++(int) {
+    TrackedIterator before = *this;
+    ++*this;
+    return before;
+  }
+  bool operator==(const TrackedIterator& o) const { return at_ == o.at_; }
+  bool operator!=(const TrackedIterator& o) const { return at_ != o.at_; }
 
  private:
-  static constexpr int kMaxDepth = 256;
+  const char* at_;
+  const char** read_to_;
+};
 
-  [[noreturn]] void fail(const std::string& what) const {
-    int line = 1, col = 1;
-    for (size_t i = 0; i < pos_ && i < s_.size(); ++i) {
-      if (s_[i] == '\n') {
-        ++line;
-        col = 1;
-      } else {
-        ++col;
-      }
-    }
-    throw JsonError(
-        "line " + std::to_string(line) + ", column " + std::to_string(col) + ": " + what, line,
-        col);
-  }
-
-  void skip_ws() {
-    while (pos_ < s_.size() &&
-           (s_[pos_] == ' ' || s_[pos_] == '\t' || s_[pos_] == '\n' || s_[pos_] == '\r')) {
-      ++pos_;
+/// 1-based line and column of the character at byte `index` of `text`.
+std::pair<int, int> line_and_column(const std::string& text, size_t index) {
+  index = std::min(index, text.size());
+  int line = 1;
+  size_t line_start = 0;
+  for (size_t i = 0; i < index; ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      line_start = i + 1;
     }
   }
+  return {line, static_cast<int>(index - line_start) + 1};
+}
 
-  bool consume_literal(const char* lit) {
-    size_t n = std::char_traits<char>::length(lit);
-    if (s_.compare(pos_, n, lit) == 0) {
-      pos_ += n;
-      return true;
-    }
+/// nlohmann's message without its "[json.exception.parse_error.101] parse error at line 3,
+/// column 14: " prefix (the position is given in the project's own form instead).
+std::string without_prefix(std::string what) {
+  const size_t tag_end = what.find("] ");
+  if (what.rfind("[json.exception.", 0) == 0 && tag_end != std::string::npos)
+    what.erase(0, tag_end + 2);
+  if (what.rfind("parse error", 0) == 0) {
+    const size_t colon = what.find(": ");
+    if (colon != std::string::npos) what.erase(0, colon + 2);
+  }
+  return what;
+}
+
+/// Whether the lexer stopped at the first letter of NaN or Infinity (it reports what it read).
+bool names_nan_or_infinity(const std::string& last_read) {
+  const size_t n = last_read.size();
+  if (n == 0 || (last_read[n - 1] != 'N' && last_read[n - 1] != 'I')) return false;
+  return n == 1 || !std::isalpha(static_cast<unsigned char>(last_read[n - 2]));
+}
+
+/// Builds a Json from nlohmann's SAX events. Duplicate keys: the last value wins, in the first
+/// position (Json::set), in constant time, so that reading is linear in the size of the text.
+class Builder final : public nlohmann::json_sax<Ordered> {
+ public:
+  /// `read_to` points at the end of what the lexer has read of the text that starts at `begin`.
+  Builder(const char* begin, const char* const* read_to) : begin_(begin), read_to_(read_to) {}
+
+  bool null() override { return scalar(Json()); }
+  bool boolean(bool b) override { return scalar(Json(b)); }
+  bool number_integer(number_integer_t i) override { return scalar(Json(static_cast<double>(i))); }
+  bool number_unsigned(number_unsigned_t u) override {
+    return scalar(Json(static_cast<double>(u)));
+  }
+  // nlohmann refuses numbers that overflow a double (error 406) before they get here.
+  bool number_float(number_float_t d, const string_t& /*text*/) override { return scalar(Json(d)); }
+  bool string(string_t& s) override { return scalar(Json(std::move(s))); }
+  bool binary(binary_t& /*bytes*/) override { return false; }  // not produced by JSON text
+  bool start_object(std::size_t /*size*/) override { return open(Json::object()); }
+  bool key(string_t& k) override {
+    key_ = std::move(k);
+    return true;
+  }
+  bool end_object() override {
+    open_.pop_back();
+    return true;
+  }
+  bool start_array(std::size_t /*size*/) override { return open(Json::array()); }
+  bool end_array() override {
+    open_.pop_back();
+    return true;
+  }
+  bool parse_error(std::size_t position, const std::string& last_token,
+                   const nlohmann::detail::exception& e) override {
+    constexpr int kNumberOverflow = 406;  // nlohmann's out_of_range.406
+    error_ =
+        e.id == kNumberOverflow ? "number out of range: " + last_token : without_prefix(e.what());
+    if (names_nan_or_infinity(last_token))
+      error_ += " (NaN and Infinity are not valid JSON numbers)";
+    error_at_ = position;
     return false;
   }
 
-  Json parse_value(int depth) {
-    if (depth > kMaxDepth) fail("nesting deeper than 256 levels");
-    if (pos_ >= s_.size()) fail("unexpected end of text, expected a value");
-    const char c = s_[pos_];
-    if (c == '{') return parse_object(depth);
-    if (c == '[') return parse_array(depth);
-    if (c == '"') return Json(parse_string());
-    if (c == 't') {
-      if (consume_literal("true")) return Json(true);
-      fail("invalid literal");
+  Json& result() { return root_; }
+  const std::string& error() const { return error_; }
+  /// Number of characters read when the error was found (its last character is the culprit).
+  size_t error_at() const { return error_at_; }
+
+ private:
+  /// Adds `v` to the innermost open array or object (or makes it the result); returns where it is.
+  Json* put(Json v) {
+    if (open_.empty()) {
+      root_ = std::move(v);
+      return &root_;
     }
-    if (c == 'f') {
-      if (consume_literal("false")) return Json(false);
-      fail("invalid literal");
+    Json& parent = *open_.back();
+    if (parent.is_array()) {
+      parent.push_back(std::move(v));
+      return &parent.as_array().back();
     }
-    if (c == 'n') {
-      if (consume_literal("null")) return Json();
-      fail("invalid literal");
-    }
-    if (c == '-' || (c >= '0' && c <= '9')) return Json(parse_number());
-    if (c == 'N' || c == 'I') fail("NaN and Infinity are not valid JSON numbers");
-    fail(std::string("unexpected character '") + c + "'");
+    return &parent.set(key_, std::move(v));
   }
 
-  double parse_number() {
-    const size_t start = pos_;
-    if (s_[pos_] == '-') ++pos_;
-    auto digits = [&] {
-      size_t d = 0;
-      while (pos_ < s_.size() && s_[pos_] >= '0' && s_[pos_] <= '9') {
-        ++pos_;
-        ++d;
-      }
-      return d;
-    };
-    if (pos_ < s_.size() && s_[pos_] == '0') {
-      ++pos_;
-    } else if (digits() == 0) {
-      fail("invalid number");
-    }
-    if (pos_ < s_.size() && s_[pos_] == '.') {
-      ++pos_;
-      if (digits() == 0) fail("invalid number: digits expected after '.'");
-    }
-    if (pos_ < s_.size() && (s_[pos_] == 'e' || s_[pos_] == 'E')) {
-      ++pos_;
-      if (pos_ < s_.size() && (s_[pos_] == '+' || s_[pos_] == '-')) ++pos_;
-      if (digits() == 0) fail("invalid number: digits expected in the exponent");
-    }
-    const std::string token = s_.substr(start, pos_ - start);
-    const double d = std::strtod(token.c_str(), nullptr);
-    if (!std::isfinite(d)) fail("number out of range: " + token);
-    return d;
+  bool scalar(Json v) {
+    put(std::move(v));
+    return true;
   }
 
-  unsigned parse_hex4() {
-    if (pos_ + 4 > s_.size()) fail("truncated \\u escape");
-    unsigned v = 0;
-    for (int i = 0; i < 4; ++i) {
-      const char h = s_[pos_++];
-      v <<= 4;
-      if (h >= '0' && h <= '9')
-        v |= static_cast<unsigned>(h - '0');
-      else if (h >= 'a' && h <= 'f')
-        v |= static_cast<unsigned>(h - 'a' + 10);
-      else if (h >= 'A' && h <= 'F')
-        v |= static_cast<unsigned>(h - 'A' + 10);
-      else
-        fail("invalid hex digit in \\u escape");
+  bool open(Json container) {
+    if (open_.size() > kMaxDepth) {
+      error_ = "nesting deeper than " + std::to_string(kMaxDepth) + " levels";
+      error_at_ = static_cast<size_t>(*read_to_ - begin_);
+      return false;
     }
-    return v;
+    // Pointers into a parent stay valid: a parent gets no new member while a child is open.
+    open_.push_back(put(std::move(container)));
+    return true;
   }
 
-  std::string parse_string() {
-    ++pos_;  // opening quote
-    std::string out;
-    while (true) {
-      if (pos_ >= s_.size()) fail("unterminated string");
-      const char c = s_[pos_++];
-      if (c == '"') break;
-      if (static_cast<unsigned char>(c) < 0x20) fail("control character in string");
-      if (c != '\\') {
-        out += c;
-        continue;
-      }
-      if (pos_ >= s_.size()) fail("unterminated escape");
-      const char e = s_[pos_++];
-      switch (e) {
-        case '"':
-          out += '"';
-          break;
-        case '\\':
-          out += '\\';
-          break;
-        case '/':
-          out += '/';
-          break;
-        case 'b':
-          out += '\b';
-          break;
-        case 'f':
-          out += '\f';
-          break;
-        case 'n':
-          out += '\n';
-          break;
-        case 'r':
-          out += '\r';
-          break;
-        case 't':
-          out += '\t';
-          break;
-        case 'u': {
-          unsigned cp = parse_hex4();
-          if (cp >= 0xD800 && cp <= 0xDBFF) {
-            if (pos_ + 2 <= s_.size() && s_[pos_] == '\\' && s_[pos_ + 1] == 'u') {
-              pos_ += 2;
-              const unsigned lo = parse_hex4();
-              if (lo < 0xDC00 || lo > 0xDFFF) fail("invalid surrogate pair");
-              cp = 0x10000 + ((cp - 0xD800) << 10) + (lo - 0xDC00);
-            } else {
-              fail("unpaired surrogate");
-            }
-          }
-          smpl::append_utf8(out, cp);
-          break;
-        }
-        default:
-          fail(std::string("invalid escape '\\") + e + "'");
-      }
-    }
-    return out;
-  }
-
-  Json parse_array(int depth) {
-    ++pos_;
-    Json arr = Json::array();
-    skip_ws();
-    if (pos_ < s_.size() && s_[pos_] == ']') {
-      ++pos_;
-      return arr;
-    }
-    while (true) {
-      skip_ws();
-      arr.push_back(parse_value(depth + 1));
-      skip_ws();
-      if (pos_ >= s_.size()) fail("unterminated array");
-      if (s_[pos_] == ',') {
-        ++pos_;
-        continue;
-      }
-      if (s_[pos_] == ']') {
-        ++pos_;
-        return arr;
-      }
-      fail("expected ',' or ']' in array");
-    }
-  }
-
-  Json parse_object(int depth) {
-    ++pos_;
-    Json obj = Json::object();
-    skip_ws();
-    if (pos_ < s_.size() && s_[pos_] == '}') {
-      ++pos_;
-      return obj;
-    }
-    while (true) {
-      skip_ws();
-      if (pos_ >= s_.size() || s_[pos_] != '"') fail("expected a string key in object");
-      std::string key = parse_string();
-      skip_ws();
-      if (pos_ >= s_.size() || s_[pos_] != ':') fail("expected ':' after object key");
-      ++pos_;
-      skip_ws();
-      obj.set(key, parse_value(depth + 1));
-      skip_ws();
-      if (pos_ >= s_.size()) fail("unterminated object");
-      if (s_[pos_] == ',') {
-        ++pos_;
-        continue;
-      }
-      if (s_[pos_] == '}') {
-        ++pos_;
-        return obj;
-      }
-      fail("expected ',' or '}' in object");
-    }
-  }
-
-  const std::string& s_;
-  size_t pos_ = 0;
+  const char* begin_;
+  const char* const* read_to_;
+  Json root_;
+  std::vector<Json*> open_;
+  std::string key_;
+  std::string error_;
+  size_t error_at_ = 0;
 };
+
+Ordered number_to_ordered(double d) {
+  if (!std::isfinite(d)) throw JsonError("cannot write NaN or infinity as JSON");
+  if (d == std::floor(d) && std::fabs(d) < kWriteAsIntegerBelow && !(d == 0 && std::signbit(d)))
+    return static_cast<std::int64_t>(d);
+  return d;  // nlohmann writes the shortest text that reads back to the same double
+}
+
+Ordered to_ordered(const Json& v) {
+  switch (v.type()) {
+    case Json::Type::Null:
+      return nullptr;
+    case Json::Type::Bool:
+      return v.as_bool();
+    case Json::Type::Number:
+      return number_to_ordered(v.as_number());
+    case Json::Type::String:
+      return v.as_string();
+    case Json::Type::Array: {
+      Ordered out = Ordered::array();
+      auto& elements = out.get_ref<Ordered::array_t&>();
+      elements.reserve(v.size());
+      for (const Json& e : v.as_array()) elements.push_back(to_ordered(e));
+      return out;
+    }
+    case Json::Type::Object: {
+      Ordered out = Ordered::object();
+      // Json's keys are unique already: append without ordered_map's linear search for the key.
+      auto& members = static_cast<Ordered::object_t::Container&>(out.get_ref<Ordered::object_t&>());
+      members.reserve(v.size());
+      for (const auto& [key, value] : v.as_object()) members.emplace_back(key, to_ordered(value));
+      return out;
+    }
+  }
+  return nullptr;
+}
 
 }  // namespace
 
@@ -440,62 +349,26 @@ const Json& Json::operator[](size_t i) const {
 }
 
 std::string Json::dump(int indent) const {
-  std::string out;
-  dump_to(out, indent, 0);
-  return out;
-}
-
-void Json::dump_to(std::string& out, int indent, int depth) const {
-  auto newline = [&](int d) {
-    if (indent < 0) return;
-    out += '\n';
-    out.append(static_cast<size_t>(indent * d), ' ');
-  };
-  switch (type_) {
-    case Type::Null:
-      out += "null";
-      break;
-    case Type::Bool:
-      out += bool_ ? "true" : "false";
-      break;
-    case Type::Number:
-      append_number(out, number_);
-      break;
-    case Type::String:
-      append_escaped(out, string_);
-      break;
-    case Type::Array: {
-      out += '[';
-      // Arrays of scalars stay on one line even when pretty-printing.
-      bool scalars = true;
-      for (const Json& v : array_) scalars = scalars && !v.is_array() && !v.is_object();
-      for (size_t i = 0; i < array_.size(); ++i) {
-        if (i) out += indent >= 0 && scalars ? ", " : ",";
-        if (!scalars) newline(depth + 1);
-        array_[i].dump_to(out, indent, depth + 1);
-      }
-      if (!scalars && !array_.empty()) newline(depth);
-      out += ']';
-      break;
-    }
-    case Type::Object: {
-      out += '{';
-      for (size_t i = 0; i < object_.size(); ++i) {
-        if (i) out += ',';
-        newline(depth + 1);
-        append_escaped(out, object_[i].first);
-        out += indent >= 0 ? ": " : ":";
-        object_[i].second.dump_to(out, indent, depth + 1);
-      }
-      if (!object_.empty()) newline(depth);
-      out += '}';
-      break;
-    }
-  }
+  // Strings that are not valid UTF-8 (a Latin-1 file name, say) are written with U+FFFD in place
+  // of the bad bytes: the file stays valid JSON, which every reader requires.
+  return to_ordered(*this).dump(indent < 0 ? -1 : indent, ' ', false,
+                                Ordered::error_handler_t::replace);
 }
 
 Json parse_json(const std::string& text) {
-  return Parser(text).parse_document();
+  const char* read_to = text.data();
+  Builder builder(text.data(), &read_to);
+  const TrackedIterator first(text.data(), &read_to);
+  const TrackedIterator last(text.data() + text.size(), &read_to);
+  if (!Ordered::sax_parse(first, last, &builder)) {
+    // error_at() characters were read; the last of them is where the problem is.
+    const size_t at = builder.error_at() > 0 ? builder.error_at() - 1 : 0;
+    const auto [line, column] = line_and_column(text, at);
+    throw JsonError("line " + std::to_string(line) + ", column " + std::to_string(column) + ": " +
+                        builder.error(),
+                    line, column);
+  }
+  return std::move(builder.result());
 }
 
 Json read_json_file(const std::string& path) {

@@ -3,6 +3,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <sstream>
 
@@ -159,16 +160,13 @@ PoseLogHeader parse_header(const Json& j, const std::string& name) {
   return h;
 }
 
-void append_number(std::string& out, double v, int decimals) {
+/// `v` rounded to `decimals` decimals: the value a reader gets back from its fixed-point text
+/// (the log stays as compact as that precision), with -0 written as 0 so that logs stay stable.
+double rounded(double v, int decimals) {
   if (!std::isfinite(v))
     throw PoseLogError("pose log writer: refusing to write a NaN or infinite value", 0);
-  const std::string text = smpl::format_fixed(v, decimals);
-  // "-0.000000" -> "0.000000" keeps logs stable.
-  if (text.compare(0, 3, "-0.") == 0 && text.find_first_not_of('0', 3) == std::string::npos) {
-    out.append(text, 1, std::string::npos);
-    return;
-  }
-  out += text;
+  const double r = std::strtod(smpl::format_fixed(v, decimals).c_str(), nullptr);
+  return r == 0.0 ? 0.0 : r;
 }
 
 }  // namespace
@@ -309,61 +307,42 @@ std::string pose_log_header_line(const PoseLogHeader& header) {
 }
 
 std::string pose_log_frame_line(const PoseFrame& frame) {
-  std::string out;
-  out.reserve(320);
-  out += "{\"t\":";
-  append_number(out, frame.time, 6);
+  Json j = Json::object();
+  j.set("t", rounded(frame.time, 6));
   for (int d = 0; d < kNumDevices; ++d) {
     const DevicePose& p = frame.devices[d];
-    out += ",\"";
-    out += device_name(static_cast<Device>(d));
-    out += "\":{\"valid\":";
-    out += p.valid ? "true" : "false";
+    Json device = Json::object();
+    device.set("valid", p.valid);
     if (p.valid) {
-      out += ",\"p\":[";
-      for (int i = 0; i < 3; ++i) {
-        if (i) out += ',';
-        append_number(out, p.position[i], 6);
-      }
-      out += "],\"q\":[";
-      const double q[4] = {p.orientation.x(), p.orientation.y(), p.orientation.z(),
-                           p.orientation.w()};
-      for (int i = 0; i < 4; ++i) {
-        if (i) out += ',';
-        append_number(out, q[i], 6);
-      }
-      out += ']';
+      device.set("p", Json(std::vector<double>{rounded(p.position[0], 6), rounded(p.position[1], 6),
+                                               rounded(p.position[2], 6)}));
+      device.set("q", Json(std::vector<double>{
+                          rounded(p.orientation.x(), 6), rounded(p.orientation.y(), 6),
+                          rounded(p.orientation.z(), 6), rounded(p.orientation.w(), 6)}));
     }
     if (d != static_cast<int>(Device::Head)) {
-      out += ",\"trigger\":";
-      append_number(out, p.trigger, 3);
+      device.set("trigger", rounded(p.trigger, 3));
       if (p.menu || p.squeeze) {
-        out += ",\"buttons\":[";
-        if (p.menu) out += "\"menu\"";
-        if (p.menu && p.squeeze) out += ',';
-        if (p.squeeze) out += "\"squeeze\"";
-        out += ']';
+        Json buttons = Json::array();
+        if (p.menu) buttons.push_back("menu");
+        if (p.squeeze) buttons.push_back("squeeze");
+        device.set("buttons", std::move(buttons));
       }
     }
-    out += '}';
+    j.set(device_name(static_cast<Device>(d)), std::move(device));
   }
-  if (!frame.interaction_profile.empty()) {
-    out += ",\"profile\":";
-    out += Json(frame.interaction_profile).dump();
-  }
+  if (!frame.interaction_profile.empty()) j.set("profile", frame.interaction_profile);
   if (!frame.commands.empty()) {
     Json c = Json::array();
     for (const OperatorCommand& oc : frame.commands) {
       Json o = Json::object();
       o.set("command", oc.command);
       if (!oc.value.is_null()) o.set("value", oc.value);
-      c.push_back(o);
+      c.push_back(std::move(o));
     }
-    out += ",\"commands\":";
-    out += c.dump();
+    j.set("commands", std::move(c));
   }
-  out += '}';
-  return out;
+  return j.dump();
 }
 
 PoseLogWriter::PoseLogWriter(const std::string& path, const PoseLogHeader& header)

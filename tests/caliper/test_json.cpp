@@ -1,4 +1,5 @@
-// JSON reader and writer: round trips, exact doubles, and errors that name line and column.
+// caliper::Json on nlohmann-json: round trips, exact doubles, the written number forms, errors
+// that name line and column, and the limits a hostile text must not pass.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -62,6 +63,49 @@ TEST(Json, RefusesMalformedInput) {
 
 TEST(Json, RefusesDeepNesting) {
   EXPECT_THROW(parse_json(std::string(10000, '[')), JsonError);
+  // 257 levels (the top one and 256 below it) are read; the 258th opening bracket is refused,
+  // and the error points at it.
+  const std::string ok = std::string(257, '[') + std::string(257, ']');
+  EXPECT_EQ(parse_json(ok).size(), 1u);
+  try {
+    parse_json("{\"a\":\n" + std::string(258, '[') + std::string(258, ']') + "}");
+    FAIL() << "expected JsonError";
+  } catch (const JsonError& e) {
+    EXPECT_EQ(e.line, 2);
+    EXPECT_EQ(e.column, 257);  // the '[' at depth 258 (the object is the first level)
+    EXPECT_NE(std::string(e.what()).find("nesting deeper than 256 levels"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(Json, RefusesNonFiniteNumbersAndBadUtf8) {
+  for (const char* bad : {"1e400", "[-1e999]", "Infinity", "-Infinity", "[NaN]"}) {
+    EXPECT_THROW(parse_json(bad), JsonError) << bad;
+  }
+  try {
+    parse_json("[1, NaN]");
+    FAIL() << "expected JsonError";
+  } catch (const JsonError& e) {
+    EXPECT_EQ(e.column, 5);
+    EXPECT_NE(std::string(e.what()).find("NaN and Infinity are not valid JSON numbers"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_THROW(parse_json("\"caf\xE9\""), JsonError);  // Latin-1, not UTF-8
+}
+
+// The written forms: integers without a fraction, other doubles as the shortest text that reads
+// back exactly, the sign of zero kept, invalid UTF-8 replaced so that the text stays JSON.
+TEST(Json, WrittenNumberAndStringForms) {
+  EXPECT_EQ(Json(std::vector<double>{3, -42, 1e14, 0.5, 0.1, -0.0}).dump(),
+            "[3,-42,100000000000000,0.5,0.1,-0.0]");
+  EXPECT_TRUE(std::signbit(parse_json(Json(-0.0).dump()).as_number()));
+  const Json latin1(std::string("caf\xE9"));
+  EXPECT_EQ(parse_json(latin1.dump()).as_string(), "caf\xEF\xBF\xBD");
+  Json o = Json::object();
+  o.set("a", Json(std::vector<double>{1, 2}));
+  o.set("b", Json::object());
+  EXPECT_EQ(o.dump(2), "{\n  \"a\": [\n    1,\n    2\n  ],\n  \"b\": {}\n}");
 }
 
 TEST(Json, TypedAccessErrorsSayWhatWasFound) {

@@ -1,7 +1,15 @@
 /// \file json.hpp
-/// A small JSON value, reader and writer (RFC 8259) for the project's own files: fitted
-/// regressors, protocol files, pose logs (JSON Lines), session journals and reports.
+/// The JSON value (RFC 8259) of the project's own files: fitted regressors, protocol files, pose
+/// logs (JSON Lines), session journals and reports. Reading and writing are nlohmann-json's (its
+/// SAX parser and nlohmann::ordered_json's serialiser, in json.cpp; nlohmann stays out of this
+/// header). This class adds what the project's readers need on top: typed access whose errors
+/// say what was expected and what was found, missing keys named, and constant-time key lookup.
 /// Objects keep their insertion order so that written files are stable and diff well.
+///
+/// Why a value class of its own and not nlohmann::ordered_json itself: the readers hold
+/// `const Json*` / `const Json&` to members (find(), at()), and nlohmann's members are nlohmann
+/// values, not Json; and ordered_json looks keys up linearly, which makes objects of many keys
+/// quadratic (issue 10).
 #pragma once
 
 #include <cstdint>
@@ -92,9 +100,12 @@ class Json {
   size_t size() const;
   const Json& operator[](size_t i) const;
 
-  /// Serialises. indent < 0: one line with no spaces (for JSON Lines); otherwise pretty-printed.
-  /// Numbers are written with 17 significant digits so that doubles round-trip exactly.
-  /// NaN and infinity cannot be represented in JSON: dump() throws JsonError for them.
+  /// Serialises (nlohmann::ordered_json::dump). indent < 0: one line with no spaces (for JSON
+  /// Lines); otherwise pretty-printed, `indent` spaces a level, one array element a line.
+  /// Integral numbers below 1e15 are written as integers ("3"); other numbers as the shortest
+  /// text that reads back to the same double, so doubles round-trip exactly. NaN and infinity
+  /// cannot be represented in JSON: dump() throws JsonError for them. Bytes of a string that are
+  /// not valid UTF-8 are written as U+FFFD (JSON text is UTF-8; the reader refuses anything else).
   std::string dump(int indent = -1) const;
 
  private:
@@ -111,8 +122,12 @@ class Json {
   std::unique_ptr<Index> index_;  ///< only for objects of kIndexFrom members or more
 };
 
-/// Parses one JSON text (surrounding white space allowed, nothing else after it). Throws
-/// JsonError with the 1-based line and column of the problem.
+/// Parses one JSON text (surrounding white space allowed, nothing else after it; UTF-8; no
+/// comments, NaN or Infinity). Arrays and objects nested deeper than 256 levels are refused. A
+/// duplicate key keeps its first position and its last value. Throws JsonError with the 1-based
+/// line and column of the problem ("line 3, column 14: syntax error while parsing value -
+/// unexpected
+/// ','; ...": the message after the position is nlohmann's).
 Json parse_json(const std::string& text);
 
 /// Reads and parses a whole file; errors name the file (and line, column).

@@ -121,8 +121,9 @@ PoseLog read_pose_log(const std::string& path, const PoseLogLimits& limits = {})
 
 /// Serialises the header line (without newline).
 std::string pose_log_header_line(const PoseLogHeader& header);
-/// Serialises one frame line (without newline). Positions and quaternions get 6 decimals
-/// (micrometres), time 6 decimals. Throws PoseLogError for NaN or infinite values.
+/// Serialises one frame line (without newline). Positions, quaternions and time are rounded to
+/// 6 decimals (micrometres), trigger values to 3, each written as the shortest number that reads
+/// back to the rounded value. Throws PoseLogError for NaN or infinite values.
 std::string pose_log_frame_line(const PoseFrame& frame);
 
 /// Writes a log line by line, flushing after every frame so that a crash loses at most one
