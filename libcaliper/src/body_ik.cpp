@@ -405,18 +405,7 @@ void BodyIk::solve_leg(int side, const Eigen::Vector3d& ankle, double foot_yaw) 
   place(foot);
 }
 
-const IkPose& BodyIk::solve(const IkInput& in) {
-  const std::vector<Eigen::Vector3d>& r = rig_.rest;
-  dt_ = started_ ? std::max(0.0, in.time - last_time_) : 0.0;
-  last_time_ = in.time;
-  // Head: rigidly attached to the headset (which looks along its -Z; the avatar faces +Z).
-  const Eigen::Quaterniond g_head = (in.head.orientation * yaw_rotation(kPi)).normalized();
-  const Eigen::Vector3d head_joint = in.head.position + g_head * (r[kHead] - rig_.eyes);
-
-  // Heading: head turns beyond the neck's range turn the body; so does the line between the
-  // hands, when both are tracked and it agrees with the head (rate-limited, towards the head
-  // only): the chest follows a whole-body turn, not a head turn.
-  const double head_yaw = headset_yaw(in.head.orientation);
+void BodyIk::update_heading(const IkInput& in, double head_yaw) {
   if (started_) {
     if (in.grips[0] && in.grips[1]) {
       const auto wrist = [&](int s) {
@@ -439,6 +428,71 @@ const IkPose& BodyIk::solve(const IkInput& in) {
   } else {
     body_yaw_ = head_yaw;
   }
+}
+
+void BodyIk::move_feet(const IkInput& in, const std::array<Eigen::Vector3d, 2>& goal) {
+  if (!feet_[0].stepping && !feet_[1].stepping) {
+    int worst = -1;
+    double worst_error = 0.0;
+    for (int s = 0; s < 2; ++s) {
+      const Foot& f = feet_[static_cast<size_t>(s)];
+      Eigen::Vector3d d = goal[static_cast<size_t>(s)] - f.planted;
+      d.y() = 0.0;
+      const double turn = std::abs(wrap_angle(body_yaw_ - f.yaw));
+      // Right after the other foot stepped, this one follows to finish the stance.
+      const double scale = s == follow_foot_ ? kFollowUp : 1.0;
+      const double error = std::max(d.norm() / (scale * options_.step_distance),
+                                    turn / (scale * options_.step_turn));
+      if (error > 1.0 && error > worst_error) {
+        worst = s;
+        worst_error = error;
+      }
+    }
+    follow_foot_ = -1;
+    if (worst >= 0) {
+      Foot& f = feet_[static_cast<size_t>(worst)];
+      f.stepping = true;
+      f.from = f.planted;
+      f.from_yaw = f.yaw;
+      f.step_start = in.time;
+    }
+  }
+  for (int s = 0; s < 2; ++s) {
+    Foot& f = feet_[static_cast<size_t>(s)];
+    Eigen::Vector3d ankle = f.planted;
+    double yaw = f.yaw;
+    if (f.stepping) {
+      const double t = std::clamp((in.time - f.step_start) / options_.step_seconds, 0.0, 1.0);
+      const double e = smoothstep(t);
+      ankle = f.from + e * (goal[static_cast<size_t>(s)] - f.from) +
+              Eigen::Vector3d(0.0, options_.step_height * std::sin(kPi * t), 0.0);
+      yaw = f.from_yaw + e * wrap_angle(body_yaw_ - f.from_yaw);
+      if (t >= 1.0) {
+        f.stepping = false;
+        follow_foot_ = 1 - s;
+        f.planted = goal[static_cast<size_t>(s)];
+        f.yaw = body_yaw_;
+        ankle = f.planted;
+        yaw = f.yaw;
+      }
+    }
+    solve_leg(s, ankle, yaw);
+  }
+}
+
+const IkPose& BodyIk::solve(const IkInput& in) {
+  const std::vector<Eigen::Vector3d>& r = rig_.rest;
+  dt_ = started_ ? std::max(0.0, in.time - last_time_) : 0.0;
+  last_time_ = in.time;
+  // Head: rigidly attached to the headset (which looks along its -Z; the avatar faces +Z).
+  const Eigen::Quaterniond g_head = (in.head.orientation * yaw_rotation(kPi)).normalized();
+  const Eigen::Vector3d head_joint = in.head.position + g_head * (r[kHead] - rig_.eyes);
+
+  // Heading: head turns beyond the neck's range turn the body; so does the line between the
+  // hands, when both are tracked and it agrees with the head (rate-limited, towards the head
+  // only): the chest follows a whole-body turn, not a head turn.
+  const double head_yaw = headset_yaw(in.head.orientation);
+  update_heading(in, head_yaw);
   pose_.body_yaw = body_yaw_;
   const Eigen::Quaterniond body = yaw_rotation(body_yaw_);
   const Eigen::Vector3d spine_rest = r[kHead] - r[kPelvis];
@@ -500,54 +554,7 @@ const IkPose& BodyIk::solve(const IkInput& in) {
   std::array<Eigen::Vector3d, 2> goal;
   for (int s = 0; s < 2; ++s)
     goal[static_cast<size_t>(s)] = on_floor(upright + body * ankle_rest(s), s);
-  if (!feet_[0].stepping && !feet_[1].stepping) {
-    int worst = -1;
-    double worst_error = 0.0;
-    for (int s = 0; s < 2; ++s) {
-      const Foot& f = feet_[static_cast<size_t>(s)];
-      Eigen::Vector3d d = goal[static_cast<size_t>(s)] - f.planted;
-      d.y() = 0.0;
-      const double turn = std::abs(wrap_angle(body_yaw_ - f.yaw));
-      // Right after the other foot stepped, this one follows to finish the stance.
-      const double scale = s == follow_foot_ ? kFollowUp : 1.0;
-      const double error = std::max(d.norm() / (scale * options_.step_distance),
-                                    turn / (scale * options_.step_turn));
-      if (error > 1.0 && error > worst_error) {
-        worst = s;
-        worst_error = error;
-      }
-    }
-    follow_foot_ = -1;
-    if (worst >= 0) {
-      Foot& f = feet_[static_cast<size_t>(worst)];
-      f.stepping = true;
-      f.from = f.planted;
-      f.from_yaw = f.yaw;
-      f.step_start = in.time;
-    }
-  }
-  for (int s = 0; s < 2; ++s) {
-    Foot& f = feet_[static_cast<size_t>(s)];
-    Eigen::Vector3d ankle = f.planted;
-    double yaw = f.yaw;
-    if (f.stepping) {
-      const double t = std::clamp((in.time - f.step_start) / options_.step_seconds, 0.0, 1.0);
-      const double e = smoothstep(t);
-      ankle = f.from + e * (goal[static_cast<size_t>(s)] - f.from) +
-              Eigen::Vector3d(0.0, options_.step_height * std::sin(kPi * t), 0.0);
-      yaw = f.from_yaw + e * wrap_angle(body_yaw_ - f.from_yaw);
-      if (t >= 1.0) {
-        f.stepping = false;
-        follow_foot_ = 1 - s;
-        f.planted = goal[static_cast<size_t>(s)];
-        f.yaw = body_yaw_;
-        ankle = f.planted;
-        yaw = f.yaw;
-      }
-    }
-    solve_leg(s, ankle, yaw);
-  }
-
+  move_feet(in, goal);
   // Local rotations and the model translation.
   for (int j = 0; j < kCount; ++j) {
     const int p = rig_.parents[j];

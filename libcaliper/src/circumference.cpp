@@ -24,40 +24,47 @@ double cross2(const Eigen::Vector2d& o, const Eigen::Vector2d& a, const Eigen::V
   return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
 }
 
-}  // namespace
+// The segments at each cut edge's point, in the order they were made: two on a manifold mesh,
+// kept inline (a vector allocated per cut edge was a tenth of caliper batch --circumferences);
+// more only where the mesh is not manifold.
+struct Incident {
+  int two[2] = {-1, -1};
+  std::vector<int> more;
+  std::size_t size() const {
+    return static_cast<std::size_t>(two[0] >= 0) + static_cast<std::size_t>(two[1] >= 0) +
+           more.size();
+  }
+  int at(std::size_t i) const { return i < 2 ? two[i] : more[i - 2]; }
+  void push_back(int s) {
+    if (two[0] < 0) {
+      two[0] = s;
+    } else if (two[1] < 0) {
+      two[1] = s;
+    } else {
+      more.push_back(s);
+    }
+  }
+};
 
-std::vector<SliceLoop> slice_mesh(const smpl::Vertices& v, const smpl::Faces& faces,
-                                  double height) {
+// Where a horizontal plane cuts a mesh: a point (x, z) per cut edge, a segment per cut face
+// between its two cut edges, and the segments at each point.
+struct PlaneCut {
+  std::unordered_map<std::uint64_t, Eigen::Vector2d> points;
+  std::unordered_map<std::uint64_t, Incident> incident;  // key -> segment ids
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> segments;
+};
+
+PlaneCut cut_mesh(const smpl::Vertices& v, const smpl::Faces& faces, double height) {
   const auto nv = v.rows();
   // Which side of the plane each vertex is on (on-plane counts as above), computed once: the face
   // loop below then reads one byte per corner instead of a vertex row.
   std::vector<char> side(static_cast<std::size_t>(nv));
   for (Eigen::Index i = 0; i < nv; ++i) side[static_cast<std::size_t>(i)] = v(i, 1) - height >= 0.0;
   const auto above = [&](int i) { return side[static_cast<std::size_t>(i)]; };
-  // The segments at each cut edge's point, in the order they were made: two on a manifold mesh,
-  // kept inline (a vector allocated per cut edge was a tenth of caliper batch --circumferences);
-  // more only where the mesh is not manifold.
-  struct Incident {
-    int two[2] = {-1, -1};
-    std::vector<int> more;
-    std::size_t size() const {
-      return static_cast<std::size_t>(two[0] >= 0) + static_cast<std::size_t>(two[1] >= 0) +
-             more.size();
-    }
-    int at(std::size_t i) const { return i < 2 ? two[i] : more[i - 2]; }
-    void push_back(int s) {
-      if (two[0] < 0) {
-        two[0] = s;
-      } else if (two[1] < 0) {
-        two[1] = s;
-      } else {
-        more.push_back(s);
-      }
-    }
-  };
-  std::unordered_map<std::uint64_t, Eigen::Vector2d> points;
-  std::unordered_map<std::uint64_t, Incident> incident;  // key -> segment ids
-  std::vector<std::pair<std::uint64_t, std::uint64_t>> segments;
+  PlaneCut c;
+  auto& points = c.points;
+  auto& incident = c.incident;
+  auto& segments = c.segments;
   // A level cuts a few hundred edges of a body: no rehashing while they are added.
   points.reserve(1024);
   incident.reserve(1024);
@@ -94,6 +101,15 @@ std::vector<SliceLoop> slice_mesh(const smpl::Vertices& v, const smpl::Faces& fa
     incident[keys[0]].push_back(s);
     incident[keys[1]].push_back(s);
   }
+  return c;
+}
+
+// Chains the segments into loops: open chains from their ends (degree-1 points) first, then
+// the closed loops; each with its length and centroid.
+std::vector<SliceLoop> chain_segments(PlaneCut& c) {
+  auto& points = c.points;
+  auto& incident = c.incident;
+  const auto& segments = c.segments;
   std::vector<char> used(segments.size(), 0);
   std::vector<SliceLoop> loops;
   const auto other_end = [&](int s, std::uint64_t key) {
@@ -138,6 +154,14 @@ std::vector<SliceLoop> slice_mesh(const smpl::Vertices& v, const smpl::Faces& fa
     loops.push_back(std::move(loop));
   }
   return loops;
+}
+
+}  // namespace
+
+std::vector<SliceLoop> slice_mesh(const smpl::Vertices& v, const smpl::Faces& faces,
+                                  double height) {
+  PlaneCut cut = cut_mesh(v, faces, height);
+  return chain_segments(cut);
 }
 
 double convex_hull_perimeter(const std::vector<Eigen::Vector2d>& input) {

@@ -31,6 +31,24 @@ void append(std::vector<SessionEvent>& to, std::vector<SessionEvent> from) {
   for (SessionEvent& e : from) to.push_back(std::move(e));
 }
 
+// The mean of each tip's samples, and in `jitter` the larger RMS distance of a tip's samples
+// from their mean.
+std::vector<Eigen::Vector3d> sample_means(const std::vector<std::vector<Eigen::Vector3d>>& samples,
+                                          size_t tips, double& jitter) {
+  std::vector<Eigen::Vector3d> means(tips);
+  jitter = 0.0;
+  for (size_t i = 0; i < tips; ++i) {
+    Eigen::Vector3d m = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3d& p : samples[i]) m += p;
+    m /= static_cast<double>(samples[i].size());
+    double ss = 0.0;
+    for (const Eigen::Vector3d& p : samples[i]) ss += (p - m).squaredNorm();
+    jitter = std::max(jitter, std::sqrt(ss / static_cast<double>(samples[i].size())));
+    means[i] = m;
+  }
+  return means;
+}
+
 }  // namespace
 
 const char* event_type_name(EventType type) {
@@ -115,26 +133,32 @@ double MeasuringSession::step_value(const ProtocolStep& step,
   return (tips.at(0) - tips.at(1)).norm();
 }
 
-std::vector<SessionEvent> MeasuringSession::update(const SessionFrame& frame) {
-  std::vector<SessionEvent> events;
-  for (const OperatorCommand& c : frame.commands) append(events, command(c, frame.time));
-  const bool measuring =
-      view_.phase == Phase::Floor ||
-      (view_.phase == Phase::Steps && current_step() &&
-       (current_step()->kind == StepKind::Height || current_step()->kind == StepKind::Distance));
-  const ControllerInput* ctl[2] = {&frame.left, &frame.right};
-  const auto input = [&](Tip t) -> const ControllerInput& { return *ctl[t == Tip::Left ? 0 : 1]; };
-  const bool any_pressed =
-      frame.left.trigger >= options_.trigger_press || frame.right.trigger >= options_.trigger_press;
-  const bool all_released = frame.left.trigger < options_.trigger_release &&
-                            frame.right.trigger < options_.trigger_release;
-
-  if (!measuring) {
-    hold_state_ = all_released ? HoldState::Armed : HoldState::WaitRelease;
-    view_.holding = false;
-    view_.hold_progress = 0.0;
-    return events;
+std::string MeasuringSession::rejected_hold(const std::vector<Eigen::Vector3d>& means,
+                                            double jitter) const {
+  if (jitter > protocol_.max_jitter_m) {
+    return "The tip moved " + smpl::format_fixed_or_short(jitter * 1000.0, 1) +
+           " mm during the hold (limit " +
+           smpl::format_fixed_or_short(protocol_.max_jitter_m * 1000.0, 1) +
+           " mm); rest your hand and hold still.";
   }
+  if (view_.phase == Phase::Floor) {
+    const Eigen::Vector2d target = protocol_.floor.targets[static_cast<size_t>(view_.floor_target)];
+    const double d = (Eigen::Vector2d(means[0].x(), means[0].z()) - target).norm();
+    if (d > options_.max_target_distance) {
+      return "The tip was " + smpl::format_fixed_or_short(d, 2) +
+             " m away from the glowing ring; put it inside the ring.";
+    }
+  }
+  if (view_.phase == Phase::Steps) {
+    // A take must be a length: a tip below the calibrated floor (the floor moved, or was
+    // calibrated on a raised surface) is a rejected sample to retake, never the end of the session.
+    return bad_take(*current_step(), means);
+  }
+  return "";
+}
+
+void MeasuringSession::arm_hold(const SessionFrame& frame, bool any_pressed, bool all_released,
+                                std::vector<SessionEvent>& events) {
   switch (hold_state_) {
     case HoldState::WaitRelease:
       if (all_released) hold_state_ = HoldState::Armed;
@@ -157,6 +181,29 @@ std::vector<SessionEvent> MeasuringSession::update(const SessionFrame& frame) {
     case HoldState::Holding:
       break;
   }
+}
+
+std::vector<SessionEvent> MeasuringSession::update(const SessionFrame& frame) {
+  std::vector<SessionEvent> events;
+  for (const OperatorCommand& c : frame.commands) append(events, command(c, frame.time));
+  const bool measuring =
+      view_.phase == Phase::Floor ||
+      (view_.phase == Phase::Steps && current_step() &&
+       (current_step()->kind == StepKind::Height || current_step()->kind == StepKind::Distance));
+  const ControllerInput* ctl[2] = {&frame.left, &frame.right};
+  const auto input = [&](Tip t) -> const ControllerInput& { return *ctl[t == Tip::Left ? 0 : 1]; };
+  const bool any_pressed =
+      frame.left.trigger >= options_.trigger_press || frame.right.trigger >= options_.trigger_press;
+  const bool all_released = frame.left.trigger < options_.trigger_release &&
+                            frame.right.trigger < options_.trigger_release;
+
+  if (!measuring) {
+    hold_state_ = all_released ? HoldState::Armed : HoldState::WaitRelease;
+    view_.holding = false;
+    view_.hold_progress = 0.0;
+    return events;
+  }
+  arm_hold(frame, any_pressed, all_released, events);
   if (hold_state_ != HoldState::Holding) return events;
 
   const std::string step_id = current_step() ? current_step()->id : "floor";
@@ -188,50 +235,18 @@ std::vector<SessionEvent> MeasuringSession::update(const SessionFrame& frame) {
     }
   }
   for (size_t i = 0; i < tips.size(); ++i) hold_samples_[i].push_back(input(tips[i]).tip);
-  // Jitter: the larger RMS distance of a tip's samples from their mean.
-  std::vector<Eigen::Vector3d> means(tips.size());
   double jitter = 0.0;
-  for (size_t i = 0; i < tips.size(); ++i) {
-    Eigen::Vector3d m = Eigen::Vector3d::Zero();
-    for (const Eigen::Vector3d& p : hold_samples_[i]) m += p;
-    m /= static_cast<double>(hold_samples_[i].size());
-    double ss = 0.0;
-    for (const Eigen::Vector3d& p : hold_samples_[i]) ss += (p - m).squaredNorm();
-    jitter = std::max(jitter, std::sqrt(ss / static_cast<double>(hold_samples_[i].size())));
-    means[i] = m;
-  }
+  const std::vector<Eigen::Vector3d> means = sample_means(hold_samples_, tips.size(), jitter);
   view_.jitter = jitter;
   view_.hold_progress = std::min(1.0, elapsed / protocol_.hold_seconds);
   // Tolerate floating-point time stamps that land a hair before the full second.
   constexpr double kTimeSlack = 1e-6;
   if (elapsed + kTimeSlack < protocol_.hold_seconds) return events;
 
-  if (jitter > protocol_.max_jitter_m) {
-    reject("The tip moved " + smpl::format_fixed_or_short(jitter * 1000.0, 1) +
-               " mm during the hold (limit " +
-               smpl::format_fixed_or_short(protocol_.max_jitter_m * 1000.0, 1) +
-               " mm); rest your hand and hold still.",
-           false);
+  const std::string why = rejected_hold(means, jitter);
+  if (!why.empty()) {
+    reject(why, false);
     return events;
-  }
-  if (view_.phase == Phase::Floor) {
-    const Eigen::Vector2d target = protocol_.floor.targets[static_cast<size_t>(view_.floor_target)];
-    const double d = (Eigen::Vector2d(means[0].x(), means[0].z()) - target).norm();
-    if (d > options_.max_target_distance) {
-      reject("The tip was " + smpl::format_fixed_or_short(d, 2) +
-                 " m away from the glowing ring; put it inside the ring.",
-             false);
-      return events;
-    }
-  }
-  if (view_.phase == Phase::Steps) {
-    // A take must be a length: a tip below the calibrated floor (the floor moved, or was
-    // calibrated on a raised surface) is a rejected sample to retake, never the end of the session.
-    const std::string why = bad_take(*current_step(), means);
-    if (!why.empty()) {
-      reject(why, false);
-      return events;
-    }
   }
   hold_state_ = HoldState::WaitRelease;
   view_.holding = false;

@@ -175,43 +175,90 @@ std::map<std::string, double> true_measurements(const SimulatedPerson& person,
   return truth;
 }
 
-SimulatedSession simulate_session(const Protocol& protocol, const SimulatedPerson& person,
-                                  const SimulatorOptions& o) {
-  for (const std::string* id :
-       {&o.dropout_step, &o.third_take_step, &o.early_release_step, &o.redo_step})
-    if (!id->empty() && protocol.find_step(*id) < 0)
-      throw InvalidInputError("simulator: scripted step \"" + *id + "\" is not in the protocol");
-  if (!(o.frame_rate >= 10.0))
-    throw InvalidInputError("simulator: frame_rate must be at least 10 frames/s");
+namespace {
 
-  SimulatedSession out;
-  out.truth = true_measurements(person, protocol);
+/// The commands that type the person's weight and sex, for the protocol's typed steps.
+std::vector<OperatorCommand> typed_commands(const Protocol& protocol,
+                                            const SimulatedPerson& person) {
+  std::vector<OperatorCommand> c;
+  for (const ProtocolStep& s : protocol.steps) {
+    if (s.kind == StepKind::TypedNumber && s.measurement == "weight")
+      c.push_back({"weight", Json(person.weight)});
+    if (s.kind == StepKind::TypedChoice && s.measurement == "sex")
+      c.push_back({"sex", Json(person.sex)});
+  }
+  return c;
+}
+
+/// Appends the takes of one measured step: the scripted dropout, early release and redo, then
+/// two takes (three if the second is scripted 3 % too long); counts the samples in `out`.
+void script_step(const ProtocolStep& s, const SimulatedPerson& person, const SimulatorOptions& o,
+                 double hold, std::vector<Action>& actions, SimulatedSession& out) {
+  Action base;
+  base.press = true;
+  base.hand = s.tips[0];
+  base.hold = hold;
+  for (size_t k = 0; k < s.tips.size(); ++k)
+    base.target[s.tips[k] == Tip::Left ? 0 : 1] = landmark(person, s.landmarks[k]);
+  if (s.id == o.dropout_step) {
+    Action a = base;
+    a.dropout_at = 0.4;
+    a.dropout_hand = s.tips.back();
+    actions.push_back(a);
+    ++out.rejected_samples;
+  }
+  if (s.id == o.early_release_step) {
+    Action a = base;
+    a.hold = 0.4;
+    actions.push_back(a);
+    ++out.rejected_samples;
+  }
+  int takes = 2;
+  if (s.id == o.redo_step && o.role == "operator") {
+    actions.push_back(base);
+    ++out.accepted_samples;
+    Action redo;
+    redo.commands = {{"redo", Json()}};
+    redo.pause = 0.4;
+    actions.push_back(std::move(redo));
+  }
+  for (int k = 0; k < takes; ++k) {
+    Action a = base;
+    if (k == 1 && s.id == o.third_take_step) {
+      // 3 % too long: raise the tip (height) or move the second tip outwards (distance).
+      const int moved = s.tips.back() == Tip::Left ? 0 : 1;
+      if (s.kind == StepKind::Height) {
+        *a.target[moved] += Eigen::Vector3d(0.0, 0.03 * a.target[moved]->y(), 0.0);
+      } else {
+        const Eigen::Vector3d& anchor = landmark(person, s.landmarks[0]);
+        const Eigen::Vector3d d = *a.target[moved] - anchor;
+        *a.target[moved] = anchor + 1.03 * d;
+      }
+      takes = 3;
+    }
+    actions.push_back(a);
+    ++out.accepted_samples;
+  }
+}
+
+/// What the person (and operator) do, in order: start, the floor calibration (one tip on each
+/// target, alternating hands), every step's takes and typed values, a pause at the end; counts
+/// the samples the app should accept and reject in `out`.
+std::vector<Action> script_actions(const Protocol& protocol, const SimulatedPerson& person,
+                                   const SimulatorOptions& o, SimulatedSession& out) {
   const double hold = protocol.hold_seconds + kHoldMargin;
-  const Eigen::Vector3d up(0.0, o.runtime_floor_offset, 0.0);
   std::vector<Action> actions;
-
   const auto pause = [&](std::vector<OperatorCommand> commands, double seconds) {
     Action a;
     a.commands = std::move(commands);
     a.pause = seconds;
     actions.push_back(std::move(a));
   };
-  const auto typed_commands = [&] {
-    std::vector<OperatorCommand> c;
-    for (const ProtocolStep& s : protocol.steps) {
-      if (s.kind == StepKind::TypedNumber && s.measurement == "weight")
-        c.push_back({"weight", Json(person.weight)});
-      if (s.kind == StepKind::TypedChoice && s.measurement == "sex")
-        c.push_back({"sex", Json(person.sex)});
-    }
-    return c;
-  };
   if (o.role == "operator") {
     pause({{"start", Json()}}, 0.5);
   } else {
     pause({}, 0.5);
   }
-  // Floor calibration: one tip on each target, alternating hands.
   for (size_t i = 0; i < protocol.floor.targets.size(); ++i) {
     Action a;
     a.press = true;
@@ -222,9 +269,9 @@ SimulatedSession simulate_session(const Protocol& protocol, const SimulatedPerso
     a.look = Eigen::Vector3d(t.x(), 0.0, t.y());
     actions.push_back(a);
     ++out.accepted_samples;
-    if (i == 1 && o.role == "operator" && o.typed_in_log) pause(typed_commands(), 0.3);
+    if (i == 1 && o.role == "operator" && o.typed_in_log)
+      pause(typed_commands(protocol, person), 0.3);
   }
-  // Steps.
   for (const ProtocolStep& s : protocol.steps) {
     if (s.kind == StepKind::TypedNumber || s.kind == StepKind::TypedChoice) {
       if (o.role != "operator" && o.typed_in_log) {
@@ -237,84 +284,53 @@ SimulatedSession simulate_session(const Protocol& protocol, const SimulatedPerso
       }
       continue;
     }
-    Action base;
-    base.press = true;
-    base.hand = s.tips[0];
-    base.hold = hold;
-    for (size_t k = 0; k < s.tips.size(); ++k)
-      base.target[s.tips[k] == Tip::Left ? 0 : 1] = landmark(person, s.landmarks[k]);
-    if (s.id == o.dropout_step) {
-      Action a = base;
-      a.dropout_at = 0.4;
-      a.dropout_hand = s.tips.back();
-      actions.push_back(a);
-      ++out.rejected_samples;
-    }
-    if (s.id == o.early_release_step) {
-      Action a = base;
-      a.hold = 0.4;
-      actions.push_back(a);
-      ++out.rejected_samples;
-    }
-    int takes = 2;
-    if (s.id == o.redo_step && o.role == "operator") {
-      actions.push_back(base);
-      ++out.accepted_samples;
-      pause({{"redo", Json()}}, 0.4);
-    }
-    for (int k = 0; k < takes; ++k) {
-      Action a = base;
-      if (k == 1 && s.id == o.third_take_step) {
-        // 3 % too long: raise the tip (height) or move the second tip outwards (distance).
-        const int moved = s.tips.back() == Tip::Left ? 0 : 1;
-        if (s.kind == StepKind::Height) {
-          *a.target[moved] += Eigen::Vector3d(0.0, 0.03 * a.target[moved]->y(), 0.0);
-        } else {
-          const Eigen::Vector3d& anchor = landmark(person, s.landmarks[0]);
-          const Eigen::Vector3d d = *a.target[moved] - anchor;
-          *a.target[moved] = anchor + 1.03 * d;
-        }
-        takes = 3;
-      }
-      actions.push_back(a);
-      ++out.accepted_samples;
-    }
+    script_step(s, person, o, hold, actions, out);
   }
   pause({}, 0.5);
+  return actions;
+}
 
-  // Render the actions into frames.
+/// Where the recording stands between its parts (actions, motions, end button).
+struct Playback {
+  double dt = 0.0;            ///< s per frame
+  Eigen::Vector3d up;         ///< the runtime floor offset, added to every device position
+  Eigen::Vector3d head_top;   ///< the person's head_top landmark
+  Eigen::Vector3d eye;        ///< the headset's position (without `up`) while measuring
+  double t0 = 0.0;            ///< s, start of the next part
+  size_t frame_index = 0;     ///< the next frame
+  Eigen::Quaterniond head_q;  ///< the headset's orientation at the end of the last part
+};
+
+/// The headset's orientation at `eye` looking at `p`. OpenXR views look along -Z: yaw by 180
+/// degrees (plus the target's azimuth), then pitch.
+Eigen::Quaterniond look_at(const Eigen::Vector3d& eye, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d f = (p - eye).normalized();
+  return Eigen::Quaterniond(
+             Eigen::AngleAxisd(std::atan2(f.x(), f.z()) + kPi, Eigen::Vector3d::UnitY())) *
+         Eigen::Quaterniond(
+             Eigen::AngleAxisd(std::asin(std::clamp(f.y(), -1.0, 1.0)), Eigen::Vector3d::UnitX()));
+}
+
+/// Renders the actions into frames: tips move (smoothstep) to their targets with a new grip
+/// each, settle, hold the trigger, release; the head looks at the target.
+void play_actions(const std::vector<Action>& actions, const SimulatorOptions& o, Playback& pb,
+                  SimulatedSession& out) {
   Normal normal(o.seed);
-  const double dt = 1.0 / o.frame_rate;
   const Eigen::Vector3d rest[2] = {Eigen::Vector3d(0.3, 0.95, 0.25),
                                    Eigen::Vector3d(-0.3, 0.95, 0.25)};
-  const Eigen::Vector3d head_top = landmark(person, "head_top");
-  const Eigen::Vector3d eye = head_top + Eigen::Vector3d(0.0, -0.11, 0.08);
-  // OpenXR views look along -Z: yaw by 180 degrees (plus the target's azimuth), then pitch.
-  const auto look_at = [&](const Eigen::Vector3d& p) {
-    const Eigen::Vector3d f = (p - eye).normalized();
-    return Eigen::Quaterniond(
-               Eigen::AngleAxisd(std::atan2(f.x(), f.z()) + kPi, Eigen::Vector3d::UnitY())) *
-           Eigen::Quaterniond(Eigen::AngleAxisd(std::asin(std::clamp(f.y(), -1.0, 1.0)),
-                                                Eigen::Vector3d::UnitX()));
-  };
   const Eigen::Vector3d ahead(0.0, 1.2, 1.5);
-  Eigen::Quaterniond head_q = look_at(ahead);
+  pb.head_q = look_at(pb.eye, ahead);
   std::array<Eigen::Vector3d, 2> tip = {rest[0], rest[1]};
   std::array<Eigen::Quaterniond, 2> orient = {
       Eigen::Quaterniond(Eigen::AngleAxisd(-0.6, Eigen::Vector3d::UnitX())),
       Eigen::Quaterniond(Eigen::AngleAxisd(-0.6, Eigen::Vector3d::UnitX()))};
-  out.log.header.role = o.role;
-  out.log.header.frame_rate = o.frame_rate;
-  out.log.header.interaction_profile = o.interaction_profile;
-  out.log.header.source = "caliper simulator seed=" + std::to_string(o.seed);
-  double t0 = 0.0;
-  size_t frame_index = 0;
   for (const Action& a : actions) {
     const double duration = a.press ? kMove + kSettle + a.hold + kRelease : a.pause;
     std::array<Eigen::Vector3d, 2> from = tip, to = tip;
     std::array<Eigen::Quaterniond, 2> q_from = orient, q_to = orient;
-    const Eigen::Quaterniond head_from = head_q;
-    const Eigen::Quaterniond head_to = a.press ? look_at(a.look ? *a.look : ahead) : head_q;
+    const Eigen::Quaterniond head_from = pb.head_q;
+    const Eigen::Quaterniond head_to =
+        a.press ? look_at(pb.eye, a.look ? *a.look : ahead) : pb.head_q;
     if (a.press) {
       for (int h = 0; h < 2; ++h) {
         to[h] = a.target[h] ? *a.target[h] : rest[h];
@@ -326,9 +342,9 @@ SimulatedSession simulate_session(const Protocol& protocol, const SimulatedPerso
     }
     bool first = true;
     // Frames whose time falls in [t0, t0 + duration).
-    while (static_cast<double>(frame_index) * dt < t0 + duration - 1e-9) {
-      const double t = static_cast<double>(frame_index) * dt;
-      const double local = t - t0;
+    while (static_cast<double>(pb.frame_index) * pb.dt < pb.t0 + duration - 1e-9) {
+      const double t = static_cast<double>(pb.frame_index) * pb.dt;
+      const double local = t - pb.t0;
       PoseFrame f;
       f.time = t;
       if (first) {
@@ -347,7 +363,7 @@ SimulatedSession simulate_session(const Protocol& protocol, const SimulatedPerso
         const Eigen::Vector3d& offset = h == 0 ? o.tip_offsets.left : o.tip_offsets.right;
         d.valid = true;
         d.orientation = orient[h];
-        d.position = noisy + up - orient[h] * offset;
+        d.position = noisy + pb.up - orient[h] * offset;
         const Tip hand = h == 0 ? Tip::Left : Tip::Right;
         d.trigger = pressed && hand == a.hand ? 1.0 : 0.0;
         if (a.dropout_at >= 0.0 && hand == a.dropout_hand && hold_t >= a.dropout_at &&
@@ -356,136 +372,186 @@ SimulatedSession simulate_session(const Protocol& protocol, const SimulatedPerso
       }
       DevicePose& head = f.device(Device::Head);
       head.valid = true;
-      head.position = eye + up;
+      head.position = pb.eye + pb.up;
       head.orientation = head_from.slerp(s, head_to);
-      if (a.press && local < kMove * 0.5) out.quiet_frames.push_back(frame_index);
+      if (a.press && local < kMove * 0.5) out.quiet_frames.push_back(pb.frame_index);
       out.log.frames.push_back(std::move(f));
-      ++frame_index;
+      ++pb.frame_index;
     }
     for (int h = 0; h < 2; ++h) {
       tip[h] = to[h];
       orient[h] = q_to[h];
     }
-    head_q = head_to;
-    t0 += duration;
+    pb.head_q = head_to;
+    pb.t0 += duration;
   }
+}
 
-  // Embodiment motions: headset and controllers move as the body would.
-  const auto frame_at = [&](double t) {
-    PoseFrame f;
-    f.time = t;
-    f.device(Device::Head) = out.log.frames.back().device(Device::Head);
-    f.device(Device::Left) = out.log.frames.back().device(Device::Left);
-    f.device(Device::Right) = out.log.frames.back().device(Device::Right);
-    for (Device d : {Device::Left, Device::Right}) {
-      f.device(d).trigger = 0.0;
-      f.device(d).menu = false;
-    }
-    return f;
-  };
-  if (o.motions) {
-    using namespace ik_joint;
-    if (person.joints.size() != static_cast<size_t>(kCount))
-      throw InvalidInputError("simulator: the motions need a body model with SMPL's 24 joints");
-    // The person's hands hold the controllers as their size dictates (HandGrip), the truth the
-    // app's IK estimates from the avatar's hands.
-    HandGrip grip;
-    if (person.landmarks.count("left_fingertip") && person.landmarks.count("right_fingertip")) {
-      const double hand =
-          0.5 * ((person.landmarks.at("left_fingertip") - person.joints[kLeftWrist]).norm() +
-                 (person.landmarks.at("right_fingertip") - person.joints[kRightWrist]).norm());
-      if (HandGrip::is_hand_length(hand)) grip = HandGrip::for_hand_length(hand);
-    }
-    const std::vector<Posture> script = motion_script(person);
-    // Start from where the controllers are now.
-    std::array<Eigen::Vector3d, 2> wrist0;
-    std::array<Eigen::Quaterniond, 2> hand0;
-    for (int h = 0; h < 2; ++h) {
-      const DevicePose& d = out.log.frames.back().device(h == 0 ? Device::Left : Device::Right);
-      wrist0[h] = d.position + d.orientation * grip.wrist_in_grip - up;
-      hand0[h] = HandGrip::hand_from_grip(d.orientation, h == 0);
-    }
-    const Eigen::Vector3d shoulder[2] = {person.joints[kLeftShoulder],
-                                         person.joints[kRightShoulder]};
-    const auto world = [&](const Posture& p, int h, double wave_t) {
-      const Eigen::Quaterniond body = rot(p.yaw, Eigen::Vector3d::UnitY());
-      const Eigen::Vector3d lowered(0.0, -p.drop, p.forward);
-      Eigen::Vector3d w = shoulder[h] + lowered + p.wrist[h];
-      if (p.wave && h == 1) w.x() += 0.1 * std::sin(2.0 * kPi * 1.2 * wave_t);
-      return std::make_pair(Eigen::Vector3d(body * w), Eigen::Quaterniond(body * p.hand[h]));
-    };
-    out.motion_begin = frame_index;
-    double local0 = t0;
-    Posture prev;
-    bool first = true;
-    for (const Posture& p : script) {
-      const double duration = p.move + p.hold;
-      while (static_cast<double>(frame_index) * dt < local0 + duration - 1e-9) {
-        const double t = static_cast<double>(frame_index) * dt;
-        const double local = t - local0;
-        const double e = smoothstep(local / p.move);
-        const double wave_t = std::max(0.0, local - p.move);
-        PoseFrame f = frame_at(t);
-        const double yaw = first ? p.yaw : prev.yaw + e * (p.yaw - prev.yaw);
-        const double drop = first ? e * p.drop : prev.drop + e * (p.drop - prev.drop);
-        const double fwd = first ? e * p.forward : prev.forward + e * (p.forward - prev.forward);
-        const Eigen::Quaterniond body = rot(yaw, Eigen::Vector3d::UnitY());
-        DevicePose& head = f.device(Device::Head);
-        head.position =
-            body * (eyes_below_head_top(head_top) + Eigen::Vector3d(0.0, -drop, fwd)) + up;
-        head.orientation = head_q.slerp(first ? e : 1.0, rot(yaw + kPi, Eigen::Vector3d::UnitY()));
-        for (int h = 0; h < 2; ++h) {
-          const auto to = world(p, h, wave_t);
-          Eigen::Vector3d w;
-          Eigen::Quaterniond q;
-          if (first) {
-            // From the last measuring posture (a hand may be on the other shoulder) round the
-            // front of the body, not through it.
-            w = wrist0[h] + e * (to.first - wrist0[h]) +
-                0.3 * std::sin(kPi * e) * Eigen::Vector3d(0.0, 0.0, 1.0);
-            q = hand0[h].slerp(e, to.second);
-          } else {
-            // Intermediate postures turn and crouch with the body.
-            Posture mid = p;
-            mid.yaw = yaw;
-            mid.drop = drop;
-            mid.forward = fwd;
-            // Hands travel in an arc in front of the body (raising the arms from the sides to
-            // above the head does not pass through the shoulder).
-            for (int k = 0; k < 2; ++k)
-              mid.wrist[k] = prev.wrist[k] + e * (p.wrist[k] - prev.wrist[k]) +
-                             0.5 * (p.wrist[k] - prev.wrist[k]).norm() * std::sin(kPi * e) *
-                                 Eigen::Vector3d(0.0, 0.0, 1.0);
-            w = world(mid, h, wave_t).first;
-            q = Eigen::Quaterniond(rot(yaw, Eigen::Vector3d::UnitY()) *
-                                   prev.hand[h].slerp(e, p.hand[h]));
-          }
-          DevicePose& d = f.device(h == 0 ? Device::Left : Device::Right);
-          d.valid = true;
-          d.orientation = HandGrip::grip_from_hand(q, h == 0);
-          d.position = w - d.orientation * grip.wrist_in_grip + up;
-        }
-        out.log.frames.push_back(std::move(f));
-        ++frame_index;
-      }
-      head_q = rot(p.yaw + kPi, Eigen::Vector3d::UnitY());
-      if (first) out.motion_begin = static_cast<size_t>(std::ceil((local0 + p.move) / dt - 1e-9));
-      prev = p;
-      first = false;
-      local0 += duration;
-    }
-    out.motion_end = frame_index;
-    t0 = local0;
+/// A frame at time t with the devices where the last frame of `log` has them, triggers and menu
+/// buttons released.
+PoseFrame still_frame(const PoseLog& log, double t) {
+  PoseFrame f;
+  f.time = t;
+  f.device(Device::Head) = log.frames.back().device(Device::Head);
+  f.device(Device::Left) = log.frames.back().device(Device::Left);
+  f.device(Device::Right) = log.frames.back().device(Device::Right);
+  for (Device d : {Device::Left, Device::Right}) {
+    f.device(d).trigger = 0.0;
+    f.device(d).menu = false;
   }
+  return f;
+}
+
+/// What the embodiment motions start from: the grip of the person's hands on the controllers,
+/// the wrists and hands where the controllers are at the end of the measuring, the shoulders.
+struct MotionStart {
+  HandGrip grip;
+  std::array<Eigen::Vector3d, 2> wrist0;
+  std::array<Eigen::Quaterniond, 2> hand0;
+  std::array<Eigen::Vector3d, 2> shoulder;
+};
+
+MotionStart motion_start(const SimulatedPerson& person, const PoseFrame& last,
+                         const Eigen::Vector3d& up) {
+  using namespace ik_joint;
+  MotionStart m;
+  // The person's hands hold the controllers as their size dictates (HandGrip), the truth the
+  // app's IK estimates from the avatar's hands.
+  if (person.landmarks.count("left_fingertip") && person.landmarks.count("right_fingertip")) {
+    const double hand =
+        0.5 * ((person.landmarks.at("left_fingertip") - person.joints[kLeftWrist]).norm() +
+               (person.landmarks.at("right_fingertip") - person.joints[kRightWrist]).norm());
+    if (HandGrip::is_hand_length(hand)) m.grip = HandGrip::for_hand_length(hand);
+  }
+  for (int h = 0; h < 2; ++h) {
+    const DevicePose& d = last.device(h == 0 ? Device::Left : Device::Right);
+    m.wrist0[h] = d.position + d.orientation * m.grip.wrist_in_grip - up;
+    m.hand0[h] = HandGrip::hand_from_grip(d.orientation, h == 0);
+  }
+  m.shoulder = {person.joints[kLeftShoulder], person.joints[kRightShoulder]};
+  return m;
+}
+
+/// Hand h's wrist position and rotation in the world at posture p (waving: wave_t s into it).
+std::pair<Eigen::Vector3d, Eigen::Quaterniond> posture_hand(const Posture& p, const MotionStart& m,
+                                                            int h, double wave_t) {
+  const Eigen::Quaterniond body = rot(p.yaw, Eigen::Vector3d::UnitY());
+  const Eigen::Vector3d lowered(0.0, -p.drop, p.forward);
+  Eigen::Vector3d w = m.shoulder[h] + lowered + p.wrist[h];
+  if (p.wave && h == 1) w.x() += 0.1 * std::sin(2.0 * kPi * 1.2 * wave_t);
+  return std::make_pair(Eigen::Vector3d(body * w), Eigen::Quaterniond(body * p.hand[h]));
+}
+
+/// One frame of the embodiment motions, `local` s into the move from `prev` (or, for the first
+/// posture, from where the measuring left the controllers) to `p`.
+PoseFrame motion_frame(const PoseLog& log, double t, double local, const Posture& p,
+                       const Posture& prev, bool first, const MotionStart& m, const Playback& pb) {
+  const double e = smoothstep(local / p.move);
+  const double wave_t = std::max(0.0, local - p.move);
+  PoseFrame f = still_frame(log, t);
+  const double yaw = first ? p.yaw : prev.yaw + e * (p.yaw - prev.yaw);
+  const double drop = first ? e * p.drop : prev.drop + e * (p.drop - prev.drop);
+  const double fwd = first ? e * p.forward : prev.forward + e * (p.forward - prev.forward);
+  const Eigen::Quaterniond body = rot(yaw, Eigen::Vector3d::UnitY());
+  DevicePose& head = f.device(Device::Head);
+  head.position =
+      body * (eyes_below_head_top(pb.head_top) + Eigen::Vector3d(0.0, -drop, fwd)) + pb.up;
+  head.orientation = pb.head_q.slerp(first ? e : 1.0, rot(yaw + kPi, Eigen::Vector3d::UnitY()));
+  for (int h = 0; h < 2; ++h) {
+    const auto to = posture_hand(p, m, h, wave_t);
+    Eigen::Vector3d w;
+    Eigen::Quaterniond q;
+    if (first) {
+      // From the last measuring posture (a hand may be on the other shoulder) round the
+      // front of the body, not through it.
+      w = m.wrist0[h] + e * (to.first - m.wrist0[h]) +
+          0.3 * std::sin(kPi * e) * Eigen::Vector3d(0.0, 0.0, 1.0);
+      q = m.hand0[h].slerp(e, to.second);
+    } else {
+      // Intermediate postures turn and crouch with the body.
+      Posture mid = p;
+      mid.yaw = yaw;
+      mid.drop = drop;
+      mid.forward = fwd;
+      // Hands travel in an arc in front of the body (raising the arms from the sides to
+      // above the head does not pass through the shoulder).
+      for (int k = 0; k < 2; ++k)
+        mid.wrist[k] = prev.wrist[k] + e * (p.wrist[k] - prev.wrist[k]) +
+                       0.5 * (p.wrist[k] - prev.wrist[k]).norm() * std::sin(kPi * e) *
+                           Eigen::Vector3d(0.0, 0.0, 1.0);
+      w = posture_hand(mid, m, h, wave_t).first;
+      q = Eigen::Quaterniond(rot(yaw, Eigen::Vector3d::UnitY()) * prev.hand[h].slerp(e, p.hand[h]));
+    }
+    DevicePose& d = f.device(h == 0 ? Device::Left : Device::Right);
+    d.valid = true;
+    d.orientation = HandGrip::grip_from_hand(q, h == 0);
+    d.position = w - d.orientation * m.grip.wrist_in_grip + pb.up;
+  }
+  return f;
+}
+
+/// Embodiment motions: headset and controllers move as the body would (motion_script).
+void play_motions(const SimulatedPerson& person, Playback& pb, SimulatedSession& out) {
+  if (person.joints.size() != static_cast<size_t>(ik_joint::kCount))
+    throw InvalidInputError("simulator: the motions need a body model with SMPL's 24 joints");
+  const MotionStart m = motion_start(person, out.log.frames.back(), pb.up);
+  const std::vector<Posture> script = motion_script(person);
+  out.motion_begin = pb.frame_index;
+  double local0 = pb.t0;
+  Posture prev;
+  bool first = true;
+  for (const Posture& p : script) {
+    const double duration = p.move + p.hold;
+    while (static_cast<double>(pb.frame_index) * pb.dt < local0 + duration - 1e-9) {
+      const double t = static_cast<double>(pb.frame_index) * pb.dt;
+      out.log.frames.push_back(motion_frame(out.log, t, t - local0, p, prev, first, m, pb));
+      ++pb.frame_index;
+    }
+    pb.head_q = rot(p.yaw + kPi, Eigen::Vector3d::UnitY());
+    if (first) out.motion_begin = static_cast<size_t>(std::ceil((local0 + p.move) / pb.dt - 1e-9));
+    prev = p;
+    first = false;
+    local0 += duration;
+  }
+  out.motion_end = pb.frame_index;
+  pb.t0 = local0;
+}
+
+}  // namespace
+
+SimulatedSession simulate_session(const Protocol& protocol, const SimulatedPerson& person,
+                                  const SimulatorOptions& o) {
+  for (const std::string* id :
+       {&o.dropout_step, &o.third_take_step, &o.early_release_step, &o.redo_step})
+    if (!id->empty() && protocol.find_step(*id) < 0)
+      throw InvalidInputError("simulator: scripted step \"" + *id + "\" is not in the protocol");
+  if (!(o.frame_rate >= 10.0))
+    throw InvalidInputError("simulator: frame_rate must be at least 10 frames/s");
+
+  SimulatedSession out;
+  out.truth = true_measurements(person, protocol);
+  const std::vector<Action> actions = script_actions(protocol, person, o, out);
+
+  Playback pb;
+  pb.dt = 1.0 / o.frame_rate;
+  pb.up = Eigen::Vector3d(0.0, o.runtime_floor_offset, 0.0);
+  pb.head_top = landmark(person, "head_top");
+  pb.eye = pb.head_top + Eigen::Vector3d(0.0, -0.11, 0.08);
+  out.log.header.role = o.role;
+  out.log.header.frame_rate = o.frame_rate;
+  out.log.header.interaction_profile = o.interaction_profile;
+  out.log.header.source = "caliper simulator seed=" + std::to_string(o.seed);
+  play_actions(actions, o, pb, out);
+  if (o.motions) play_motions(person, pb, out);
   if (o.end_button) {
     // The right menu button, pressed for 0.3 s, then 0.5 s more.
-    const double end = t0 + 0.8;
-    while (static_cast<double>(frame_index) * dt < end - 1e-9) {
-      const double t = static_cast<double>(frame_index) * dt;
-      PoseFrame f = frame_at(t);
-      f.device(Device::Right).menu = t - t0 < 0.3;
+    const double end = pb.t0 + 0.8;
+    while (static_cast<double>(pb.frame_index) * pb.dt < end - 1e-9) {
+      const double t = static_cast<double>(pb.frame_index) * pb.dt;
+      PoseFrame f = still_frame(out.log, t);
+      f.device(Device::Right).menu = t - pb.t0 < 0.3;
       out.log.frames.push_back(std::move(f));
-      ++frame_index;
+      ++pb.frame_index;
     }
   }
   return out;

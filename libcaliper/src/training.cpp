@@ -74,6 +74,58 @@ Eigen::MatrixXd gaussian_betas(int count, int num_betas, std::uint64_t seed) {
 // ---------------------------------------------------------------------------------------------
 // ShapeMeasurer
 
+namespace {
+
+// The volume as a cubic in b~ = (1, beta_1..k): K1 x K1 (K1 + 1) / 2, ShapeMeasurer::cubic_.
+// From the divergence theorem with the field (x, 0, 0): a flat face contributes
+// (x_a + x_b + x_c) N_x / 6, N = (x_b - x_a) x (x_c - x_a); the sum of x is affine in b~ and
+// N_x quadratic, so T[i][(j,l)] = sum_f sx_i Q_(j,l) with Q the symmetrised N_x form.
+Eigen::MatrixXd volume_cubic(const smpl::BodyModel& model, int k) {
+  const int V = model.num_vertices();
+  const int K1 = k + 1;
+  const int npairs = K1 * (K1 + 1) / 2;
+  Eigen::MatrixXd cubic = Eigen::MatrixXd::Zero(K1, npairs);
+  using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  RowMat Xc[3];
+  for (int c = 0; c < 3; ++c) {
+    Xc[c].resize(V, K1);
+    Xc[c].col(0) = model.v_template.col(c);
+    for (int v = 0; v < V; ++v) Xc[c].row(v).tail(k) = model.shapedirs.block(3 * v + c, 0, 1, k);
+  }
+  const int F = model.num_faces();
+  constexpr int kBlock = 1024;
+  Eigen::MatrixXd Sblk(kBlock, K1), Qblk(kBlock, npairs);
+  Eigen::RowVectorXd e1y(K1), e1z(K1), e2y(K1), e2z(K1);
+  for (int f0 = 0; f0 < F; f0 += kBlock) {
+    const int nf = std::min(kBlock, F - f0);
+    for (int q = 0; q < nf; ++q) {
+      const int f = f0 + q;
+      const int ia = model.faces(f, 0), ib = model.faces(f, 1), ic = model.faces(f, 2);
+      if (ia < 0 || ib < 0 || ic < 0 || ia >= V || ib >= V || ic >= V) {
+        throw InvalidInputError("ShapeMeasurer: face " + std::to_string(f) +
+                                " has a vertex index out of range");
+      }
+      Sblk.row(q) = Xc[0].row(ia) + Xc[0].row(ib) + Xc[0].row(ic);
+      e1y = Xc[1].row(ib) - Xc[1].row(ia);
+      e1z = Xc[2].row(ib) - Xc[2].row(ia);
+      e2y = Xc[1].row(ic) - Xc[1].row(ia);
+      e2z = Xc[2].row(ic) - Xc[2].row(ia);
+      int pair = 0;
+      for (int j = 0; j < K1; ++j) {
+        Qblk(q, pair++) = e1y(j) * e2z(j) - e1z(j) * e2y(j);
+        for (int l = j + 1; l < K1; ++l) {
+          Qblk(q, pair++) = e1y(j) * e2z(l) - e1z(j) * e2y(l) + e1y(l) * e2z(j) - e1z(l) * e2y(j);
+        }
+      }
+    }
+    cubic.noalias() += Sblk.topRows(nf).transpose() * Qblk.topRows(nf);
+  }
+  cubic /= 6.0;
+  return cubic;
+}
+
+}  // namespace
+
 ShapeMeasurer::ShapeMeasurer(const smpl::BodyModel& model, const LandmarkTable& landmarks,
                              std::vector<MeasurementDef> defs, int num_betas)
     : defs_(std::move(defs)) {
@@ -150,48 +202,7 @@ ShapeMeasurer::ShapeMeasurer(const smpl::BodyModel& model, const LandmarkTable& 
   }
   prepared_radius_ = std::max(2.0 * std::sqrt(static_cast<double>(k)), 5.0);
   candidates_ = floor_candidates(prepared_radius_);
-  // Volume cubic, from the divergence theorem with the field (x, 0, 0): a flat face contributes
-  // (x_a + x_b + x_c) N_x / 6, N = (x_b - x_a) x (x_c - x_a); the sum of x is affine in b~ and
-  // N_x quadratic, so T[i][(j,l)] = sum_f sx_i Q_(j,l) with Q the symmetrised N_x form.
-  const int K1 = k + 1;
-  const int npairs = K1 * (K1 + 1) / 2;
-  cubic_ = Eigen::MatrixXd::Zero(K1, npairs);
-  using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  RowMat Xc[3];
-  for (int c = 0; c < 3; ++c) {
-    Xc[c].resize(V, K1);
-    Xc[c].col(0) = model.v_template.col(c);
-    for (int v = 0; v < V; ++v) Xc[c].row(v).tail(k) = model.shapedirs.block(3 * v + c, 0, 1, k);
-  }
-  const int F = model.num_faces();
-  constexpr int kBlock = 1024;
-  Eigen::MatrixXd Sblk(kBlock, K1), Qblk(kBlock, npairs);
-  Eigen::RowVectorXd e1y(K1), e1z(K1), e2y(K1), e2z(K1);
-  for (int f0 = 0; f0 < F; f0 += kBlock) {
-    const int nf = std::min(kBlock, F - f0);
-    for (int q = 0; q < nf; ++q) {
-      const int f = f0 + q;
-      const int ia = model.faces(f, 0), ib = model.faces(f, 1), ic = model.faces(f, 2);
-      if (ia < 0 || ib < 0 || ic < 0 || ia >= V || ib >= V || ic >= V) {
-        throw InvalidInputError("ShapeMeasurer: face " + std::to_string(f) +
-                                " has a vertex index out of range");
-      }
-      Sblk.row(q) = Xc[0].row(ia) + Xc[0].row(ib) + Xc[0].row(ic);
-      e1y = Xc[1].row(ib) - Xc[1].row(ia);
-      e1z = Xc[2].row(ib) - Xc[2].row(ia);
-      e2y = Xc[1].row(ic) - Xc[1].row(ia);
-      e2z = Xc[2].row(ic) - Xc[2].row(ia);
-      int pair = 0;
-      for (int j = 0; j < K1; ++j) {
-        Qblk(q, pair++) = e1y(j) * e2z(j) - e1z(j) * e2y(j);
-        for (int l = j + 1; l < K1; ++l) {
-          Qblk(q, pair++) = e1y(j) * e2z(l) - e1z(j) * e2y(l) + e1y(l) * e2z(j) - e1z(l) * e2y(j);
-        }
-      }
-    }
-    cubic_.noalias() += Sblk.topRows(nf).transpose() * Qblk.topRows(nf);
-  }
-  cubic_ /= 6.0;
+  cubic_ = volume_cubic(model, k);  // the volume as a cubic in (1, beta)
 }
 
 std::vector<int> ShapeMeasurer::floor_candidates(double radius) const {

@@ -724,15 +724,11 @@ void shape_batch(const BodyModel& model, const Eigen::Ref<const RowMatrixXd>& be
   });
 }
 
-void evaluate_batch(const BodyModel& model, const Eigen::Ref<const RowMatrixXd>& betas,
-                    const Eigen::Ref<const RowMatrixXd>& poses,
-                    const Eigen::Ref<const RowMatrixXd>& translations, Workspace& ws,
-                    BodyBatch& out, int threads) {
-  threads = resolve_threads(threads, "smpl::evaluate_batch");
-  check_betas(model, betas.cols());
-  const Eigen::Index N = betas.rows();
-  const int K = model.num_joints();
-  const Eigen::Index V = model.v_template.rows(), P = model.num_pose_features();
+namespace {
+
+// The shapes of evaluate_batch's poses and translations against N bodies of K joints.
+void check_batch_inputs(const Eigen::Ref<const RowMatrixXd>& poses,
+                        const Eigen::Ref<const RowMatrixXd>& translations, Eigen::Index N, int K) {
   const bool has_pose = poses.cols() != 0;
   if (has_pose && poses.cols() != 3 * K) {
     throw std::invalid_argument("smpl::evaluate_batch: poses have " + std::to_string(poses.cols()) +
@@ -752,6 +748,95 @@ void evaluate_batch(const BodyModel& model, const Eigen::Ref<const RowMatrixXd>&
                                 std::to_string(translations.cols()) + ", expected " +
                                 std::to_string(N) + " x 3 metres or 0 rows (no translation)");
   }
+}
+
+// The pose feature columns to blend, as (first column, count) pairs: the runs of joints (from 1)
+// rotated in any of the N bodies (rot: N x K rotations).
+std::vector<Eigen::Index> rotated_runs(
+    const std::vector<Eigen::Matrix3d, Eigen::aligned_allocator<Eigen::Matrix3d>>& rot,
+    Eigen::Index N, int K) {
+  std::vector<Eigen::Index> runs;
+  int k = 1;
+  auto rotated = [&](int j) {
+    for (Eigen::Index n = 0; n < N; ++n) {
+      if (!rot[static_cast<size_t>(n * K + j)].isIdentity(0.0)) return true;
+    }
+    return false;
+  };
+  while (k < K) {
+    if (!rotated(k)) {
+      ++k;
+      continue;
+    }
+    int e = k + 1;
+    while (e < K && rotated(e)) ++e;
+    runs.push_back(9 * (k - 1));
+    runs.push_back(9 * (e - k));
+    k = e;
+  }
+  return runs;
+}
+
+// 5. Pose blend shapes of every body at once per block of rows, added to out.vertices.
+void batch_pose_blend(const BodyModel& model, const RowMatrixXd& feature,
+                      const std::vector<Eigen::Index>& runs, int threads, Workspace& ws,
+                      BodyBatch& out) {
+  const Eigen::Index N = feature.rows(), P = feature.cols();
+  const Eigen::Index V = model.v_template.rows();
+  const int nruns = static_cast<int>(runs.size() / 2);
+  if (nruns > 0) {
+    const Eigen::Index rows = 3 * V;
+    const Eigen::Index t = std::max<Eigen::Index>(1, std::min<Eigen::Index>(threads, rows / 64));
+    if (ws.single_precision_pose_blend_shapes) {
+      ensure_float_posedirs(model, ws);
+      Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> ff =
+          feature.cast<float>();
+      parallel_for(static_cast<int>(t), rows / 64 + 1, [&](Eigen::Index b0, Eigen::Index b1) {
+        const Eigen::Index r0 = std::min(rows, 64 * b0), r1 = std::min(rows, 64 * b1);
+        if (N < kMinPackedBatch) {
+          for (Eigen::Index n = 0; n < N; ++n) {
+            for (int run = 0; run < nruns; ++run) {
+              pose_blend_f32(ws.posedirs_f.data() + r0, rows, r1 - r0, ff.row(n).data(),
+                             runs[2 * run], runs[2 * run + 1], out.vertices.row(n).data() + r0);
+            }
+          }
+          return;
+        }
+        pose_batch_f32(ws.posedirs_f.data(), rows, r0, r1, ff.data(), P, runs.data(), nruns, N,
+                       out.vertices.data(), 3 * V);
+      });
+    } else {
+      parallel_for(static_cast<int>(t), rows / 64 + 1, [&](Eigen::Index b0, Eigen::Index b1) {
+        const Eigen::Index r0 = std::min(rows, 64 * b0), r1 = std::min(rows, 64 * b1);
+        if (N < kMinPackedBatch) {
+          for (Eigen::Index n = 0; n < N; ++n) {
+            for (int run = 0; run < nruns; ++run) {
+              pose_blend_f64(model.posedirs.data() + r0, rows, r1 - r0, feature.row(n).data(),
+                             runs[2 * run], runs[2 * run + 1], out.vertices.row(n).data() + r0);
+            }
+          }
+          return;
+        }
+        pose_batch_f64(model.posedirs.data(), rows, r0, r1, feature.data(), P, runs.data(), nruns,
+                       N, out.vertices.data(), 3 * V);
+      });
+    }
+  }
+}
+
+}  // namespace
+
+void evaluate_batch(const BodyModel& model, const Eigen::Ref<const RowMatrixXd>& betas,
+                    const Eigen::Ref<const RowMatrixXd>& poses,
+                    const Eigen::Ref<const RowMatrixXd>& translations, Workspace& ws,
+                    BodyBatch& out, int threads) {
+  threads = resolve_threads(threads, "smpl::evaluate_batch");
+  check_betas(model, betas.cols());
+  const Eigen::Index N = betas.rows();
+  const int K = model.num_joints();
+  const Eigen::Index V = model.v_template.rows(), P = model.num_pose_features();
+  const bool has_pose = poses.cols() != 0;
+  check_batch_inputs(poses, translations, N, K);
   out.vertices.resize(N, 3 * V);
   out.joints.resize(N, 3 * K);
   // Rotations and pose features of every body; vertices and rest joints of every body.
@@ -768,64 +853,7 @@ void evaluate_batch(const BodyModel& model, const Eigen::Ref<const RowMatrixXd>&
 
   // 5. Pose blend shapes: the runs of joints rotated in any body, every body at once per block.
   if (model.has_pose_blend_shapes() && N > 0) {
-    std::vector<Eigen::Index> runs;
-    int k = 1;
-    auto rotated = [&](int j) {
-      for (Eigen::Index n = 0; n < N; ++n) {
-        if (!rot[static_cast<size_t>(n * K + j)].isIdentity(0.0)) return true;
-      }
-      return false;
-    };
-    while (k < K) {
-      if (!rotated(k)) {
-        ++k;
-        continue;
-      }
-      int e = k + 1;
-      while (e < K && rotated(e)) ++e;
-      runs.push_back(9 * (k - 1));
-      runs.push_back(9 * (e - k));
-      k = e;
-    }
-    const int nruns = static_cast<int>(runs.size() / 2);
-    if (nruns > 0) {
-      const Eigen::Index rows = 3 * V;
-      const Eigen::Index t = std::max<Eigen::Index>(1, std::min<Eigen::Index>(threads, rows / 64));
-      if (ws.single_precision_pose_blend_shapes) {
-        ensure_float_posedirs(model, ws);
-        Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> ff =
-            feature.cast<float>();
-        parallel_for(static_cast<int>(t), rows / 64 + 1, [&](Eigen::Index b0, Eigen::Index b1) {
-          const Eigen::Index r0 = std::min(rows, 64 * b0), r1 = std::min(rows, 64 * b1);
-          if (N < kMinPackedBatch) {
-            for (Eigen::Index n = 0; n < N; ++n) {
-              for (int run = 0; run < nruns; ++run) {
-                pose_blend_f32(ws.posedirs_f.data() + r0, rows, r1 - r0, ff.row(n).data(),
-                               runs[2 * run], runs[2 * run + 1], out.vertices.row(n).data() + r0);
-              }
-            }
-            return;
-          }
-          pose_batch_f32(ws.posedirs_f.data(), rows, r0, r1, ff.data(), P, runs.data(), nruns, N,
-                         out.vertices.data(), 3 * V);
-        });
-      } else {
-        parallel_for(static_cast<int>(t), rows / 64 + 1, [&](Eigen::Index b0, Eigen::Index b1) {
-          const Eigen::Index r0 = std::min(rows, 64 * b0), r1 = std::min(rows, 64 * b1);
-          if (N < kMinPackedBatch) {
-            for (Eigen::Index n = 0; n < N; ++n) {
-              for (int run = 0; run < nruns; ++run) {
-                pose_blend_f64(model.posedirs.data() + r0, rows, r1 - r0, feature.row(n).data(),
-                               runs[2 * run], runs[2 * run + 1], out.vertices.row(n).data() + r0);
-              }
-            }
-            return;
-          }
-          pose_batch_f64(model.posedirs.data(), rows, r0, r1, feature.data(), P, runs.data(), nruns,
-                         N, out.vertices.data(), 3 * V);
-        });
-      }
-    }
+    batch_pose_blend(model, feature, rotated_runs(rot, N, K), threads, ws, out);
   }
 
   // 6-8. Chain and skinning, in place, per body.

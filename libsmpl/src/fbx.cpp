@@ -44,17 +44,16 @@ aiMatrix4x4 to_ai(const Eigen::Matrix4d& m) {
 // 1. Avatar -> aiScene
 // ---------------------------------------------------------------------------------------------
 
-std::unique_ptr<aiScene> build_scene(const BodyModel& model,
-                                     const Eigen::Ref<const Eigen::VectorXd>& betas,
-                                     const ExportOptions& options, const std::string& context) {
-  check_pose(model, options, context);
-  const std::vector<std::string> names = bone_names(model, options.bone_names);
-  // The bind pose is the exported pose: Assimp's FBX writer takes each cluster's bind matrix
-  // (TransformLink) and the scene's BindPose from the nodes, so a pose is baked into the mesh
-  // and the skeleton alike (an A-pose export is bound in the A-pose).
+using Transforms = std::vector<Eigen::Matrix4d, Eigen::aligned_allocator<Eigen::Matrix4d>>;
+
+// The body to export and every joint's world transform (its bind matrix). The bind pose is the
+// exported pose: Assimp's FBX writer takes each cluster's bind matrix (TransformLink) and the
+// scene's BindPose from the nodes, so a pose is baked into the mesh and the skeleton alike (an
+// A-pose export is bound in the A-pose).
+Body bind_pose(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& betas,
+               const ExportOptions& options, const std::string& context, Transforms& world) {
   Body body = export_rest_body(model, betas, options, context);
-  std::vector<Eigen::Matrix4d, Eigen::aligned_allocator<Eigen::Matrix4d>> world(
-      static_cast<size_t>(model.num_joints()), Eigen::Matrix4d::Identity());
+  world.assign(static_cast<size_t>(model.num_joints()), Eigen::Matrix4d::Identity());
   for (int k = 0; k < model.num_joints(); ++k) {
     world[static_cast<size_t>(k)].topRightCorner<3, 1>() = body.joints.row(k).transpose();
   }
@@ -70,36 +69,15 @@ std::unique_ptr<aiScene> build_scene(const BodyModel& model,
       world[static_cast<size_t>(k)](1, 3) += lift;
     }
   }
-  // Texture seams: an aiMesh has one texture coordinate per vertex, so a model with texture
-  // coordinates is split at its seams (SeamSplit); each copy has its source vertex's position,
-  // normal (of the unsplit mesh) and weights. Assimp's FBX writer merges the copies back into one
-  // control point by position (export_fbx asks it to) and writes the texture coordinates per
-  // polygon corner.
-  const SeamSplit split = split_at_seams(model, context);
+  return body;
+}
+
+// The vertices (split at the texture seams), normals (of the unsplit mesh), texture coordinates
+// and triangles of the mesh.
+void fill_geometry(aiMesh* mesh, const BodyModel& model, const Body& body, const SeamSplit& split) {
   const bool textured = split.uvs.rows() > 0;
   const auto V = static_cast<unsigned>(split.source.size());
   const auto F = static_cast<unsigned>(model.faces.rows());
-  const int K = model.num_joints();
-
-  auto scene = std::make_unique<aiScene>();
-  scene->mRootNode = new aiNode("RootNode");
-  scene->mNumMaterials = 1;
-  scene->mMaterials = new aiMaterial*[1];
-  scene->mMaterials[0] = new aiMaterial();
-  {
-    const aiString name("skin");
-    scene->mMaterials[0]->AddProperty(&name, AI_MATKEY_NAME);
-    const aiColor3D colour(0.80f, 0.62f, 0.52f);
-    scene->mMaterials[0]->AddProperty(&colour, 1, AI_MATKEY_COLOR_DIFFUSE);
-  }
-
-  scene->mNumMeshes = 1;
-  scene->mMeshes = new aiMesh*[1];
-  auto* mesh = new aiMesh();
-  scene->mMeshes[0] = mesh;
-  mesh->mName = options.name;
-  mesh->mMaterialIndex = 0;
-  mesh->mPrimitiveTypes = aiPrimitiveType_TRIANGLE;
   mesh->mNumVertices = V;
   mesh->mVertices = new aiVector3D[V];
   mesh->mNormals = new aiVector3D[V];
@@ -130,8 +108,13 @@ std::unique_ptr<aiScene> build_scene(const BodyModel& model,
       mesh->mFaces[f].mIndices[i] = static_cast<unsigned>(split.faces(f, i));
     }
   }
+}
 
-  // One bone per joint with every non-zero weight; offset = inverse bind = world[k]^-1.
+// One bone per joint with every non-zero weight; offset = inverse bind = world[k]^-1.
+void add_bones(aiMesh* mesh, const BodyModel& model, const SeamSplit& split,
+               const Transforms& world, const std::vector<std::string>& names) {
+  const auto V = static_cast<unsigned>(split.source.size());
+  const int K = model.num_joints();
   std::vector<std::vector<aiVertexWeight>> weights(static_cast<size_t>(K));
   for (unsigned v = 0; v < V; ++v) {
     for (SparseMatrix::InnerIterator it(model.weights, split.source[v]); it; ++it) {
@@ -152,8 +135,13 @@ std::unique_ptr<aiScene> build_scene(const BodyModel& model,
     bone->mWeights = new aiVertexWeight[weights[ks].size()];
     std::copy(weights[ks].begin(), weights[ks].end(), bone->mWeights);
   }
+}
 
-  // Nodes: RootNode -> {mesh node, skeleton roots}; joint nodes local to their parents.
+// Nodes: RootNode -> {mesh node, skeleton roots}; joint nodes local to their parents.
+void add_nodes(aiScene& scene_ref, const BodyModel& model, const Transforms& world,
+               const std::vector<std::string>& names, const ExportOptions& options) {
+  aiScene* scene = &scene_ref;
+  const int K = model.num_joints();
   auto* mesh_node = new aiNode(options.name);
   mesh_node->mNumMeshes = 1;
   mesh_node->mMeshes = new unsigned[1]{0};
@@ -177,7 +165,44 @@ std::unique_ptr<aiScene> build_scene(const BodyModel& model,
     }
   }
   scene->mRootNode->addChildren(static_cast<unsigned>(roots.size()), roots.data());
+}
 
+std::unique_ptr<aiScene> build_scene(const BodyModel& model,
+                                     const Eigen::Ref<const Eigen::VectorXd>& betas,
+                                     const ExportOptions& options, const std::string& context) {
+  check_pose(model, options, context);
+  const std::vector<std::string> names = bone_names(model, options.bone_names);
+  Transforms world;
+  const Body body = bind_pose(model, betas, options, context, world);
+  // Texture seams: an aiMesh has one texture coordinate per vertex, so a model with texture
+  // coordinates is split at its seams (SeamSplit); each copy has its source vertex's position,
+  // normal (of the unsplit mesh) and weights. Assimp's FBX writer merges the copies back into one
+  // control point by position (export_fbx asks it to) and writes the texture coordinates per
+  // polygon corner.
+  const SeamSplit split = split_at_seams(model, context);
+
+  auto scene = std::make_unique<aiScene>();
+  scene->mRootNode = new aiNode("RootNode");
+  scene->mNumMaterials = 1;
+  scene->mMaterials = new aiMaterial*[1];
+  scene->mMaterials[0] = new aiMaterial();
+  {
+    const aiString name("skin");
+    scene->mMaterials[0]->AddProperty(&name, AI_MATKEY_NAME);
+    const aiColor3D colour(0.80f, 0.62f, 0.52f);
+    scene->mMaterials[0]->AddProperty(&colour, 1, AI_MATKEY_COLOR_DIFFUSE);
+  }
+
+  scene->mNumMeshes = 1;
+  scene->mMeshes = new aiMesh*[1];
+  auto* mesh = new aiMesh();
+  scene->mMeshes[0] = mesh;
+  mesh->mName = options.name;
+  mesh->mMaterialIndex = 0;
+  mesh->mPrimitiveTypes = aiPrimitiveType_TRIANGLE;
+  fill_geometry(mesh, model, body, split);
+  add_bones(mesh, model, split, world, names);
+  add_nodes(*scene, model, world, names, options);
   // Scene metadata: the unit, which Assimp's FBX writer puts into GlobalSettings. (The extras
   // are added to the mesh's Model node afterwards: Assimp writes no other scene metadata.)
   scene->mMetaData = aiMetadata::Alloc(2);

@@ -153,59 +153,49 @@ std::vector<double> gltf_quaternion(const Eigen::Matrix3d& r) {
   return {q.x(), q.y(), q.z(), q.w()};
 }
 
-tinygltf::Model build_model(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& betas,
-                            const GltfOptions& options, const std::string& context) {
-  if (model.num_joints() > 65535) {
-    throw ModelError(context + ": " + std::to_string(model.num_joints()) +
-                     " joints do not fit glTF's unsigned short JOINTS_0");
-  }
-  if (options.shape_keys < 0 || options.shape_keys > model.num_betas()) {
-    throw ModelError(context + ": " + std::to_string(options.shape_keys) +
-                     " shape keys asked for but the model has " +
-                     std::to_string(model.num_betas()) + " shape components");
-  }
-  check_pose(model, options, context);
-  const std::vector<std::string> names = bone_names(model, options.bone_names);
-  Body body = export_rest_body(model, betas, options, context);
-  const auto V = static_cast<size_t>(body.vertices.rows());
-  const int K = model.num_joints();
-  // Texture seams: glTF indexes every attribute per vertex, so a model with texture coordinates
-  // is split at its seams here (SeamSplit); every per-vertex array below is then gathered from
-  // the model's vertices. Without texture coordinates nothing changes (and nothing is copied).
-  const bool textured = model.has_uvs();
-  const SeamSplit split = textured ? split_at_seams(model, context) : SeamSplit();
-  const size_t out_v = textured ? split.source.size() : V;
-
-  tinygltf::Model g;
-  // A VEC3 float accessor of one value per model vertex, gathered to the split vertices.
-  auto add_vertex_vec3 = [&](const std::vector<float>& xyz, bool bounds) {
-    return textured
-               ? add_vec3(g, gather(xyz, 3, split.source), TINYGLTF_TARGET_ARRAY_BUFFER, bounds)
+// A VEC3 float accessor of one value per model vertex, gathered to the split vertices when the
+// model is split at its texture seams (`split` not null).
+int add_vertex_vec3(tinygltf::Model& g, const SeamSplit* split, const std::vector<float>& xyz,
+                    bool bounds) {
+  return split ? add_vec3(g, gather(xyz, 3, split->source), TINYGLTF_TARGET_ARRAY_BUFFER, bounds)
                : add_vec3(g, xyz, TINYGLTF_TARGET_ARRAY_BUFFER, bounds);
-  };
-  g.asset.version = "2.0";
-  g.asset.generator = kGenerator;
-  if (!options.extras.empty()) {
-    tinygltf::Value::Object extras;
-    for (const auto& [key, value] : options.extras) extras[key] = tinygltf::Value(value);
-    g.asset.extras = tinygltf::Value(extras);
-  }
-  g.buffers.resize(1);
-  g.buffers[0].data.reserve(out_v * (textured ? 56 : 48) +
-                            static_cast<size_t>(model.num_faces()) * 12 +
-                            static_cast<size_t>(K) * 64 + 64);
+}
 
-  // Geometry. With shape keys, POSITION is the body without its first N components; the targets'
-  // default weights (the avatar's betas) add them back.
-  const int N = options.shape_keys;
-  Vertices base = body.vertices;
-  for (int b = 0; b < N && b < betas.size(); ++b) {
-    base -= betas[b] *
-            Eigen::Map<const Vertices>(model.shapedirs.col(b).data(), model.num_vertices(), 3);
+// TEXCOORD_0 of the split vertices. glTF's texture origin is the top left corner: v = 1 - the
+// model's (OBJ's) v.
+int add_texcoords(tinygltf::Model& g, const SeamSplit& split) {
+  const size_t out_v = split.source.size();
+  std::vector<float> uv(2 * out_v);
+  for (size_t i = 0; i < out_v; ++i) {
+    const auto r = static_cast<Eigen::Index>(i);
+    uv[2 * i] = static_cast<float>(split.uvs(r, 0));
+    uv[2 * i + 1] = static_cast<float>(1.0 - split.uvs(r, 1));
   }
-  // Normals come from the unsplit mesh, so that the seams do not show in the shading.
-  const int position = add_vertex_vec3(to_float(base), true);
-  const int normal = add_vertex_vec3(to_float(vertex_normals(body.vertices, model.faces)), false);
+  return add_accessor(
+      g, add_view(g, uv.data(), uv.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER),
+      TINYGLTF_COMPONENT_TYPE_FLOAT, out_v, TINYGLTF_TYPE_VEC2);
+}
+
+// The triangles' unsigned int indices.
+int add_indices(tinygltf::Model& g, const Faces& faces) {
+  std::vector<std::uint32_t> indices(static_cast<size_t>(faces.size()));
+  for (Eigen::Index i = 0; i < faces.size(); ++i) {
+    indices[static_cast<size_t>(i)] = static_cast<std::uint32_t>(faces.data()[i]);
+  }
+  return add_accessor(g,
+                      add_view(g, indices.data(), indices.size() * sizeof(std::uint32_t),
+                               TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
+                      TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, indices.size(), TINYGLTF_TYPE_SCALAR,
+                      {static_cast<double>(faces.size() ? faces.minCoeff() : 0)},
+                      {static_cast<double>(faces.size() ? faces.maxCoeff() : 0)});
+}
+
+// JOINTS_0 and WEIGHTS_0 (the model's own four strongest influences unless options.skin_weights
+// gives them), gathered to the split vertices; returns their accessors.
+std::pair<int, int> add_skin_attributes(tinygltf::Model& g, const BodyModel& model,
+                                        const GltfOptions& options, const SeamSplit* split,
+                                        size_t out_v, const std::string& context) {
+  const auto V = static_cast<size_t>(model.num_vertices());
   GltfSkinWeights own;
   const GltfSkinWeights* skin_w = options.skin_weights;
   if (!skin_w) {
@@ -220,12 +210,12 @@ tinygltf::Model build_model(const BodyModel& model, const Eigen::Ref<const Eigen
   }
   std::vector<std::uint16_t> split_ids;
   std::vector<float> split_weights;
-  if (textured) {
-    split_ids = gather(skin_w->joints, kMaxInfluences, split.source);
-    split_weights = gather(skin_w->weights, kMaxInfluences, split.source);
+  if (split) {
+    split_ids = gather(skin_w->joints, kMaxInfluences, split->source);
+    split_weights = gather(skin_w->weights, kMaxInfluences, split->source);
   }
-  const std::vector<std::uint16_t>& joint_ids = textured ? split_ids : skin_w->joints;
-  const std::vector<float>& joint_weights = textured ? split_weights : skin_w->weights;
+  const std::vector<std::uint16_t>& joint_ids = split ? split_ids : skin_w->joints;
+  const std::vector<float>& joint_weights = split ? split_weights : skin_w->weights;
   const int joints0 =
       add_accessor(g,
                    add_view(g, joint_ids.data(), joint_ids.size() * sizeof(std::uint16_t),
@@ -236,51 +226,25 @@ tinygltf::Model build_model(const BodyModel& model, const Eigen::Ref<const Eigen
                    add_view(g, joint_weights.data(), joint_weights.size() * sizeof(float),
                             TINYGLTF_TARGET_ARRAY_BUFFER),
                    TINYGLTF_COMPONENT_TYPE_FLOAT, out_v, TINYGLTF_TYPE_VEC4);
-  int texcoord0 = -1;
-  if (textured) {
-    // glTF's texture origin is the top left corner: v = 1 - the model's (OBJ's) v.
-    std::vector<float> uv(2 * out_v);
-    for (size_t i = 0; i < out_v; ++i) {
-      const auto r = static_cast<Eigen::Index>(i);
-      uv[2 * i] = static_cast<float>(split.uvs(r, 0));
-      uv[2 * i + 1] = static_cast<float>(1.0 - split.uvs(r, 1));
-    }
-    texcoord0 = add_accessor(
-        g, add_view(g, uv.data(), uv.size() * sizeof(float), TINYGLTF_TARGET_ARRAY_BUFFER),
-        TINYGLTF_COMPONENT_TYPE_FLOAT, out_v, TINYGLTF_TYPE_VEC2);
-  }
-  const Faces& faces = textured ? split.faces : model.faces;
-  std::vector<std::uint32_t> indices(static_cast<size_t>(faces.size()));
-  for (Eigen::Index i = 0; i < faces.size(); ++i) {
-    indices[static_cast<size_t>(i)] = static_cast<std::uint32_t>(faces.data()[i]);
-  }
-  const int index_accessor =
-      add_accessor(g,
-                   add_view(g, indices.data(), indices.size() * sizeof(std::uint32_t),
-                            TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
-                   TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, indices.size(), TINYGLTF_TYPE_SCALAR,
-                   {static_cast<double>(faces.size() ? faces.minCoeff() : 0)},
-                   {static_cast<double>(faces.size() ? faces.maxCoeff() : 0)});
+  return {joints0, weights0};
+}
 
-  tinygltf::Primitive prim;
-  prim.attributes["POSITION"] = position;
-  prim.attributes["NORMAL"] = normal;
-  prim.attributes["JOINTS_0"] = joints0;
-  prim.attributes["WEIGHTS_0"] = weights0;
-  if (texcoord0 >= 0) prim.attributes["TEXCOORD_0"] = texcoord0;
-  prim.indices = index_accessor;
-  prim.mode = TINYGLTF_MODE_TRIANGLES;
-  prim.material = 0;
-
-  tinygltf::Mesh mesh;
-  mesh.name = options.name;
+// The morph targets of `prim`, their default weights and names (mesh.extras.targetNames): the
+// first options.shape_keys shape components, then (options.pose_correctives) the pose blend
+// shapes.
+void add_morph_targets(tinygltf::Model& g, const BodyModel& model,
+                       const Eigen::Ref<const Eigen::VectorXd>& betas, const GltfOptions& options,
+                       const std::vector<std::string>& names, const SeamSplit* split,
+                       tinygltf::Primitive& prim, tinygltf::Mesh& mesh) {
+  const auto V = static_cast<size_t>(model.num_vertices());
+  const int N = options.shape_keys;
   tinygltf::Value::Array target_names;
   std::vector<float> delta(3 * V);
   for (int b = 0; b < N; ++b) {
     for (size_t i = 0; i < 3 * V; ++i) {
       delta[i] = static_cast<float>(model.shapedirs(static_cast<Eigen::Index>(i), b));
     }
-    prim.targets.push_back({{"POSITION", add_vertex_vec3(delta, true)}});
+    prim.targets.push_back({{"POSITION", add_vertex_vec3(g, split, delta, true)}});
     mesh.weights.push_back(b < betas.size() ? betas[b] : 0.0);
     char name[32];
     std::snprintf(name, sizeof name, "beta_%02d", b);
@@ -294,7 +258,7 @@ tinygltf::Model build_model(const BodyModel& model, const Eigen::Ref<const Eigen
       for (size_t i = 0; i < 3 * V; ++i) {
         delta[i] = static_cast<float>(model.posedirs(static_cast<Eigen::Index>(i), p));
       }
-      prim.targets.push_back({{"POSITION", add_vertex_vec3(delta, true)}});
+      prim.targets.push_back({{"POSITION", add_vertex_vec3(g, split, delta, true)}});
       const int k = static_cast<int>(p / 9) + 1;
       const int r = static_cast<int>((p % 9) / 3), c = static_cast<int>(p % 3);
       double w = 0.0;
@@ -312,22 +276,13 @@ tinygltf::Model build_model(const BodyModel& model, const Eigen::Ref<const Eigen
     mesh_extras["targetNames"] = tinygltf::Value(target_names);
     mesh.extras = tinygltf::Value(mesh_extras);
   }
-  mesh.primitives.push_back(std::move(prim));
-  g.meshes.push_back(std::move(mesh));
+}
 
-  tinygltf::Material skin;
-  skin.name = "skin";
-  skin.pbrMetallicRoughness.baseColorFactor = {0.80, 0.62, 0.52, 1.0};
-  skin.pbrMetallicRoughness.metallicFactor = 0.0;
-  skin.pbrMetallicRoughness.roughnessFactor = 0.8;
-  g.materials.push_back(std::move(skin));
-
-  // Nodes: 0 = the skinned mesh, 1 + k = joint k (translation relative to its parent).
-  tinygltf::Node mesh_node;
-  mesh_node.name = options.name;
-  mesh_node.mesh = 0;
-  mesh_node.skin = 0;
-  g.nodes.push_back(std::move(mesh_node));
+// Nodes 1 + k = joint k (translation relative to its parent, rotation from options.pose), the
+// skin with its inverse bind matrices. Node 0, the skinned mesh, is already there.
+void add_skeleton(tinygltf::Model& g, const BodyModel& model, const Body& body,
+                  const GltfOptions& options, const std::vector<std::string>& names) {
+  const int K = model.num_joints();
   std::vector<float> ibm(static_cast<size_t>(16 * K), 0.0f);
   tinygltf::Skin skin_def;
   skin_def.name = options.name + "_skeleton";
@@ -356,6 +311,92 @@ tinygltf::Model build_model(const BodyModel& model, const Eigen::Ref<const Eigen
       add_accessor(g, add_view(g, ibm.data(), ibm.size() * sizeof(float), 0),
                    TINYGLTF_COMPONENT_TYPE_FLOAT, static_cast<size_t>(K), TINYGLTF_TYPE_MAT4);
   g.skins.push_back(std::move(skin_def));
+}
+
+tinygltf::Model build_model(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& betas,
+                            const GltfOptions& options, const std::string& context) {
+  if (model.num_joints() > 65535) {
+    throw ModelError(context + ": " + std::to_string(model.num_joints()) +
+                     " joints do not fit glTF's unsigned short JOINTS_0");
+  }
+  if (options.shape_keys < 0 || options.shape_keys > model.num_betas()) {
+    throw ModelError(context + ": " + std::to_string(options.shape_keys) +
+                     " shape keys asked for but the model has " +
+                     std::to_string(model.num_betas()) + " shape components");
+  }
+  check_pose(model, options, context);
+  const std::vector<std::string> names = bone_names(model, options.bone_names);
+  Body body = export_rest_body(model, betas, options, context);
+  const auto V = static_cast<size_t>(body.vertices.rows());
+  const int K = model.num_joints();
+  // Texture seams: glTF indexes every attribute per vertex, so a model with texture coordinates
+  // is split at its seams here (SeamSplit); every per-vertex array below is then gathered from
+  // the model's vertices. Without texture coordinates nothing changes (and nothing is copied).
+  const bool textured = model.has_uvs();
+  const SeamSplit split = textured ? split_at_seams(model, context) : SeamSplit();
+  const size_t out_v = textured ? split.source.size() : V;
+  const SeamSplit* split_or_null = textured ? &split : nullptr;
+
+  tinygltf::Model g;
+  g.asset.version = "2.0";
+  g.asset.generator = kGenerator;
+  if (!options.extras.empty()) {
+    tinygltf::Value::Object extras;
+    for (const auto& [key, value] : options.extras) extras[key] = tinygltf::Value(value);
+    g.asset.extras = tinygltf::Value(extras);
+  }
+  g.buffers.resize(1);
+  g.buffers[0].data.reserve(out_v * (textured ? 56 : 48) +
+                            static_cast<size_t>(model.num_faces()) * 12 +
+                            static_cast<size_t>(K) * 64 + 64);
+
+  // Geometry. With shape keys, POSITION is the body without its first N components; the targets'
+  // default weights (the avatar's betas) add them back.
+  const int N = options.shape_keys;
+  Vertices base = body.vertices;
+  for (int b = 0; b < N && b < betas.size(); ++b) {
+    base -= betas[b] *
+            Eigen::Map<const Vertices>(model.shapedirs.col(b).data(), model.num_vertices(), 3);
+  }
+  // Normals come from the unsplit mesh, so that the seams do not show in the shading.
+  const int position = add_vertex_vec3(g, split_or_null, to_float(base), true);
+  const int normal = add_vertex_vec3(g, split_or_null,
+                                     to_float(vertex_normals(body.vertices, model.faces)), false);
+  const auto [joints0, weights0] =
+      add_skin_attributes(g, model, options, split_or_null, out_v, context);
+  const int texcoord0 = textured ? add_texcoords(g, split) : -1;
+  const int index_accessor = add_indices(g, textured ? split.faces : model.faces);
+
+  tinygltf::Primitive prim;
+  prim.attributes["POSITION"] = position;
+  prim.attributes["NORMAL"] = normal;
+  prim.attributes["JOINTS_0"] = joints0;
+  prim.attributes["WEIGHTS_0"] = weights0;
+  if (texcoord0 >= 0) prim.attributes["TEXCOORD_0"] = texcoord0;
+  prim.indices = index_accessor;
+  prim.mode = TINYGLTF_MODE_TRIANGLES;
+  prim.material = 0;
+
+  tinygltf::Mesh mesh;
+  mesh.name = options.name;
+  add_morph_targets(g, model, betas, options, names, split_or_null, prim, mesh);
+  mesh.primitives.push_back(std::move(prim));
+  g.meshes.push_back(std::move(mesh));
+
+  tinygltf::Material skin;
+  skin.name = "skin";
+  skin.pbrMetallicRoughness.baseColorFactor = {0.80, 0.62, 0.52, 1.0};
+  skin.pbrMetallicRoughness.metallicFactor = 0.0;
+  skin.pbrMetallicRoughness.roughnessFactor = 0.8;
+  g.materials.push_back(std::move(skin));
+
+  // Nodes: 0 = the skinned mesh, 1 + k = joint k (translation relative to its parent).
+  tinygltf::Node mesh_node;
+  mesh_node.name = options.name;
+  mesh_node.mesh = 0;
+  mesh_node.skin = 0;
+  g.nodes.push_back(std::move(mesh_node));
+  add_skeleton(g, model, body, options, names);
 
   tinygltf::Scene scene;
   scene.name = options.name;
@@ -837,8 +878,10 @@ Eigen::Matrix4d local_matrix(const tinygltf::Node& n) {
 
 namespace {
 
-GltfAvatar read_gltf_impl(const std::uint8_t* bytes, size_t size, const std::string& path,
-                          const std::string& folder) {
+// Parses the glTF or GLB file (external buffers only from `folder`, images skipped); tinygltf's
+// warnings go to `warn`.
+tinygltf::Model parse_gltf(const std::uint8_t* bytes, size_t size, const std::string& path,
+                           const std::string& folder, std::string& warn) {
   if (size > std::numeric_limits<unsigned int>::max()) {
     throw ModelError(path + ": larger than 4 GiB, which glTF files cannot be");
   }
@@ -862,7 +905,7 @@ GltfAvatar read_gltf_impl(const std::uint8_t* bytes, size_t size, const std::str
   loader.SetFsCallbacks(
       {&policy_file_exists, &policy_expand, &policy_read, &policy_write, &policy});
   loader.SetImageLoader(&skip_image, nullptr);
-  std::string err, warn;
+  std::string err;
   const auto n = static_cast<unsigned int>(size);
   const std::string base = folder.empty() ? std::string("/nonexistent") : folder;
   const bool ok = binary ? loader.LoadBinaryFromMemory(&g, &err, &warn, bytes, n, base)
@@ -873,12 +916,11 @@ GltfAvatar read_gltf_impl(const std::uint8_t* bytes, size_t size, const std::str
     throw ModelError(path + ": not a readable glTF file: " + (err.empty() ? "unknown error" : err) +
                      (warn.empty() ? "" : " (tinygltf warnings: " + warn + ")"));
   }
-  GltfAvatar out;
-  if (!warn.empty()) out.warnings.push_back(warn);
-  size_t input_bytes = size;
-  for (const auto& b : g.buffers) input_bytes += b.data.size();
-  DecodeBudget budget(input_bytes, path);
+  return g;
+}
 
+// The first node with both a mesh and a skin, checked to refer to existing ones.
+const tinygltf::Node& skinned_node(const tinygltf::Model& g, const std::string& path) {
   const tinygltf::Node* skinned = nullptr;
   for (const auto& node : g.nodes) {
     if (node.mesh >= 0 && node.skin >= 0) {
@@ -892,6 +934,145 @@ GltfAvatar read_gltf_impl(const std::uint8_t* bytes, size_t size, const std::str
       g.meshes[static_cast<size_t>(skinned->mesh)].primitives.empty()) {
     throw ModelError(path + ": the skinned node refers to a missing mesh, skin or primitive");
   }
+  return *skinned;
+}
+
+// The morph targets of `prim` (a target without POSITION moves nothing), their default weights
+// and names (mesh.extras.targetNames) from `gmesh`.
+void read_morph_targets(const tinygltf::Model& g, const tinygltf::Primitive& prim,
+                        const tinygltf::Mesh& gmesh, const Eigen::MatrixXd& pos,
+                        const std::string& path, DecodeBudget& budget, GltfAvatar& out) {
+  for (size_t t = 0; t < prim.targets.size(); ++t) {
+    const std::string what = "morph target " + std::to_string(t) + " POSITION";
+    const auto it = prim.targets[t].find("POSITION");
+    if (it == prim.targets[t].end()) {
+      budget.charge(static_cast<size_t>(pos.rows()), 3 * sizeof(double), what);
+      out.morph_targets.emplace_back(Vertices::Zero(pos.rows(), 3));
+      continue;
+    }
+    const Eigen::MatrixXd d = read_accessor(g, it->second, path, what, budget);
+    if (d.rows() != pos.rows() || d.cols() != 3) {
+      throw ModelError(path + ": morph target " + std::to_string(t) +
+                       " does not have one VEC3 per vertex");
+    }
+    out.morph_targets.emplace_back(d);
+  }
+  out.morph_weights.assign(out.morph_targets.size(), 0.0);
+  out.morph_names.assign(out.morph_targets.size(), std::string());
+  for (size_t t = 0; t < out.morph_targets.size() && t < gmesh.weights.size(); ++t) {
+    out.morph_weights[t] = gmesh.weights[t];
+  }
+  if (gmesh.extras.IsObject() && gmesh.extras.Has("targetNames")) {
+    const auto& names = gmesh.extras.Get("targetNames");
+    for (size_t t = 0; names.IsArray() && t < out.morph_targets.size() &&
+                       t < static_cast<size_t>(names.ArrayLen());
+         ++t) {
+      if (names.Get(static_cast<int>(t)).IsString()) {
+        out.morph_names[t] = names.Get(static_cast<int>(t)).Get<std::string>();
+      }
+    }
+  }
+}
+
+// The triangles of `prim`, checked against the vertex count.
+void read_faces(const tinygltf::Model& g, const tinygltf::Primitive& prim, Eigen::Index vertices,
+                const std::string& path, DecodeBudget& budget, GltfAvatar& out) {
+  if (prim.indices < 0) return;
+  const Eigen::MatrixXd idx = read_accessor(g, prim.indices, path, "indices", budget);
+  if (idx.size() % 3 != 0) throw ModelError(path + ": the index count is not a multiple of 3");
+  out.faces.resize(idx.size() / 3, 3);
+  for (Eigen::Index i = 0; i < idx.size(); ++i) {
+    const double x = idx(i, 0);
+    if (!(x >= 0 && x < static_cast<double>(vertices))) {
+      throw ModelError(path + ": index " + std::to_string(x) + " is out of range");
+    }
+    out.faces.data()[i] = static_cast<std::int32_t>(x);
+  }
+}
+
+// The parent of every node (-1: a root); a child listed twice or out of range is an error.
+std::vector<int> node_parents(const tinygltf::Model& g, const std::string& path) {
+  const auto N = g.nodes.size();
+  std::vector<int> node_parent(N, -1);
+  for (size_t i = 0; i < N; ++i) {
+    for (int c : g.nodes[i].children) {
+      if (c < 0 || static_cast<size_t>(c) >= N || node_parent[static_cast<size_t>(c)] != -1) {
+        throw ModelError(path + ": node " + std::to_string(i) + " has an invalid child " +
+                         std::to_string(c));
+      }
+      node_parent[static_cast<size_t>(c)] = static_cast<int>(i);
+    }
+  }
+  return node_parent;
+}
+
+// The world transform of every node.
+std::vector<Eigen::Matrix4d, Eigen::aligned_allocator<Eigen::Matrix4d>> world_transforms(
+    const tinygltf::Model& g, const std::vector<int>& node_parent, const std::string& path) {
+  const auto N = g.nodes.size();
+  // World transforms without recursion (a parent chain may be as long as the file allows): walk
+  // up from each node to the first finished ancestor, then come back down.
+  std::vector<Eigen::Matrix4d, Eigen::aligned_allocator<Eigen::Matrix4d>> world(N);
+  std::vector<char> state(N, 0);  // 0 = todo, 1 = on the current chain, 2 = done
+  std::vector<size_t> chain;
+  for (size_t i = 0; i < N; ++i) {
+    chain.clear();
+    for (size_t at = i; state[at] != 2;) {
+      if (state[at] == 1) throw ModelError(path + ": the node hierarchy has a cycle");
+      state[at] = 1;
+      chain.push_back(at);
+      if (node_parent[at] < 0) break;
+      at = static_cast<size_t>(node_parent[at]);
+    }
+    for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+      const int p = node_parent[*it];
+      world[*it] = p >= 0
+                       ? Eigen::Matrix4d(world[static_cast<size_t>(p)] * local_matrix(g.nodes[*it]))
+                       : local_matrix(g.nodes[*it]);
+      state[*it] = 2;
+    }
+  }
+  return world;
+}
+
+// The skin's joints in order: rest positions (world), names and parents (the nearest ancestor
+// node that is a joint of the skin).
+void read_skeleton(const tinygltf::Model& g, const tinygltf::Skin& skin, const std::string& path,
+                   GltfAvatar& out) {
+  const auto K = skin.joints.size();
+  const auto N = g.nodes.size();
+  const std::vector<int> node_parent = node_parents(g, path);
+  const auto world = world_transforms(g, node_parent, path);
+  out.joints.resize(static_cast<Eigen::Index>(K), 3);
+  out.joint_names.resize(K);
+  out.parents.assign(K, -1);
+  std::unordered_map<int, int> joint_of_node;  // first skin joint of each node
+  for (size_t k = 0; k < K; ++k) joint_of_node.emplace(skin.joints[k], static_cast<int>(k));
+  for (size_t k = 0; k < K; ++k) {
+    const int node = skin.joints[k];
+    if (node < 0 || static_cast<size_t>(node) >= N) {
+      throw ModelError(path + ": skin joint " + std::to_string(k) + " refers to a missing node");
+    }
+    out.joints.row(static_cast<Eigen::Index>(k)) =
+        world[static_cast<size_t>(node)].topRightCorner<3, 1>().transpose();
+    out.joint_names[k] = g.nodes[static_cast<size_t>(node)].name;
+    const int pn = node_parent[static_cast<size_t>(node)];
+    const auto it = joint_of_node.find(pn);
+    if (pn >= 0 && it != joint_of_node.end()) out.parents[k] = it->second;
+  }
+}
+
+GltfAvatar read_gltf_impl(const std::uint8_t* bytes, size_t size, const std::string& path,
+                          const std::string& folder) {
+  std::string warn;
+  const tinygltf::Model g = parse_gltf(bytes, size, path, folder, warn);
+  GltfAvatar out;
+  if (!warn.empty()) out.warnings.push_back(warn);
+  size_t input_bytes = size;
+  for (const auto& b : g.buffers) input_bytes += b.data.size();
+  DecodeBudget budget(input_bytes, path);
+
+  const tinygltf::Node* skinned = &skinned_node(g, path);
   const auto& skin = g.skins[static_cast<size_t>(skinned->skin)];
   const auto K = skin.joints.size();
   const auto& prim = g.meshes[static_cast<size_t>(skinned->mesh)].primitives[0];
@@ -929,37 +1110,7 @@ GltfAvatar read_gltf_impl(const std::uint8_t* bytes, size_t size, const std::str
     out.texcoords = uv;
     out.texcoords.col(1) = 1.0 - out.texcoords.col(1).array();  // glTF's v runs downwards
   }
-  for (size_t t = 0; t < prim.targets.size(); ++t) {
-    const std::string what = "morph target " + std::to_string(t) + " POSITION";
-    const auto it = prim.targets[t].find("POSITION");
-    if (it == prim.targets[t].end()) {
-      budget.charge(static_cast<size_t>(pos.rows()), 3 * sizeof(double), what);
-      out.morph_targets.emplace_back(Vertices::Zero(pos.rows(), 3));
-      continue;
-    }
-    const Eigen::MatrixXd d = read_accessor(g, it->second, path, what, budget);
-    if (d.rows() != pos.rows() || d.cols() != 3) {
-      throw ModelError(path + ": morph target " + std::to_string(t) +
-                       " does not have one VEC3 per vertex");
-    }
-    out.morph_targets.emplace_back(d);
-  }
-  const auto& gmesh = g.meshes[static_cast<size_t>(skinned->mesh)];
-  out.morph_weights.assign(out.morph_targets.size(), 0.0);
-  out.morph_names.assign(out.morph_targets.size(), std::string());
-  for (size_t t = 0; t < out.morph_targets.size() && t < gmesh.weights.size(); ++t) {
-    out.morph_weights[t] = gmesh.weights[t];
-  }
-  if (gmesh.extras.IsObject() && gmesh.extras.Has("targetNames")) {
-    const auto& names = gmesh.extras.Get("targetNames");
-    for (size_t t = 0; names.IsArray() && t < out.morph_targets.size() &&
-                       t < static_cast<size_t>(names.ArrayLen());
-         ++t) {
-      if (names.Get(static_cast<int>(t)).IsString()) {
-        out.morph_names[t] = names.Get(static_cast<int>(t)).Get<std::string>();
-      }
-    }
-  }
+  read_morph_targets(g, prim, g.meshes[static_cast<size_t>(skinned->mesh)], pos, path, budget, out);
   out.generator = g.asset.generator;
   if (g.asset.extras.IsObject()) {
     for (const auto& key : g.asset.extras.Keys()) {
@@ -968,71 +1119,10 @@ GltfAvatar read_gltf_impl(const std::uint8_t* bytes, size_t size, const std::str
     }
   }
   out.joint_weights = wts;
-  if (prim.indices >= 0) {
-    const Eigen::MatrixXd idx = read_accessor(g, prim.indices, path, "indices", budget);
-    if (idx.size() % 3 != 0) throw ModelError(path + ": the index count is not a multiple of 3");
-    out.faces.resize(idx.size() / 3, 3);
-    for (Eigen::Index i = 0; i < idx.size(); ++i) {
-      const double x = idx(i, 0);
-      if (!(x >= 0 && x < static_cast<double>(pos.rows()))) {
-        throw ModelError(path + ": index " + std::to_string(x) + " is out of range");
-      }
-      out.faces.data()[i] = static_cast<std::int32_t>(x);
-    }
-  }
+  read_faces(g, prim, pos.rows(), path, budget, out);
 
   // Skeleton: world transforms of every node, then the skin's joints in order.
-  const auto N = g.nodes.size();
-  std::vector<int> node_parent(N, -1);
-  for (size_t i = 0; i < N; ++i) {
-    for (int c : g.nodes[i].children) {
-      if (c < 0 || static_cast<size_t>(c) >= N || node_parent[static_cast<size_t>(c)] != -1) {
-        throw ModelError(path + ": node " + std::to_string(i) + " has an invalid child " +
-                         std::to_string(c));
-      }
-      node_parent[static_cast<size_t>(c)] = static_cast<int>(i);
-    }
-  }
-  // World transforms without recursion (a parent chain may be as long as the file allows): walk
-  // up from each node to the first finished ancestor, then come back down.
-  std::vector<Eigen::Matrix4d, Eigen::aligned_allocator<Eigen::Matrix4d>> world(N);
-  std::vector<char> state(N, 0);  // 0 = todo, 1 = on the current chain, 2 = done
-  std::vector<size_t> chain;
-  for (size_t i = 0; i < N; ++i) {
-    chain.clear();
-    for (size_t at = i; state[at] != 2;) {
-      if (state[at] == 1) throw ModelError(path + ": the node hierarchy has a cycle");
-      state[at] = 1;
-      chain.push_back(at);
-      if (node_parent[at] < 0) break;
-      at = static_cast<size_t>(node_parent[at]);
-    }
-    for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
-      const int p = node_parent[*it];
-      world[*it] = p >= 0
-                       ? Eigen::Matrix4d(world[static_cast<size_t>(p)] * local_matrix(g.nodes[*it]))
-                       : local_matrix(g.nodes[*it]);
-      state[*it] = 2;
-    }
-  }
-
-  out.joints.resize(static_cast<Eigen::Index>(K), 3);
-  out.joint_names.resize(K);
-  out.parents.assign(K, -1);
-  std::unordered_map<int, int> joint_of_node;  // first skin joint of each node
-  for (size_t k = 0; k < K; ++k) joint_of_node.emplace(skin.joints[k], static_cast<int>(k));
-  for (size_t k = 0; k < K; ++k) {
-    const int node = skin.joints[k];
-    if (node < 0 || static_cast<size_t>(node) >= N) {
-      throw ModelError(path + ": skin joint " + std::to_string(k) + " refers to a missing node");
-    }
-    out.joints.row(static_cast<Eigen::Index>(k)) =
-        world[static_cast<size_t>(node)].topRightCorner<3, 1>().transpose();
-    out.joint_names[k] = g.nodes[static_cast<size_t>(node)].name;
-    const int pn = node_parent[static_cast<size_t>(node)];
-    const auto it = joint_of_node.find(pn);
-    if (pn >= 0 && it != joint_of_node.end()) out.parents[k] = it->second;
-  }
+  read_skeleton(g, skin, path, out);
   return out;
 }
 

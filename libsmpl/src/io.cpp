@@ -233,29 +233,11 @@ std::string single_string(const Source& src, const std::string& key) {
   return s[0];
 }
 
-BodyModel build_model(const Source& src, const LoadOptions& options) {
-  BodyModel m;
+// The parents from kintree_table (K columns): row 0 parents (root: -1 or 4294967295), row 1
+// joint ids 0..K-1.
+std::vector<int> read_parents(const Source& src, const NpyArray& kt, Eigen::Index K) {
   const std::string& ctx = src.context();
-  // v_template (V, 3).
-  const NpyArray& vt = src.array("v_template");
-  if (vt.shape.size() != 2 || vt.shape[1] != 3 || vt.shape[0] == 0 ||
-      vt.shape[0] > static_cast<std::size_t>(std::numeric_limits<int>::max() / 3)) {
-    src.bad_shape("v_template", vt, "(V, 3)");
-  }
-  const auto V = static_cast<Eigen::Index>(vt.shape[0]);
-  const std::vector<double> vtd = src.doubles("v_template", vt);
-  m.v_template = Eigen::Map<const Vertices>(vtd.data(), V, 3);
-  // f (F, 3).
-  const NpyArray& f = src.array("f");
-  if (f.shape.size() != 2 || f.shape[1] != 3) src.bad_shape("f", f, "(F, 3)");
-  const std::vector<int> fv = int_vector(src, "f", f, 0, V - 1);
-  m.faces = Eigen::Map<const Faces>(fv.data(), static_cast<Eigen::Index>(f.shape[0]), 3);
-  // kintree_table (2, K): row 0 parents (root: -1 or 4294967295), row 1 joint ids 0..K-1.
-  const NpyArray& kt = src.array("kintree_table");
-  if (kt.shape.size() != 2 || kt.shape[0] != 2 || kt.shape[1] == 0 || kt.shape[1] > 100000) {
-    src.bad_shape("kintree_table", kt, "(2, K)");
-  }
-  const auto K = static_cast<Eigen::Index>(kt.shape[1]);
+  std::vector<int> parents;
   const std::vector<std::int64_t> ktv = src.ints("kintree_table", kt);
   for (Eigen::Index k = 0; k < K; ++k) {
     const std::int64_t id = ktv[static_cast<std::size_t>(K + k)];
@@ -269,66 +251,54 @@ BodyModel build_model(const Source& src, const LoadOptions& options) {
       fail(ctx, "'kintree_table' gives joint " + std::to_string(k) + " the parent " +
                     std::to_string(p) + " (the model has " + std::to_string(K) + " joints)");
     }
-    m.parents.push_back(static_cast<int>(p));
+    parents.push_back(static_cast<int>(p));
   }
-  // Blend shapes.
-  m.shapedirs = blend_shapes(src, "shapedirs", V, options.num_betas, "B");
-  if (options.load_pose_blend_shapes && src.has("posedirs")) {
-    m.posedirs = blend_shapes(src, "posedirs", V, -1, "P");
-  } else {
-    m.posedirs.resize(3 * V, 0);
+  return parents;
+}
+
+// The texture coordinates vt (T, 2) and their faces ft (F, 3), both or neither.
+void read_uvs(const Source& src, BodyModel& m) {
+  const NpyArray& a = src.array("vt");
+  if (a.shape.size() != 2 || a.shape[1] != 2 || a.shape[0] == 0 ||
+      a.shape[0] > static_cast<std::size_t>(std::numeric_limits<int>::max() / 2)) {
+    src.bad_shape("vt", a, "(T, 2)");
   }
-  m.j_regressor = sparse_matrix(src, "J_regressor", K, V);
-  m.weights = sparse_matrix(src, "weights", V, K);
-  // Optional keys.
-  if (src.has("vert_sym_idxs")) {
-    const NpyArray& a = src.array("vert_sym_idxs");
-    if (a.shape.size() != 1 || a.shape[0] != static_cast<std::size_t>(V)) {
-      src.bad_shape("vert_sym_idxs", a, "(" + std::to_string(V) + ",)");
-    }
-    m.mirror = int_vector(src, "vert_sym_idxs", a, 0, V - 1);
+  const auto T = static_cast<Eigen::Index>(a.shape[0]);
+  const std::vector<double> uv = src.doubles("vt", a);
+  m.uvs = Eigen::Map<const TexCoords>(uv.data(), T, 2);
+  const NpyArray& ft = src.array("ft");
+  if (ft.shape.size() != 2 || ft.shape[1] != 3 ||
+      ft.shape[0] != static_cast<std::size_t>(m.faces.rows())) {
+    src.bad_shape("ft", ft, "(" + std::to_string(m.faces.rows()) + ", 3)");
   }
-  if (src.has("vt") || src.has("ft")) {
-    const NpyArray& a = src.array("vt");
-    if (a.shape.size() != 2 || a.shape[1] != 2 || a.shape[0] == 0 ||
-        a.shape[0] > static_cast<std::size_t>(std::numeric_limits<int>::max() / 2)) {
-      src.bad_shape("vt", a, "(T, 2)");
-    }
-    const auto T = static_cast<Eigen::Index>(a.shape[0]);
-    const std::vector<double> uv = src.doubles("vt", a);
-    m.uvs = Eigen::Map<const TexCoords>(uv.data(), T, 2);
-    const NpyArray& ft = src.array("ft");
-    if (ft.shape.size() != 2 || ft.shape[1] != 3 ||
-        ft.shape[0] != static_cast<std::size_t>(m.faces.rows())) {
-      src.bad_shape("ft", ft, "(" + std::to_string(m.faces.rows()) + ", 3)");
-    }
-    const std::vector<int> ftv = int_vector(src, "ft", ft, 0, static_cast<int>(T) - 1);
-    m.uv_faces = Eigen::Map<const Faces>(ftv.data(), m.faces.rows(), 3);
+  const std::vector<int> ftv = int_vector(src, "ft", ft, 0, static_cast<int>(T) - 1);
+  m.uv_faces = Eigen::Map<const Faces>(ftv.data(), m.faces.rows(), 3);
+}
+
+// The landmarks: landmark_names, landmark_offsets (names + 1, from 0) into landmark_vertices.
+void read_landmarks(const Source& src, Eigen::Index V, BodyModel& m) {
+  const std::string& ctx = src.context();
+  const std::vector<std::string> names = src.strings("landmark_names");
+  const NpyArray& off = src.array("landmark_offsets");
+  const NpyArray& ids = src.array("landmark_vertices");
+  const std::vector<std::int64_t> o = src.ints("landmark_offsets", off);
+  const std::vector<int> vids = int_vector(src, "landmark_vertices", ids, 0, V - 1);
+  if (o.size() != names.size() + 1 || o[0] != 0 ||
+      o.back() != static_cast<std::int64_t>(vids.size())) {
+    fail(ctx, "'landmark_offsets' must hold " + std::to_string(names.size() + 1) +
+                  " offsets from 0 to the length of 'landmark_vertices'");
   }
-  if (src.has("joint_names")) {
-    m.joint_names = src.strings("joint_names");
-  } else if (K == 24) {
-    m.joint_names = smpl_joint_names();
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (o[i + 1] < o[i]) fail(ctx, "'landmark_offsets' must not decrease");
   }
-  if (src.has("landmark_names") || src.has("landmark_offsets") || src.has("landmark_vertices")) {
-    const std::vector<std::string> names = src.strings("landmark_names");
-    const NpyArray& off = src.array("landmark_offsets");
-    const NpyArray& ids = src.array("landmark_vertices");
-    const std::vector<std::int64_t> o = src.ints("landmark_offsets", off);
-    const std::vector<int> vids = int_vector(src, "landmark_vertices", ids, 0, V - 1);
-    if (o.size() != names.size() + 1 || o[0] != 0 ||
-        o.back() != static_cast<std::int64_t>(vids.size())) {
-      fail(ctx, "'landmark_offsets' must hold " + std::to_string(names.size() + 1) +
-                    " offsets from 0 to the length of 'landmark_vertices'");
-    }
-    for (std::size_t i = 0; i < names.size(); ++i) {
-      if (o[i + 1] < o[i]) fail(ctx, "'landmark_offsets' must not decrease");
-    }
-    for (std::size_t i = 0; i < names.size(); ++i) {
-      m.landmarks[names[i]].assign(vids.begin() + o[i], vids.begin() + o[i + 1]);
-    }
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    m.landmarks[names[i]].assign(vids.begin() + o[i], vids.begin() + o[i + 1]);
   }
-  // Metadata: the file's meta_* keys, else guesses from the file name.
+}
+
+// Metadata: the file's meta_* keys, else guesses from the file name.
+void read_meta(const Source& src, BodyModel& m) {
+  const std::string& ctx = src.context();
   std::string base =
       ctx.substr(ctx.find_last_of('/') == std::string::npos ? 0 : ctx.find_last_of('/') + 1);
   m.meta.name = src.has("meta_name") ? single_string(src, "meta_name")
@@ -354,6 +324,59 @@ BodyModel build_model(const Source& src, const LoadOptions& options) {
     }
     for (std::size_t i = 0; i < keys.size(); ++i) m.meta.extra[keys[i]] = vals[i];
   }
+}
+
+BodyModel build_model(const Source& src, const LoadOptions& options) {
+  BodyModel m;
+  const std::string& ctx = src.context();
+  // v_template (V, 3).
+  const NpyArray& vt = src.array("v_template");
+  if (vt.shape.size() != 2 || vt.shape[1] != 3 || vt.shape[0] == 0 ||
+      vt.shape[0] > static_cast<std::size_t>(std::numeric_limits<int>::max() / 3)) {
+    src.bad_shape("v_template", vt, "(V, 3)");
+  }
+  const auto V = static_cast<Eigen::Index>(vt.shape[0]);
+  const std::vector<double> vtd = src.doubles("v_template", vt);
+  m.v_template = Eigen::Map<const Vertices>(vtd.data(), V, 3);
+  // f (F, 3).
+  const NpyArray& f = src.array("f");
+  if (f.shape.size() != 2 || f.shape[1] != 3) src.bad_shape("f", f, "(F, 3)");
+  const std::vector<int> fv = int_vector(src, "f", f, 0, V - 1);
+  m.faces = Eigen::Map<const Faces>(fv.data(), static_cast<Eigen::Index>(f.shape[0]), 3);
+  // kintree_table (2, K): row 0 parents (root: -1 or 4294967295), row 1 joint ids 0..K-1.
+  const NpyArray& kt = src.array("kintree_table");
+  if (kt.shape.size() != 2 || kt.shape[0] != 2 || kt.shape[1] == 0 || kt.shape[1] > 100000) {
+    src.bad_shape("kintree_table", kt, "(2, K)");
+  }
+  const auto K = static_cast<Eigen::Index>(kt.shape[1]);
+  m.parents = read_parents(src, kt, K);
+  // Blend shapes.
+  m.shapedirs = blend_shapes(src, "shapedirs", V, options.num_betas, "B");
+  if (options.load_pose_blend_shapes && src.has("posedirs")) {
+    m.posedirs = blend_shapes(src, "posedirs", V, -1, "P");
+  } else {
+    m.posedirs.resize(3 * V, 0);
+  }
+  m.j_regressor = sparse_matrix(src, "J_regressor", K, V);
+  m.weights = sparse_matrix(src, "weights", V, K);
+  // Optional keys.
+  if (src.has("vert_sym_idxs")) {
+    const NpyArray& a = src.array("vert_sym_idxs");
+    if (a.shape.size() != 1 || a.shape[0] != static_cast<std::size_t>(V)) {
+      src.bad_shape("vert_sym_idxs", a, "(" + std::to_string(V) + ",)");
+    }
+    m.mirror = int_vector(src, "vert_sym_idxs", a, 0, V - 1);
+  }
+  if (src.has("vt") || src.has("ft")) read_uvs(src, m);
+  if (src.has("joint_names")) {
+    m.joint_names = src.strings("joint_names");
+  } else if (K == 24) {
+    m.joint_names = smpl_joint_names();
+  }
+  if (src.has("landmark_names") || src.has("landmark_offsets") || src.has("landmark_vertices")) {
+    read_landmarks(src, V, m);
+  }
+  read_meta(src, m);
   validate(m, ctx);
   return m;
 }

@@ -237,9 +237,16 @@ std::int64_t whole(double x, double hi, const std::string& context, const char* 
   return static_cast<std::int64_t>(x);
 }
 
-}  // namespace
+// A PLY header: the body's format and offset, the elements with their properties, the comments.
+struct PlyHeader {
+  bool ascii = false;
+  std::size_t body = 0;  ///< offset of the body (the byte after end_header's line)
+  std::vector<PlyElement> elements;
+  std::vector<std::string> comments;
+};
 
-MeshData parse_ply(const std::uint8_t* bytes, std::size_t size, const std::string& context) {
+PlyHeader parse_ply_header(const std::uint8_t* bytes, std::size_t size,
+                           const std::string& context) {
   const std::string head(reinterpret_cast<const char*>(bytes),
                          std::min<std::size_t>(size, 1 << 16));
   const std::size_t end_header = head.find("end_header");
@@ -300,11 +307,15 @@ MeshData parse_ply(const std::uint8_t* bytes, std::size_t size, const std::strin
     fail(context, "PLY format '" + format.substr(0, 40) +
                       "' is not supported (use ascii or binary_little_endian)");
   }
-  // Every entry of an element takes at least this many bytes (ascii: a character per value),
-  // so no count can claim more entries than the bytes that follow the header can hold.
+  return {ascii, body, std::move(elements), std::move(comments)};
+}
+
+// Every entry of an element takes at least this many bytes (ascii: a character per value),
+// so no count can claim more entries than the bytes that follow the header can hold.
+void check_ply_counts(const PlyHeader& h, std::size_t body_size, const std::string& context) {
+  const bool ascii = h.ascii;
   std::uint64_t need = 0;
-  const std::size_t body_size = size - std::min(size, body);
-  for (const PlyElement& e : elements) {
+  for (const PlyElement& e : h.elements) {
     std::uint64_t per = 0;
     for (const PlyProperty& p : e.props)
       per += ascii ? 1 : ply_size(p.list ? p.count_type : p.type);
@@ -323,11 +334,15 @@ MeshData parse_ply(const std::uint8_t* bytes, std::size_t size, const std::strin
     }
     need += e.count * per;
   }
-  PlyBody in(bytes + std::min(size, body), body_size, ascii, context);
-  std::vector<double> v;
-  std::vector<std::int64_t> f;
+}
+
+// Reads the body: the x, y, z of every vertex into v, every face (fanned into triangles) into f;
+// other elements and properties are read and dropped.
+void read_ply_body(PlyBody& in, const PlyHeader& h, const std::string& context,
+                   std::vector<double>& v, std::vector<std::int64_t>& f) {
+  const bool ascii = h.ascii;
   std::vector<std::int64_t> idx;
-  for (const PlyElement& e : elements) {
+  for (const PlyElement& e : h.elements) {
     if (e.props.empty()) continue;
     const bool vertex = e.name == "vertex";
     for (std::uint64_t i = 0; i < e.count; ++i) {
@@ -363,8 +378,20 @@ MeshData parse_ply(const std::uint8_t* bytes, std::size_t size, const std::strin
       if (vertex) v.insert(v.end(), xyz, xyz + 3);
     }
   }
+}
+
+}  // namespace
+
+MeshData parse_ply(const std::uint8_t* bytes, std::size_t size, const std::string& context) {
+  PlyHeader h = parse_ply_header(bytes, size, context);
+  const std::size_t body_size = size - std::min(size, h.body);
+  check_ply_counts(h, body_size, context);
+  PlyBody in(bytes + std::min(size, h.body), body_size, h.ascii, context);
+  std::vector<double> v;
+  std::vector<std::int64_t> f;
+  read_ply_body(in, h, context, v, f);
   MeshData m = make_mesh(v, f, context);
-  m.comments = std::move(comments);
+  m.comments = std::move(h.comments);
   return m;
 }
 

@@ -155,6 +155,15 @@ class Unpickler {
   }
 
   PickleDict run();
+  /// The opcodes, by group: each returns false for an opcode not in its group.
+  bool stack_op(std::uint8_t op);
+  bool scalar_op(std::uint8_t op);
+  bool container_op(std::uint8_t op);
+  bool object_op(std::uint8_t op);
+  /// STOP: the dict of model arrays on top of the stack, converted.
+  PickleDict stop();
+  /// Fails with the reason an opcode that no group reads is refused.
+  [[noreturn]] void refuse(std::uint8_t op) const;
 
  private:
   // Error paths. Names taken from the file (keys, class names, dtypes) are escaped by
@@ -360,242 +369,284 @@ PickleDict Unpickler::run() {
   while (true) {
     op_pos_ = pos_;
     const std::uint8_t op = *take(1);
-    switch (op) {
-      case 0x80: {  // PROTO
-        const std::uint64_t v = le(1);
-        if (v < 2 || v > 5) fail("pickle protocol " + std::to_string(v) + " (supported: 2 to 5)");
-        break;
-      }
-      case 0x95: {  // FRAME: only a hint for buffered readers
-        const std::uint64_t n = le(8);
-        if (n > size_ - pos_) truncated(static_cast<std::size_t>(n));
-        break;
-      }
-      case '.': {  // STOP
-        const std::size_t result = pop();
-        if (objs_[result].type != Type::kDict) {
-          fail(std::string("the pickle holds a ") + type_name(objs_[result].type) +
-               ", expected a dict of model arrays");
-        }
-        PickleDict out;
-        const Obj& d = objs_[result];
-        for (std::size_t i = 0; i + 1 < d.items.size(); i += 2) {
-          const Obj& k = objs_[d.items[i]];
-          if (k.type != Type::kStr && k.type != Type::kBytes) {
-            fail(std::string("a top-level key is a ") + type_name(k.type) + ", expected str");
-          }
-          out[k.text] = convert(d.items[i + 1], k.text, 0);
-        }
-        return out;
-      }
-      case '(':  // MARK
-        marks_.push_back(stack_.size());
-        break;
-      case '0':  // POP
-        if (!stack_.empty() && stack_.size() > mark_floor()) {
-          pop();
-        } else {
-          pop_mark();
-        }
-        break;
-      case '1':  // POP_MARK
-        pop_mark();
-        break;
-      case '2':  // DUP
-        push(top());
-        break;
-      case 'N':
-        push(make(Type::kNone));
-        break;
-      case 0x88:  // NEWTRUE
-        push(make_int(1, Type::kBool));
-        break;
-      case 0x89:  // NEWFALSE
-        push(make_int(0, Type::kBool));
-        break;
-      case 'J':  // BININT
-        push(make_int(static_cast<std::int32_t>(static_cast<std::uint32_t>(le(4)))));
-        break;
-      case 'K':  // BININT1
-        push(make_int(static_cast<std::int64_t>(le(1))));
-        break;
-      case 'M':  // BININT2
-        push(make_int(static_cast<std::int64_t>(le(2))));
-        break;
-      case 0x8a: {  // LONG1
-        const std::uint64_t n = le(1);
-        if (n > 8) fail("integer wider than 64 bits");
-        std::uint64_t v = n == 0 ? 0 : le(n);
-        if (n > 0 && n < 8 && (v >> (8 * n - 1)) & 1) v |= ~std::uint64_t{0} << (8 * n);
-        push(make_int(static_cast<std::int64_t>(v)));
-        break;
-      }
-      case 'G': {  // BINFLOAT, big-endian
-        const std::uint8_t* q = take(8);
-        std::uint64_t bits = 0;
-        for (int i = 0; i < 8; ++i) bits = (bits << 8) | q[i];
-        const std::size_t id = make(Type::kFloat);
-        std::memcpy(&objs_[id].real, &bits, 8);
-        push(id);
-        break;
-      }
-      case 'U':  // SHORT_BINSTRING (Python 2 str: bytes)
-        push(make_text(Type::kBytes, le(1)));
-        break;
-      case 'T': {  // BINSTRING
-        const auto n = static_cast<std::int32_t>(static_cast<std::uint32_t>(le(4)));
-        if (n < 0) fail("BINSTRING with a negative length");
-        push(make_text(Type::kBytes, static_cast<std::size_t>(n)));
-        break;
-      }
-      case 'C':  // SHORT_BINBYTES
-        push(make_text(Type::kBytes, le(1)));
-        break;
-      case 'B':  // BINBYTES
-        push(make_text(Type::kBytes, le(4)));
-        break;
-      case 0x8e:  // BINBYTES8
-      case 0x96:  // BYTEARRAY8
-        push(make_text(Type::kBytes, le(8)));
-        break;
-      case 0x8c:  // SHORT_BINUNICODE
-        push(make_text(Type::kStr, le(1)));
-        break;
-      case 'X':  // BINUNICODE
-        push(make_text(Type::kStr, le(4)));
-        break;
-      case 0x8d:  // BINUNICODE8
-        push(make_text(Type::kStr, le(8)));
-        break;
-      case ')':  // EMPTY_TUPLE
-        push(tuple({}));
-        break;
-      case 0x85:    // TUPLE1
-      case 0x86:    // TUPLE2
-      case 0x87: {  // TUPLE3
-        const std::size_t n = op - 0x84u;
-        std::vector<std::size_t> items(n);
-        for (std::size_t i = n; i-- > 0;) items[i] = pop();
-        push(tuple(std::move(items)));
-        break;
-      }
-      case 't':  // TUPLE
-        push(tuple(pop_mark()));
-        break;
-      case ']':  // EMPTY_LIST
-        push(make(Type::kList));
-        break;
-      case 'l': {  // LIST
-        std::vector<std::size_t> items = pop_mark();
-        charge_slots(items.size(), "lists");
-        const std::size_t id = make(Type::kList);
-        objs_[id].items = std::move(items);
-        push(id);
-        break;
-      }
-      case '}':  // EMPTY_DICT
-        push(make(Type::kDict));
-        break;
-      case 'd': {  // DICT
-        std::vector<std::size_t> items = pop_mark();
-        const std::size_t id = make(Type::kDict);
-        add_to_dict(id, items);
-        push(id);
-        break;
-      }
-      case 0x8f:  // EMPTY_SET
-        push(make(Type::kSet));
-        break;
-      case 0x91:  // FROZENSET (elements not kept)
-        pop_mark();
-        push(make(Type::kSet));
-        break;
-      case 'a': {  // APPEND
-        const std::size_t v = pop();
-        add_to_list(top(), {v}, Type::kList);
-        break;
-      }
-      case 'e': {  // APPENDS
-        std::vector<std::size_t> items = pop_mark();
-        add_to_list(top(), items, Type::kList);
-        break;
-      }
-      case 0x90: {  // ADDITEMS
-        std::vector<std::size_t> items = pop_mark();
-        add_to_list(top(), items, Type::kSet);
-        break;
-      }
-      case 's': {  // SETITEM
-        const std::size_t v = pop();
-        const std::size_t k = pop();
-        add_to_dict(top(), {k, v});
-        break;
-      }
-      case 'u': {  // SETITEMS
-        std::vector<std::size_t> items = pop_mark();
-        add_to_dict(top(), items);
-        break;
-      }
-      case 'q':  // BINPUT
-        memo_put(le(1));
-        break;
-      case 'r':  // LONG_BINPUT
-        memo_put(le(4));
-        break;
-      case 0x94:  // MEMOIZE
-        memo_put(memo_.size());
-        break;
-      case 'h':  // BINGET
-        memo_get(le(1));
-        break;
-      case 'j':  // LONG_BINGET
-        memo_get(le(4));
-        break;
-      case 'c': {  // GLOBAL
-        const std::string module = line();
-        const std::string name = line();
-        push_global(module, name);
-        break;
-      }
-      case 0x93: {  // STACK_GLOBAL
-        const std::size_t name_id = pop();
-        const std::size_t module_id = pop();
-        const std::string name = text_of(name_id, "STACK_GLOBAL name");
-        const std::string module = text_of(module_id, "STACK_GLOBAL module");
-        push_global(module, name);
-        break;
-      }
-      case 'R': {  // REDUCE
-        const std::size_t args = pop();
-        const std::size_t callable = pop();
-        push(reduce(callable, args));
-        break;
-      }
-      case 0x81: {  // NEWOBJ
-        const std::size_t args = pop();
-        const std::size_t cls = pop();
-        push(newobj(cls, args));
-        break;
-      }
-      case 'b': {  // BUILD
-        const std::size_t state = pop();
-        build(top(), state);
-        break;
-      }
-      case 0x97:  // NEXT_BUFFER
-      case 0x98:  // READONLY_BUFFER
-        fail("out-of-band pickle buffers are not supported (pickle with buffer_callback=None)");
-      case 'P':
-      case 'Q':
-        fail("persistent ids are not supported");
-      case 'i':
-      case 'o':
-      case 0x92:
-        fail("opcode " + hex_byte(op) + " builds arbitrary objects and is refused");
-      default:
-        fail("unsupported pickle opcode " + hex_byte(op) +
-             " (only protocols 2-5 as written for SMPL-family models are read)");
+    if (op == '.') return stop();  // STOP
+    if (!stack_op(op) && !scalar_op(op) && !container_op(op) && !object_op(op)) refuse(op);
+  }
+}
+
+PickleDict Unpickler::stop() {
+  const std::size_t result = pop();
+  if (objs_[result].type != Type::kDict) {
+    fail(std::string("the pickle holds a ") + type_name(objs_[result].type) +
+         ", expected a dict of model arrays");
+  }
+  PickleDict out;
+  const Obj& d = objs_[result];
+  for (std::size_t i = 0; i + 1 < d.items.size(); i += 2) {
+    const Obj& k = objs_[d.items[i]];
+    if (k.type != Type::kStr && k.type != Type::kBytes) {
+      fail(std::string("a top-level key is a ") + type_name(k.type) + ", expected str");
     }
+    out[k.text] = convert(d.items[i + 1], k.text, 0);
+  }
+  return out;
+}
+
+// Protocol, framing, the stack, marks and the memo.
+bool Unpickler::stack_op(std::uint8_t op) {
+  switch (op) {
+    case 0x80: {  // PROTO
+      const std::uint64_t v = le(1);
+      if (v < 2 || v > 5) fail("pickle protocol " + std::to_string(v) + " (supported: 2 to 5)");
+      break;
+    }
+    case 0x95: {  // FRAME: only a hint for buffered readers
+      const std::uint64_t n = le(8);
+      if (n > size_ - pos_) truncated(static_cast<std::size_t>(n));
+      break;
+    }
+    case '(':  // MARK
+      marks_.push_back(stack_.size());
+      break;
+    case '0':  // POP
+      if (!stack_.empty() && stack_.size() > mark_floor()) {
+        pop();
+      } else {
+        pop_mark();
+      }
+      break;
+    case '1':  // POP_MARK
+      pop_mark();
+      break;
+    case '2':  // DUP
+      push(top());
+      break;
+    case 'q':  // BINPUT
+      memo_put(le(1));
+      break;
+    case 'r':  // LONG_BINPUT
+      memo_put(le(4));
+      break;
+    case 0x94:  // MEMOIZE
+      memo_put(memo_.size());
+      break;
+    case 'h':  // BINGET
+      memo_get(le(1));
+      break;
+    case 'j':  // LONG_BINGET
+      memo_get(le(4));
+      break;
+    default:
+      return false;
+  }
+  return true;
+}
+
+// None, booleans, integers, floats, byte and text strings.
+bool Unpickler::scalar_op(std::uint8_t op) {
+  switch (op) {
+    case 'N':
+      push(make(Type::kNone));
+      break;
+    case 0x88:  // NEWTRUE
+      push(make_int(1, Type::kBool));
+      break;
+    case 0x89:  // NEWFALSE
+      push(make_int(0, Type::kBool));
+      break;
+    case 'J':  // BININT
+      push(make_int(static_cast<std::int32_t>(static_cast<std::uint32_t>(le(4)))));
+      break;
+    case 'K':  // BININT1
+      push(make_int(static_cast<std::int64_t>(le(1))));
+      break;
+    case 'M':  // BININT2
+      push(make_int(static_cast<std::int64_t>(le(2))));
+      break;
+    case 0x8a: {  // LONG1
+      const std::uint64_t n = le(1);
+      if (n > 8) fail("integer wider than 64 bits");
+      std::uint64_t v = n == 0 ? 0 : le(n);
+      if (n > 0 && n < 8 && (v >> (8 * n - 1)) & 1) v |= ~std::uint64_t{0} << (8 * n);
+      push(make_int(static_cast<std::int64_t>(v)));
+      break;
+    }
+    case 'G': {  // BINFLOAT, big-endian
+      const std::uint8_t* q = take(8);
+      std::uint64_t bits = 0;
+      for (int i = 0; i < 8; ++i) bits = (bits << 8) | q[i];
+      const std::size_t id = make(Type::kFloat);
+      std::memcpy(&objs_[id].real, &bits, 8);
+      push(id);
+      break;
+    }
+    case 'U':  // SHORT_BINSTRING (Python 2 str: bytes)
+      push(make_text(Type::kBytes, le(1)));
+      break;
+    case 'T': {  // BINSTRING
+      const auto n = static_cast<std::int32_t>(static_cast<std::uint32_t>(le(4)));
+      if (n < 0) fail("BINSTRING with a negative length");
+      push(make_text(Type::kBytes, static_cast<std::size_t>(n)));
+      break;
+    }
+    case 'C':  // SHORT_BINBYTES
+      push(make_text(Type::kBytes, le(1)));
+      break;
+    case 'B':  // BINBYTES
+      push(make_text(Type::kBytes, le(4)));
+      break;
+    case 0x8e:  // BINBYTES8
+    case 0x96:  // BYTEARRAY8
+      push(make_text(Type::kBytes, le(8)));
+      break;
+    case 0x8c:  // SHORT_BINUNICODE
+      push(make_text(Type::kStr, le(1)));
+      break;
+    case 'X':  // BINUNICODE
+      push(make_text(Type::kStr, le(4)));
+      break;
+    case 0x8d:  // BINUNICODE8
+      push(make_text(Type::kStr, le(8)));
+      break;
+    default:
+      return false;
+  }
+  return true;
+}
+
+// Tuples, lists, dicts and sets, and adding to them.
+bool Unpickler::container_op(std::uint8_t op) {
+  switch (op) {
+    case ')':  // EMPTY_TUPLE
+      push(tuple({}));
+      break;
+    case 0x85:    // TUPLE1
+    case 0x86:    // TUPLE2
+    case 0x87: {  // TUPLE3
+      const std::size_t n = op - 0x84u;
+      std::vector<std::size_t> items(n);
+      for (std::size_t i = n; i-- > 0;) items[i] = pop();
+      push(tuple(std::move(items)));
+      break;
+    }
+    case 't':  // TUPLE
+      push(tuple(pop_mark()));
+      break;
+    case ']':  // EMPTY_LIST
+      push(make(Type::kList));
+      break;
+    case 'l': {  // LIST
+      std::vector<std::size_t> items = pop_mark();
+      charge_slots(items.size(), "lists");
+      const std::size_t id = make(Type::kList);
+      objs_[id].items = std::move(items);
+      push(id);
+      break;
+    }
+    case '}':  // EMPTY_DICT
+      push(make(Type::kDict));
+      break;
+    case 'd': {  // DICT
+      std::vector<std::size_t> items = pop_mark();
+      const std::size_t id = make(Type::kDict);
+      add_to_dict(id, items);
+      push(id);
+      break;
+    }
+    case 0x8f:  // EMPTY_SET
+      push(make(Type::kSet));
+      break;
+    case 0x91:  // FROZENSET (elements not kept)
+      pop_mark();
+      push(make(Type::kSet));
+      break;
+    case 'a': {  // APPEND
+      const std::size_t v = pop();
+      add_to_list(top(), {v}, Type::kList);
+      break;
+    }
+    case 'e': {  // APPENDS
+      std::vector<std::size_t> items = pop_mark();
+      add_to_list(top(), items, Type::kList);
+      break;
+    }
+    case 0x90: {  // ADDITEMS
+      std::vector<std::size_t> items = pop_mark();
+      add_to_list(top(), items, Type::kSet);
+      break;
+    }
+    case 's': {  // SETITEM
+      const std::size_t v = pop();
+      const std::size_t k = pop();
+      add_to_dict(top(), {k, v});
+      break;
+    }
+    case 'u': {  // SETITEMS
+      std::vector<std::size_t> items = pop_mark();
+      add_to_dict(top(), items);
+      break;
+    }
+    default:
+      return false;
+  }
+  return true;
+}
+
+// Classes and functions (only those lookup_global allows) and REDUCE, NEWOBJ and BUILD.
+bool Unpickler::object_op(std::uint8_t op) {
+  switch (op) {
+    case 'c': {  // GLOBAL
+      const std::string module = line();
+      const std::string name = line();
+      push_global(module, name);
+      break;
+    }
+    case 0x93: {  // STACK_GLOBAL
+      const std::size_t name_id = pop();
+      const std::size_t module_id = pop();
+      const std::string name = text_of(name_id, "STACK_GLOBAL name");
+      const std::string module = text_of(module_id, "STACK_GLOBAL module");
+      push_global(module, name);
+      break;
+    }
+    case 'R': {  // REDUCE
+      const std::size_t args = pop();
+      const std::size_t callable = pop();
+      push(reduce(callable, args));
+      break;
+    }
+    case 0x81: {  // NEWOBJ
+      const std::size_t args = pop();
+      const std::size_t cls = pop();
+      push(newobj(cls, args));
+      break;
+    }
+    case 'b': {  // BUILD
+      const std::size_t state = pop();
+      build(top(), state);
+      break;
+    }
+    default:
+      return false;
+  }
+  return true;
+}
+
+void Unpickler::refuse(std::uint8_t op) const {
+  switch (op) {
+    case 0x97:  // NEXT_BUFFER
+    case 0x98:  // READONLY_BUFFER
+      fail("out-of-band pickle buffers are not supported (pickle with buffer_callback=None)");
+    case 'P':
+    case 'Q':
+      fail("persistent ids are not supported");
+    case 'i':
+    case 'o':
+    case 0x92:
+      fail("opcode " + hex_byte(op) + " builds arbitrary objects and is refused");
+    default:
+      fail("unsupported pickle opcode " + hex_byte(op) +
+           " (only protocols 2-5 as written for SMPL-family models are read)");
   }
 }
 

@@ -126,12 +126,13 @@ std::vector<std::uint8_t> deflate_raw(const std::vector<std::uint8_t>& in) {
   return out;
 }
 
-}  // namespace
+// Where the central directory is and how many entries it has: from the end-of-central-directory
+// record (the last signature whose comment fits the file) or its zip64 version.
+struct Directory {
+  std::uint64_t entries = 0, size = 0, offset = 0;
+};
 
-NpzReader::NpzReader(const std::uint8_t* bytes, std::size_t size, std::string context_in)
-    : bytes_(bytes), context_(std::move(context_in)) {
-  const std::string& context = context_;
-  // End of central directory: the last signature whose comment fits the file.
+Directory find_directory(const std::uint8_t* bytes, std::size_t size, const std::string& context) {
   if (size < 22)
     fail(context, "truncated or not a zip/.npz file (" + std::to_string(size) + " bytes)");
   std::size_t eocd = std::numeric_limits<std::size_t>::max();
@@ -163,21 +164,30 @@ NpzReader::NpzReader(const std::uint8_t* bytes, std::size_t size, std::string co
   if (cd_offset > size || cd_size > size - cd_offset) {
     fail(context, "truncated or bad zip: the central directory lies outside the file");
   }
-  // Central directory.
-  struct Entry {
-    Member m;
-    std::uint64_t local_offset = 0;
-  };
-  std::vector<Entry> entries_read;
-  std::size_t pos = cd_offset;
-  const std::size_t cd_end = cd_offset + cd_size;
+  return {entries, cd_size, cd_offset};
+}
+
+// One central directory entry (sizes and offset completed from its zip64 extra field).
+struct DirEntry {
+  std::string name;
+  std::uint16_t method = 0, flags = 0;
+  std::uint32_t crc = 0;
+  std::uint64_t compressed = 0, uncompressed = 0, local_offset = 0;
+  std::uint64_t data_offset = 0;  ///< set by locate_data
+};
+
+std::vector<DirEntry> read_directory(const std::uint8_t* bytes, const Directory& dir,
+                                     const std::string& context) {
+  const std::uint64_t entries = dir.entries;
+  std::vector<DirEntry> entries_read;
+  std::size_t pos = dir.offset;
+  const std::size_t cd_end = dir.offset + dir.size;
   for (std::uint64_t i = 0; i < entries; ++i) {
     if (cd_end - pos < 46 || le(bytes + pos, 4) != kCentralSig) {
       fail(context, "bad zip: central directory entry " + std::to_string(i) + " is corrupt");
     }
     const std::uint8_t* h = bytes + pos;
-    Member m;
-    std::uint64_t local_offset = 0;
+    DirEntry m;
     m.flags = static_cast<std::uint16_t>(le(h + 8, 2));
     m.method = static_cast<std::uint16_t>(le(h + 10, 2));
     m.crc = static_cast<std::uint32_t>(le(h + 16, 4));
@@ -186,7 +196,7 @@ NpzReader::NpzReader(const std::uint8_t* bytes, std::size_t size, std::string co
     const std::size_t name_len = le(h + 28, 2);
     const std::size_t extra_len = le(h + 30, 2);
     const std::size_t comment_len = le(h + 32, 2);
-    local_offset = le(h + 42, 4);
+    m.local_offset = le(h + 42, 4);
     if (cd_end - pos - 46 < name_len + extra_len + comment_len) {
       fail(context, "bad zip: central directory entry " + std::to_string(i) + " is truncated");
     }
@@ -209,36 +219,41 @@ NpzReader::NpzReader(const std::uint8_t* bytes, std::size_t size, std::string co
         };
         field(m.uncompressed);
         field(m.compressed);
-        field(local_offset);
+        field(m.local_offset);
       }
       xpos += 4 + len;
     }
-    entries_read.push_back({m, local_offset});
+    entries_read.push_back(std::move(m));
     pos += 46 + name_len + extra_len + comment_len;
   }
-  // Local headers and data spans: inside the file, and no two members share a byte (a zip
-  // whose directory entries point at the same data would be inflated once per entry).
+  return entries_read;
+}
+
+// Sets every entry's data_offset from its local header. The local headers and data spans must lie
+// inside the file, and no two members may share a byte (a zip whose directory entries point at
+// the same data would be inflated once per entry).
+void locate_data(const std::uint8_t* bytes, std::size_t size, std::vector<DirEntry>& entries_read,
+                 const std::string& context) {
   struct Span {
     std::uint64_t begin, end;
     const std::string* name;
   };
   std::vector<Span> spans;
-  for (Entry& e : entries_read) {
-    Member& m = e.m;
+  for (DirEntry& m : entries_read) {
     const std::string where = context + " member '" + m.name + "'";
-    if (e.local_offset > size || size - e.local_offset < 30 ||
-        le(bytes + e.local_offset, 4) != kLocalSig) {
+    if (m.local_offset > size || size - m.local_offset < 30 ||
+        le(bytes + m.local_offset, 4) != kLocalSig) {
       fail(where, "truncated or bad zip: the local header is missing");
     }
-    const std::uint8_t* h = bytes + e.local_offset;
-    const std::uint64_t start = e.local_offset + 30 + le(h + 26, 2) + le(h + 28, 2);
+    const std::uint8_t* h = bytes + m.local_offset;
+    const std::uint64_t start = m.local_offset + 30 + le(h + 26, 2) + le(h + 28, 2);
     if (start > size || m.compressed > size - start) {
       fail(where, "truncated: the member's data runs past the end of the file (" +
                       std::to_string(m.compressed) + " bytes from offset " + std::to_string(start) +
                       ", file size " + std::to_string(size) + ")");
     }
     m.data_offset = start;
-    spans.push_back({e.local_offset, start + m.compressed, &m.name});
+    spans.push_back({m.local_offset, start + m.compressed, &m.name});
   }
   std::sort(spans.begin(), spans.end(),
             [](const Span& a, const Span& b) { return a.begin < b.begin; });
@@ -251,15 +266,33 @@ NpzReader::NpzReader(const std::uint8_t* bytes, std::size_t size, std::string co
                         "the file is corrupt or hostile");
     }
   }
+}
+
+}  // namespace
+
+NpzReader::NpzReader(const std::uint8_t* bytes, std::size_t size, std::string context_in)
+    : bytes_(bytes), context_(std::move(context_in)) {
+  const std::string& context = context_;
+  std::vector<DirEntry> entries_read =
+      read_directory(bytes, find_directory(bytes, size, context), context);
+  locate_data(bytes, size, entries_read, context);
   const std::string suffix = ".npy";
-  for (Entry& e : entries_read) {
-    const std::string& name = e.m.name;
+  for (const DirEntry& e : entries_read) {
+    const std::string& name = e.name;
     if (name.size() < suffix.size() ||
         name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0) {
       continue;
     }
     const std::string key = name.substr(0, name.size() - suffix.size());
-    if (!members_.emplace(key, e.m).second) {
+    Member m;
+    m.name = e.name;
+    m.method = e.method;
+    m.flags = e.flags;
+    m.crc = e.crc;
+    m.compressed = e.compressed;
+    m.uncompressed = e.uncompressed;
+    m.data_offset = e.data_offset;
+    if (!members_.emplace(key, m).second) {
       fail(context, "bad zip: member '" + name + "' appears twice in the directory");
     }
   }

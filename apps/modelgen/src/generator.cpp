@@ -469,6 +469,149 @@ Eigen::MatrixXd orth(const Eigen::MatrixXd& m) {
   return qr.householderQ() * Eigen::MatrixXd::Identity(m.rows(), m.cols());
 }
 
+// `opt.population` bodies sampled from the survey (sexes alternating), as cages with the pelvis
+// joint at the origin: one row per body, x, y, z of every cage vertex.
+Eigen::MatrixXd sample_population(std::vector<Sampler>& samplers,
+                                  const std::vector<DimMapping>& maps,
+                                  const std::vector<std::string>& sexes, const ModelTopology& topo,
+                                  const Eigen::RowVectorXd& pelvis_row,
+                                  const GeneratorOptions& opt) {
+  const int nc = topo.num_cage_vertices;
+  const int n = opt.population;
+  Eigen::MatrixXd x(n, 3 * nc);
+  Rng rng(opt.seed);
+  for (int b = 0; b < n; ++b) {
+    const std::size_t s = static_cast<std::size_t>(b % static_cast<int>(sexes.size()));
+    const Eigen::VectorXd dims = samplers[s].sample(rng, maps[s]);
+    const Cage cage = body_cage(dims, sexes[s] == "female", maps[s].bulk, topo, topo.faces,
+                                pelvis_row, caliper::weight_formula_for(sexes[s]));
+    Eigen::MatrixXd p = cage_matrix(cage);
+    const Eigen::RowVector3d pelvis = pelvis_row * p;
+    p.rowwise() -= pelvis;
+    for (int v = 0; v < nc; ++v) {
+      x.block(b, 3 * v, 1, 3) = p.row(v);
+    }
+  }
+  return x;
+}
+
+// S3 = S (x) I3: the subdivision matrix acting on x, y, z rows (3V x 3C).
+RowSparse subdivision_xyz(const RowSparse& subdivision, int nv, int nc) {
+  RowSparse s3(3 * nv, 3 * nc);
+  std::vector<Eigen::Triplet<double>> tr;
+  for (int r = 0; r < nv; ++r) {
+    for (RowSparse::InnerIterator it(subdivision, r); it; ++it) {
+      for (int c = 0; c < 3; ++c) {
+        tr.emplace_back(3 * r + c, 3 * static_cast<int>(it.col()) + c, it.value());
+      }
+    }
+  }
+  s3.setFromTriplets(tr.begin(), tr.end());
+  return s3;
+}
+
+// The principal components of the refined population: unit directions scaled by their standard
+// deviations (3V x k), and the share of the variance each explains.
+struct Components {
+  Eigen::MatrixXd shapedirs;
+  Eigen::VectorXd explained;
+};
+
+// PCA over refined vertices of the centred population `x` (N x 3C): A = X S3^T (N x 3V), never
+// formed. Randomized subspace iteration (Halko, Martinsson and Tropp 2011) with a fixed seed.
+Components principal_components(const Eigen::MatrixXd& x, const ModelTopology& topo,
+                                const GeneratorOptions& opt) {
+  const int nc = topo.num_cage_vertices;
+  const int nv = static_cast<int>(topo.subdivision.rows());
+  const int n = opt.population;
+  const RowSparse s3 = subdivision_xyz(topo.subdivision, nv, nc);
+  const RowSparse s3t = s3.transpose();
+  auto apply_a = [&](const Eigen::MatrixXd& w) -> Eigen::MatrixXd {  // (3V x l) -> (N x l)
+    const Eigen::MatrixXd z = s3t * w;
+    return x * z;
+  };
+  auto apply_at = [&](const Eigen::MatrixXd& y) -> Eigen::MatrixXd {  // (N x l) -> (3V x l)
+    const Eigen::MatrixXd z = x.transpose() * y;
+    return s3 * z;
+  };
+  const int k = opt.components;
+  const int l = k + 10;
+  Eigen::MatrixXd omega(3 * nv, l);
+  {
+    Rng rng(opt.seed + 17);
+    for (int c = 0; c < l; ++c) {
+      for (int r = 0; r < 3 * nv; ++r) {
+        omega(r, c) = rng.normal();
+      }
+    }
+  }
+  Eigen::MatrixXd q = orth(apply_a(omega));
+  for (int it = 0; it < 6; ++it) {
+    const Eigen::MatrixXd z = orth(apply_at(q));
+    q = orth(apply_a(z));
+  }
+  const Eigen::MatrixXd bt = apply_at(q);  // 3V x l = A^T Q
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(bt.transpose() * bt);
+  double total = 0;
+  for (int b = 0; b < n; ++b) {
+    Eigen::MatrixXd p(nc, 3);
+    for (int v = 0; v < nc; ++v) {
+      p.row(v) = x.block(b, 3 * v, 1, 3);
+    }
+    total += (topo.subdivision * p).squaredNorm();
+  }
+  Eigen::MatrixXd shapedirs(3 * nv, k);
+  Eigen::VectorXd explained(k);
+  for (int c = 0; c < k; ++c) {
+    const int e = l - 1 - c;  // eigenvalues ascending
+    const double sigma2 = std::max(es.eigenvalues()[e], 0.0);
+    const double sigma = std::sqrt(sigma2);
+    Eigen::VectorXd dir = bt * es.eigenvectors().col(e) / sigma;
+    Eigen::Index imax = 0;
+    dir.cwiseAbs().maxCoeff(&imax);
+    if (dir[imax] < 0) {
+      dir = -dir;
+    }
+    shapedirs.col(c) = dir * sigma / std::sqrt(static_cast<double>(n - 1));
+    explained[c] = sigma2 / total;
+  }
+  return {shapedirs, explained};
+}
+
+// The model: the mean body, the components, the topology's joints, weights and landmarks.
+smpl::BodyModel assemble_model(const ModelTopology& topo, const Eigen::RowVectorXd& mean,
+                               const Eigen::MatrixXd& shapedirs, const std::string& gender,
+                               const GeneratorOptions& opt) {
+  const int nc = topo.num_cage_vertices;
+  const int nv = static_cast<int>(topo.subdivision.rows());
+  const int k = opt.components;
+  const int n = opt.population;
+  smpl::BodyModel model;
+  Eigen::MatrixXd mean_cage_pos(nc, 3);
+  for (int v = 0; v < nc; ++v) {
+    mean_cage_pos.row(v) = mean.segment(3 * v, 3);
+  }
+  model.v_template = topo.subdivision * mean_cage_pos;
+  model.faces = topo.faces;
+  model.shapedirs = shapedirs;
+  model.posedirs = Eigen::MatrixXd(3 * nv, 0);
+  model.j_regressor = topo.j_regressor;
+  model.weights = topo.weights;
+  model.parents = smpl::smpl_parents();
+  model.joint_names = smpl::smpl_joint_names();
+  model.landmarks = topo.landmarks;
+  model.mirror = mirror_map(model.v_template);
+  model.meta.name = "caliper-open-" + gender;
+  model.meta.gender = gender;
+  model.meta.source = "caliper-modelgen (The Virtual Caliper project)";
+  model.meta.extra["licence"] = "MIT (the project's licence); free for any use";
+  model.meta.extra["survey"] = "ANSUR II 2012 public release (US Army), statistics only";
+  model.meta.extra["components"] = std::to_string(k);
+  model.meta.extra["population"] = std::to_string(n);
+  model.meta.extra["pose_blend_shapes"] = "none (posedirs has 0 columns)";
+  return model;
+}
+
 }  // namespace
 
 DeterministicNumerics::DeterministicNumerics()
@@ -525,89 +668,13 @@ smpl::BodyModel generate_model(const SurveyStats& stats, const std::string& gend
 
   // Population.
   const int n = opt.population;
-  Eigen::MatrixXd x(n, 3 * nc);
-  {
-    Rng rng(opt.seed);
-    for (int b = 0; b < n; ++b) {
-      const std::size_t s = static_cast<std::size_t>(b % static_cast<int>(sexes.size()));
-      const Eigen::VectorXd dims = samplers[s].sample(rng, maps[s]);
-      const Cage cage = body_cage(dims, sexes[s] == "female", maps[s].bulk, topo, topo.faces,
-                                  pelvis_row, caliper::weight_formula_for(sexes[s]));
-      Eigen::MatrixXd p = cage_matrix(cage);
-      const Eigen::RowVector3d pelvis = pelvis_row * p;
-      p.rowwise() -= pelvis;
-      for (int v = 0; v < nc; ++v) {
-        x.block(b, 3 * v, 1, 3) = p.row(v);
-      }
-    }
-  }
+  Eigen::MatrixXd x = sample_population(samplers, maps, sexes, topo, pelvis_row, opt);
   const Eigen::RowVectorXd mean = x.colwise().mean();
   x.rowwise() -= mean;
 
-  // PCA over refined vertices: A = X S3^T (N x 3V), never formed. Randomized subspace iteration
-  // (Halko, Martinsson and Tropp 2011) with a fixed seed.
-  RowSparse s3(3 * nv, 3 * nc);
-  {
-    std::vector<Eigen::Triplet<double>> tr;
-    for (int r = 0; r < nv; ++r) {
-      for (RowSparse::InnerIterator it(topo.subdivision, r); it; ++it) {
-        for (int c = 0; c < 3; ++c) {
-          tr.emplace_back(3 * r + c, 3 * static_cast<int>(it.col()) + c, it.value());
-        }
-      }
-    }
-    s3.setFromTriplets(tr.begin(), tr.end());
-  }
-  const RowSparse s3t = s3.transpose();
-  auto apply_a = [&](const Eigen::MatrixXd& w) -> Eigen::MatrixXd {  // (3V x l) -> (N x l)
-    const Eigen::MatrixXd z = s3t * w;
-    return x * z;
-  };
-  auto apply_at = [&](const Eigen::MatrixXd& y) -> Eigen::MatrixXd {  // (N x l) -> (3V x l)
-    const Eigen::MatrixXd z = x.transpose() * y;
-    return s3 * z;
-  };
   const int k = opt.components;
-  const int l = k + 10;
-  Eigen::MatrixXd omega(3 * nv, l);
-  {
-    Rng rng(opt.seed + 17);
-    for (int c = 0; c < l; ++c) {
-      for (int r = 0; r < 3 * nv; ++r) {
-        omega(r, c) = rng.normal();
-      }
-    }
-  }
-  Eigen::MatrixXd q = orth(apply_a(omega));
-  for (int it = 0; it < 6; ++it) {
-    const Eigen::MatrixXd z = orth(apply_at(q));
-    q = orth(apply_a(z));
-  }
-  const Eigen::MatrixXd bt = apply_at(q);  // 3V x l = A^T Q
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(bt.transpose() * bt);
-  double total = 0;
-  for (int b = 0; b < n; ++b) {
-    Eigen::MatrixXd p(nc, 3);
-    for (int v = 0; v < nc; ++v) {
-      p.row(v) = x.block(b, 3 * v, 1, 3);
-    }
-    total += (topo.subdivision * p).squaredNorm();
-  }
-  Eigen::MatrixXd shapedirs(3 * nv, k);
-  Eigen::VectorXd explained(k);
-  for (int c = 0; c < k; ++c) {
-    const int e = l - 1 - c;  // eigenvalues ascending
-    const double sigma2 = std::max(es.eigenvalues()[e], 0.0);
-    const double sigma = std::sqrt(sigma2);
-    Eigen::VectorXd dir = bt * es.eigenvectors().col(e) / sigma;
-    Eigen::Index imax = 0;
-    dir.cwiseAbs().maxCoeff(&imax);
-    if (dir[imax] < 0) {
-      dir = -dir;
-    }
-    shapedirs.col(c) = dir * sigma / std::sqrt(static_cast<double>(n - 1));
-    explained[c] = sigma2 / total;
-  }
+  const Components pca = principal_components(x, topo, opt);
+  const Eigen::VectorXd& explained = pca.explained;
   if (report) {
     report->explained_variance = explained;
   }
@@ -615,30 +682,7 @@ smpl::BodyModel generate_model(const SurveyStats& stats, const std::string& gend
                        " components explain " + smpl::format_fixed(100.0 * explained.sum(), 2) +
                        " % of the variance");
 
-  // Assembly.
-  smpl::BodyModel model;
-  Eigen::MatrixXd mean_cage_pos(nc, 3);
-  for (int v = 0; v < nc; ++v) {
-    mean_cage_pos.row(v) = mean.segment(3 * v, 3);
-  }
-  model.v_template = topo.subdivision * mean_cage_pos;
-  model.faces = topo.faces;
-  model.shapedirs = shapedirs;
-  model.posedirs = Eigen::MatrixXd(3 * nv, 0);
-  model.j_regressor = topo.j_regressor;
-  model.weights = topo.weights;
-  model.parents = smpl::smpl_parents();
-  model.joint_names = smpl::smpl_joint_names();
-  model.landmarks = topo.landmarks;
-  model.mirror = mirror_map(model.v_template);
-  model.meta.name = "caliper-open-" + gender;
-  model.meta.gender = gender;
-  model.meta.source = "caliper-modelgen (The Virtual Caliper project)";
-  model.meta.extra["licence"] = "MIT (the project's licence); free for any use";
-  model.meta.extra["survey"] = "ANSUR II 2012 public release (US Army), statistics only";
-  model.meta.extra["components"] = std::to_string(k);
-  model.meta.extra["population"] = std::to_string(n);
-  model.meta.extra["pose_blend_shapes"] = "none (posedirs has 0 columns)";
+  smpl::BodyModel model = assemble_model(topo, mean, pca.shapedirs, gender, opt);
   smpl::validate(model, model.meta.name);
   return model;
 }

@@ -295,6 +295,104 @@ smpl::SparseMatrix merged_weights(const Assets& assets) {
 // Joint regressor
 // ------------------------------------------------------------------------------------------------
 
+namespace {
+
+// The skin vertices (indices into src) around joint j of `body`: where 36 rays from the joint
+// first meet the skin (per ray, the nearest vertex within 20 degrees of it): 12 in the plane
+// across the limb (the YZ plane for the arm joints, which lie along X in the T-pose; the
+// horizontal plane for the others) and 12 tilted 30 degrees to either side.
+std::vector<int> vertices_around_joint(const TPoseBody& body, const std::vector<int>& src, int j) {
+  const auto nv = static_cast<int>(src.size());
+  const Eigen::Vector3d c = body.joints.row(j).transpose();
+  const bool arm = j >= 16;
+  std::vector<int> chosen;
+  const double h = 0.5 * std::sqrt(3.0);  // cos 30 degrees
+  const double ca[12] = {1.0, h, 0.5, 0.0, -0.5, -h, -1.0, -h, -0.5, 0.0, 0.5, h};
+  const double sa[12] = {0.0, 0.5, h, 1.0, h, 0.5, 0.0, -0.5, -h, -1.0, -h, -0.5};
+  for (int ring = 0; ring < 3; ++ring) {
+    for (int r = 0; r < 12; ++r) {
+      // Three rings of 12 rays: in the plane and tilted 30 degrees to either side of it.
+      const double along = ring == 0 ? 0.0 : (ring == 1 ? 0.5 : -0.5);
+      const double across = ring == 0 ? 1.0 : h;
+      const Eigen::Vector3d d = arm ? Eigen::Vector3d(along, across * ca[r], across * sa[r])
+                                    : Eigen::Vector3d(across * ca[r], along, across * sa[r]);
+      constexpr double kCone = 0.9397;  // cos 20 degrees
+      double best = 1e300;
+      int arg = -1;
+      for (int s = 0; s < nv; ++s) {
+        const Eigen::Vector3d e =
+            body.positions.row(src[static_cast<std::size_t>(s)]).transpose() - c;
+        const double n2 = e.squaredNorm();
+        const double dot = e.dot(d);
+        if (dot > 0.0 && dot * dot >= kCone * kCone * n2 && n2 < best) {
+          best = n2;
+          arg = s;
+        }
+      }
+      if (arg >= 0 && std::find(chosen.begin(), chosen.end(), arg) == chosen.end()) {
+        chosen.push_back(arg);
+      }
+    }
+  }
+  return chosen;
+}
+
+// Weights (summing to 1) of the chosen vertices whose weighted mean best gives joint j over all
+// bodies, with a ridge towards equal weights.
+Eigen::VectorXd joint_weights(const std::vector<TPoseBody>& bodies, const std::vector<int>& src,
+                              const std::vector<int>& chosen, int j) {
+  const int k = static_cast<int>(chosen.size());
+  // Normal matrix of sum_b |sum_i w_i (v_i^b - J^b)|^2, summed in body, coordinate order.
+  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(k, k);
+  for (const TPoseBody& b : bodies) {
+    for (int c3 = 0; c3 < 3; ++c3) {
+      for (int p = 0; p < k; ++p) {
+        const double dp =
+            b.positions(src[static_cast<std::size_t>(chosen[static_cast<std::size_t>(p)])], c3) -
+            b.joints(j, c3);
+        for (int q = 0; q < k; ++q) {
+          const double dq =
+              b.positions(src[static_cast<std::size_t>(chosen[static_cast<std::size_t>(q)])], c3) -
+              b.joints(j, c3);
+          m(p, q) += dp * dq;
+        }
+      }
+    }
+  }
+  // Ridge towards equal weights, 1e-3 of the mean diagonal: without it the 36 weights cancel
+  // (entries to -1.3 with 1e-4); with it they stay within [-0.4, 0.5] for 0.5 mm more RMS
+  // error on the training bodies.
+  double tr = 0.0;
+  for (int p = 0; p < k; ++p) {
+    tr += m(p, p);
+  }
+  const double lambda = 1e-3 * tr / k;
+  Eigen::MatrixXd kkt = Eigen::MatrixXd::Zero(k + 1, k + 1);
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(k + 1);
+  for (int p = 0; p < k; ++p) {
+    for (int q = 0; q < k; ++q) {
+      kkt(p, q) = 2.0 * m(p, q);
+    }
+    kkt(p, p) += 2.0 * lambda;
+    kkt(p, k) = 1.0;
+    kkt(k, p) = 1.0;
+    rhs(p) = 2.0 * lambda / k;
+  }
+  rhs(k) = 1.0;
+  const Eigen::VectorXd sol = kkt.fullPivLu().solve(rhs);
+  double sum = 0.0;
+  for (int p = 0; p < k; ++p) {
+    sum += sol(p);
+  }
+  Eigen::VectorXd w(k);
+  for (int p = 0; p < k; ++p) {
+    w(p) = sol(p) / sum;
+  }
+  return w;
+}
+
+}  // namespace
+
 smpl::SparseMatrix fit_joint_regressor(const Assets& assets, const std::vector<TPoseBody>& bodies) {
   if (bodies.empty()) {
     throw std::invalid_argument("fit_joint_regressor: needs at least one body");
@@ -303,92 +401,16 @@ smpl::SparseMatrix fit_joint_regressor(const Assets& assets, const std::vector<T
   const auto nv = static_cast<int>(src.size());
   std::vector<Eigen::Triplet<double>> trip;
   for (int j = 0; j < 24; ++j) {
-    // Vertex choice on the first body: skin vertices around the joint, where 36 rays first meet
-    // the skin (per ray, the nearest vertex within 20 degrees of it): 12 in the plane across the
-    // limb (the YZ plane for the arm joints, which lie along X in the T-pose; the horizontal
-    // plane for the others) and 12 tilted 30 degrees to either side.
-    const Eigen::Vector3d c = bodies.front().joints.row(j).transpose();
-    const bool arm = j >= 16;
-    std::vector<int> chosen;
-    const double h = 0.5 * std::sqrt(3.0);  // cos 30 degrees
-    const double ca[12] = {1.0, h, 0.5, 0.0, -0.5, -h, -1.0, -h, -0.5, 0.0, 0.5, h};
-    const double sa[12] = {0.0, 0.5, h, 1.0, h, 0.5, 0.0, -0.5, -h, -1.0, -h, -0.5};
-    for (int ring = 0; ring < 3; ++ring) {
-      for (int r = 0; r < 12; ++r) {
-        // Three rings of 12 rays: in the plane and tilted 30 degrees to either side of it.
-        const double along = ring == 0 ? 0.0 : (ring == 1 ? 0.5 : -0.5);
-        const double across = ring == 0 ? 1.0 : h;
-        const Eigen::Vector3d d = arm ? Eigen::Vector3d(along, across * ca[r], across * sa[r])
-                                      : Eigen::Vector3d(across * ca[r], along, across * sa[r]);
-        constexpr double kCone = 0.9397;  // cos 20 degrees
-        double best = 1e300;
-        int arg = -1;
-        for (int s = 0; s < nv; ++s) {
-          const Eigen::Vector3d e =
-              bodies.front().positions.row(src[static_cast<std::size_t>(s)]).transpose() - c;
-          const double n2 = e.squaredNorm();
-          const double dot = e.dot(d);
-          if (dot > 0.0 && dot * dot >= kCone * kCone * n2 && n2 < best) {
-            best = n2;
-            arg = s;
-          }
-        }
-        if (arg >= 0 && std::find(chosen.begin(), chosen.end(), arg) == chosen.end()) {
-          chosen.push_back(arg);
-        }
-      }
-    }
+    std::vector<int> chosen = vertices_around_joint(bodies.front(), src, j);
     if (chosen.size() < 3) {
       throw AssetError("MakeHuman rig: too few skin vertices around joint " +
                        smpl::smpl_joint_names()[static_cast<std::size_t>(j)]);
     }
     std::sort(chosen.begin(), chosen.end());
     const int k = static_cast<int>(chosen.size());
-    // Normal matrix of sum_b |sum_i w_i (v_i^b - J^b)|^2, summed in body, coordinate order.
-    Eigen::MatrixXd m = Eigen::MatrixXd::Zero(k, k);
-    for (const TPoseBody& b : bodies) {
-      for (int c3 = 0; c3 < 3; ++c3) {
-        for (int p = 0; p < k; ++p) {
-          const double dp =
-              b.positions(src[static_cast<std::size_t>(chosen[static_cast<std::size_t>(p)])], c3) -
-              b.joints(j, c3);
-          for (int q = 0; q < k; ++q) {
-            const double dq =
-                b.positions(src[static_cast<std::size_t>(chosen[static_cast<std::size_t>(q)])],
-                            c3) -
-                b.joints(j, c3);
-            m(p, q) += dp * dq;
-          }
-        }
-      }
-    }
-    // Ridge towards equal weights, 1e-3 of the mean diagonal: without it the 36 weights cancel
-    // (entries to -1.3 with 1e-4); with it they stay within [-0.4, 0.5] for 0.5 mm more RMS
-    // error on the training bodies.
-    double tr = 0.0;
+    const Eigen::VectorXd w = joint_weights(bodies, src, chosen, j);
     for (int p = 0; p < k; ++p) {
-      tr += m(p, p);
-    }
-    const double lambda = 1e-3 * tr / k;
-    Eigen::MatrixXd kkt = Eigen::MatrixXd::Zero(k + 1, k + 1);
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(k + 1);
-    for (int p = 0; p < k; ++p) {
-      for (int q = 0; q < k; ++q) {
-        kkt(p, q) = 2.0 * m(p, q);
-      }
-      kkt(p, p) += 2.0 * lambda;
-      kkt(p, k) = 1.0;
-      kkt(k, p) = 1.0;
-      rhs(p) = 2.0 * lambda / k;
-    }
-    rhs(k) = 1.0;
-    const Eigen::VectorXd sol = kkt.fullPivLu().solve(rhs);
-    double sum = 0.0;
-    for (int p = 0; p < k; ++p) {
-      sum += sol(p);
-    }
-    for (int p = 0; p < k; ++p) {
-      trip.emplace_back(j, chosen[static_cast<std::size_t>(p)], sol(p) / sum);
+      trip.emplace_back(j, chosen[static_cast<std::size_t>(p)], w(p));
     }
   }
   smpl::SparseMatrix r(24, nv);

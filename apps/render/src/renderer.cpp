@@ -81,6 +81,14 @@ struct Renderer::Impl {
   GLuint flat_vao = 0, flat_vbo = 0;        // pos3 colour4 uv2
   GLuint overlay_vao = 0, overlay_vbo = 0;  // pos2 uv2 colour4
   std::vector<float> flat_vertices, overlay_vertices;
+
+  /// The passes of Renderer::draw, in order, for one view with view-projection `vp_m`:
+  /// lit, depth-tested meshes and boxes;
+  void draw_meshes(const GlFunctions& gl, const Scene& scene, const Mat4& vp_m, const Vec3& eye);
+  /// the floor grid, the depth-tested lines and the textured quads;
+  void draw_flat(const GlFunctions& gl, const Scene& scene, const Mat4& vp_m);
+  /// the screen-space overlay of a w x h viewport: on-top lines, points, labels and legend.
+  void draw_overlay(const GlFunctions& gl, const Scene& scene, const Mat4& vp_m, int w, int h);
 };
 
 namespace {
@@ -400,7 +408,273 @@ struct OverlayBatch {
   size_t first, count;
 };
 
+/// The uniforms of the mesh program, looked up once per view.
+struct MeshUniforms {
+  GLint model, normal, colour, vertex_colours, flat;
+};
+
+/// Draws one mesh with the mesh program in use (and, for `wire`, its edges on top).
+void draw_mesh(const GlFunctions& gl, const MeshUniforms& u, bool cull_closed_meshes,
+               const GpuMesh& g, const Mat4& model, const Rgba& colour, bool vc, bool wire,
+               const Rgba& wire_colour) {
+  gl.UniformMatrix4fv(u.model, 1, GL_FALSE, model.data());
+  const Mat4 n = normal_matrix(model);
+  gl.UniformMatrix4fv(u.normal, 1, GL_FALSE, n.data());
+  const float c[4] = {colour.r, colour.g, colour.b, colour.a};
+  gl.Uniform4fv(u.colour, 1, c);
+  gl.Uniform1i(u.vertex_colours, vc && g.has_colours ? 1 : 0);
+  gl.Uniform1i(u.flat, 0);
+  if (g.cull_back_faces && cull_closed_meshes) {
+    // A mirroring model matrix (negative determinant) reverses the winding on screen.
+    const bool mirrored = model.block<3, 3>(0, 0).determinant() < 0;
+    gl.Enable(GL_CULL_FACE);
+    gl.CullFace(GL_BACK);
+    gl.FrontFace(mirrored != g.inward ? GL_CW : GL_CCW);
+  } else {
+    gl.Disable(GL_CULL_FACE);
+  }
+  gl.BindVertexArray(g.vao);
+  if (wire) {
+    gl.Enable(GL_POLYGON_OFFSET_FILL);
+    gl.PolygonOffset(1.0f, 1.0f);
+  }
+  gl.DrawElements(GL_TRIANGLES, g.index_count, GL_UNSIGNED_INT, nullptr);
+  if (wire) {
+    gl.Disable(GL_POLYGON_OFFSET_FILL);
+    gl.PolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+    const float wc[4] = {wire_colour.r, wire_colour.g, wire_colour.b, wire_colour.a};
+    gl.Uniform4fv(u.colour, 1, wc);
+    gl.Uniform1i(u.flat, 1);
+    gl.DrawElements(GL_TRIANGLES, g.index_count, GL_UNSIGNED_INT, nullptr);
+    gl.PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  }
+}
+
+/// Appends the floor grid's lines (pairs of flat vertices).
+void push_grid(std::vector<float>& v, const FloorGrid& g) {
+  const int n = static_cast<int>(std::floor(g.extent / g.spacing + 1e-4f));
+  for (int i = -n; i <= n; ++i) {
+    const float t = static_cast<float>(i) * g.spacing;
+    Rgba c = g.colour;
+    c.a = (i % 10 == 0) ? 0.9f : 0.45f;
+    if (i == 0) c = {0.35f, 0.35f, 0.4f, 1.0f};
+    push_flat(v, Vec3(t, g.height, -g.extent), c);
+    push_flat(v, Vec3(t, g.height, g.extent), c);
+    push_flat(v, Vec3(-g.extent, g.height, t), c);
+    push_flat(v, Vec3(g.extent, g.height, t), c);
+  }
+}
+
+/// Appends two triangles (six flat vertices, white, with texture coordinates) per quad.
+void push_quads(std::vector<float>& v, const std::vector<TexturedQuad>& quads) {
+  for (const TexturedQuad& q : quads) {
+    const Rgba white;
+    const Vec3 p00 = q.centre - q.right - q.up, p10 = q.centre + q.right - q.up;
+    const Vec3 p11 = q.centre + q.right + q.up, p01 = q.centre - q.right + q.up;
+    push_flat(v, p00, white, 0, 1);
+    push_flat(v, p10, white, 1, 1);
+    push_flat(v, p11, white, 1, 0);
+    push_flat(v, p00, white, 0, 1);
+    push_flat(v, p11, white, 1, 0);
+    push_flat(v, p01, white, 0, 0);
+  }
+}
+
+/// Appends the on-top lines as screen-space quads 3 px wide.
+void overlay_lines(std::vector<float>& ov, const std::vector<Line>& lines, const Mat4& vp_m, int w,
+                   int h) {
+  for (const Line& l : lines) {
+    if (!l.on_top) continue;
+    float ax, ay, bx, by;
+    if (!project(vp_m, l.a, w, h, ax, ay) || !project(vp_m, l.b, w, h, bx, by)) continue;
+    float dx = bx - ax, dy = by - ay;
+    const float len = std::sqrt(dx * dx + dy * dy);
+    if (len < 1e-3f) continue;
+    const float half = 1.5f;
+    const float nx = -dy / len * half, ny = dx / len * half;
+    push_overlay(ov, ax + nx, ay + ny, 0, 0, l.colour);
+    push_overlay(ov, bx + nx, by + ny, 0, 0, l.colour);
+    push_overlay(ov, bx - nx, by - ny, 0, 0, l.colour);
+    push_overlay(ov, ax + nx, ay + ny, 0, 0, l.colour);
+    push_overlay(ov, bx - nx, by - ny, 0, 0, l.colour);
+    push_overlay(ov, ax - nx, ay - ny, 0, 0, l.colour);
+  }
+}
+
+/// Appends each point as a square with a 1 px white border.
+void overlay_points(std::vector<float>& ov, const std::vector<Point>& points, const Mat4& vp_m,
+                    int w, int h) {
+  for (const Point& p : points) {
+    float x, y;
+    if (!project(vp_m, p.position, w, h, x, y)) continue;
+    const float r = p.size_px / 2;
+    overlay_rect(ov, x - r - 1, y - r - 1, x + r + 1, y + r + 1, Rgba{1, 1, 1, 1});
+    overlay_rect(ov, x - r, y - r, x + r, y + r, p.colour);
+  }
+}
+
+/// Appends the labels: boxes (text and background margin) on the screen; keep_clear labels that
+/// would cover another label move down until they are clear of it.
+void overlay_labels(std::vector<float>& ov, const std::vector<Label>& labels, const Mat4& vp_m,
+                    int w, int h) {
+  std::vector<const Label*> shown;
+  std::vector<TextBox> boxes;
+  for (const Label& l : labels) {
+    float x = l.anchor.x(), y = l.anchor.y();
+    if (!l.screen && !project(vp_m, l.anchor, w, h, x, y)) continue;
+    const float tw = text_width(l.text, l.scale), th = text_height(l.text, l.scale);
+    if (!l.screen) {  // centre world labels vertically on their anchor, a little to the right
+      x += 6;
+      y -= th / 2;
+    }
+    shown.push_back(&l);
+    boxes.push_back({x - 3, y - 3, x + tw + 3, y + th + 1, !l.keep_clear});
+  }
+  separate_boxes(boxes, kLabelGapPx);
+  for (size_t i = 0; i < shown.size(); ++i) {
+    const Label& l = *shown[i];
+    const TextBox& b = boxes[i];
+    if (l.background) overlay_rect(ov, b.x0, b.y0, b.x1, b.y1, Rgba{1, 1, 1, 0.8f});
+    overlay_text(ov, l.text, b.x0 + 3, b.y0 + 3, l.scale, l.colour);
+  }
+}
+
+/// Appends the colour legend in the viewport's top right corner: title, bar, three values.
+void overlay_legend(std::vector<float>& ov, const Legend& lg, int w, int h) {
+  const float scale = 2.0f;
+  const float bar_w = 22, bar_h = std::min(220.0f, static_cast<float>(h) * 0.4f);
+  const float box_w = std::max(130.0f, text_width(lg.title, scale) + 16);
+  const float x0 = static_cast<float>(w) - box_w, y0 = 16;
+  overlay_rect(ov, x0 - 10, y0 - 8, static_cast<float>(w) - 6, y0 + bar_h + 34,
+               Rgba{1, 1, 1, 0.85f});
+  overlay_text(ov, lg.title, x0 - 4, y0, scale, Rgba{0, 0, 0, 1});
+  const float by0 = y0 + 20;
+  const int steps = 32;
+  for (int i = 0; i < steps; ++i) {
+    // top = max value
+    const float t0 = 1 - static_cast<float>(i) / steps, t1 = 1 - static_cast<float>(i + 1) / steps;
+    const Rgba c0 = colour_at(lg.colour_map, t0), c1 = colour_at(lg.colour_map, t1);
+    const float ya = by0 + bar_h * static_cast<float>(i) / steps;
+    const float yb = by0 + bar_h * static_cast<float>(i + 1) / steps;
+    push_overlay(ov, x0, ya, 0, 0, c0);
+    push_overlay(ov, x0 + bar_w, ya, 0, 0, c0);
+    push_overlay(ov, x0 + bar_w, yb, 0, 0, c1);
+    push_overlay(ov, x0, ya, 0, 0, c0);
+    push_overlay(ov, x0 + bar_w, yb, 0, 0, c1);
+    push_overlay(ov, x0, yb, 0, 0, c1);
+  }
+  for (int k = 0; k <= 2; ++k) {
+    const float value = lg.max_value + (lg.min_value - lg.max_value) * static_cast<float>(k) / 2;
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", static_cast<double>(value));
+    const float y = by0 + bar_h * static_cast<float>(k) / 2 - 6;
+    overlay_text(ov, text, x0 + bar_w + 8, y, scale, Rgba{0, 0, 0, 1});
+  }
+}
+
 }  // namespace
+
+void Renderer::Impl::draw_meshes(const GlFunctions& gl, const Scene& scene, const Mat4& vp_m,
+                                 const Vec3& eye) {
+  gl.UseProgram(mesh_program);
+  MeshUniforms u;
+  u.model = gl.GetUniformLocation(mesh_program, "u_model");
+  u.normal = gl.GetUniformLocation(mesh_program, "u_normal_matrix");
+  const GLint u_vp = gl.GetUniformLocation(mesh_program, "u_view_projection");
+  u.colour = gl.GetUniformLocation(mesh_program, "u_colour");
+  u.vertex_colours = gl.GetUniformLocation(mesh_program, "u_vertex_colours");
+  u.flat = gl.GetUniformLocation(mesh_program, "u_flat");
+  const GLint u_light = gl.GetUniformLocation(mesh_program, "u_light_direction");
+  const GLint u_eye = gl.GetUniformLocation(mesh_program, "u_eye");
+  gl.UniformMatrix4fv(u_vp, 1, GL_FALSE, vp_m.data());
+  const Vec3 light = scene.light_direction.normalized();
+  gl.Uniform3fv(u_light, 1, light.data());
+  gl.Uniform3fv(u_eye, 1, eye.data());
+  for (const MeshInstance& m : scene.meshes) {
+    auto it = meshes.find(m.mesh);
+    if (it == meshes.end()) continue;
+    draw_mesh(gl, u, cull_closed_meshes, it->second, m.model, m.colour, m.vertex_colours,
+              m.wireframe, m.wireframe_colour);
+  }
+  const GpuMesh& cube_mesh = meshes.at(cube);
+  for (const Box& b : scene.boxes) {
+    Mat4 s = Mat4::Identity();
+    s.diagonal().head<3>() = b.half_extents;
+    draw_mesh(gl, u, cull_closed_meshes, cube_mesh, b.transform * s, b.colour, false, false,
+              b.colour);
+  }
+  gl.Disable(GL_CULL_FACE);
+  gl.FrontFace(GL_CCW);
+}
+
+void Renderer::Impl::draw_flat(const GlFunctions& gl, const Scene& scene, const Mat4& vp_m) {
+  flat_vertices.clear();
+  if (scene.grid.visible && scene.grid.spacing > 0) push_grid(flat_vertices, scene.grid);
+  for (const Line& l : scene.lines) {
+    if (l.on_top) continue;
+    push_flat(flat_vertices, l.a, l.colour);
+    push_flat(flat_vertices, l.b, l.colour);
+  }
+  const size_t line_vertices = flat_vertices.size() / 9;
+  push_quads(flat_vertices, scene.quads);
+  if (flat_vertices.empty()) return;
+  gl.UseProgram(flat_program);
+  gl.UniformMatrix4fv(gl.GetUniformLocation(flat_program, "u_view_projection"), 1, GL_FALSE,
+                      vp_m.data());
+  gl.Uniform1i(gl.GetUniformLocation(flat_program, "u_texture"), 0);
+  const GLint u_tex = gl.GetUniformLocation(flat_program, "u_textured");
+  gl.BindVertexArray(flat_vao);
+  gl.BindBuffer(GL_ARRAY_BUFFER, flat_vbo);
+  gl.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(flat_vertices.size() * 4),
+                flat_vertices.data(), GL_STREAM_DRAW);
+  gl.Uniform1i(u_tex, 0);
+  if (line_vertices > 0) gl.DrawArrays(GL_LINES, 0, static_cast<GLsizei>(line_vertices));
+  gl.Uniform1i(u_tex, 1);
+  gl.ActiveTexture(GL_TEXTURE0);
+  size_t first = line_vertices;
+  for (const TexturedQuad& q : scene.quads) {
+    auto it = textures.find(q.texture);
+    if (it != textures.end()) {
+      gl.BindTexture(GL_TEXTURE_2D, it->second);
+      gl.DrawArrays(GL_TRIANGLES, static_cast<GLint>(first), 6);
+    }
+    first += 6;
+  }
+}
+
+void Renderer::Impl::draw_overlay(const GlFunctions& gl, const Scene& scene, const Mat4& vp_m,
+                                  int w, int h) {
+  std::vector<float>& ov = overlay_vertices;
+  ov.clear();
+  std::vector<OverlayBatch> batches;
+  auto begin_batch = [&](int mode) { batches.push_back({mode, ov.size() / 8, 0}); };
+  auto end_batch = [&]() { batches.back().count = ov.size() / 8 - batches.back().first; };
+  begin_batch(0);
+  overlay_lines(ov, scene.lines, vp_m, w, h);
+  end_batch();
+  begin_batch(1);
+  overlay_points(ov, scene.points, vp_m, w, h);
+  end_batch();
+  begin_batch(0);
+  overlay_labels(ov, scene.labels, vp_m, w, h);
+  if (scene.legend.visible) overlay_legend(ov, scene.legend, w, h);
+  end_batch();
+  if (ov.empty()) return;
+  gl.Disable(GL_DEPTH_TEST);
+  gl.UseProgram(overlay_program);
+  gl.Uniform2f(gl.GetUniformLocation(overlay_program, "u_viewport_size"), static_cast<float>(w),
+               static_cast<float>(h));
+  const GLint u_mode = gl.GetUniformLocation(overlay_program, "u_mode");
+  gl.BindVertexArray(overlay_vao);
+  gl.BindBuffer(GL_ARRAY_BUFFER, overlay_vbo);
+  gl.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(ov.size() * 4), ov.data(), GL_STREAM_DRAW);
+  for (const OverlayBatch& b : batches) {
+    if (b.count == 0) continue;
+    gl.Uniform1i(u_mode, b.mode);
+    gl.DrawArrays(GL_TRIANGLES, static_cast<GLint>(b.first), static_cast<GLsizei>(b.count));
+  }
+  gl.Enable(GL_DEPTH_TEST);
+}
 
 void Renderer::draw(const Scene& scene, const std::vector<View>& views) {
   for (const View& v : views) draw(scene, v);
@@ -408,7 +682,6 @@ void Renderer::draw(const Scene& scene, const std::vector<View>& views) {
 
 void Renderer::draw(const Scene& scene, const View& view) {
   const GlFunctions& gl = gl_;
-  Impl& im = *impl_;
   const Viewport& vp = view.viewport;
   if (vp.width <= 0 || vp.height <= 0) return;
   gl.Viewport(vp.x, vp.y, vp.width, vp.height);
@@ -432,234 +705,9 @@ void Renderer::draw(const Scene& scene, const View& view) {
   gl.Enable(GL_BLEND);
   gl.BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
 
-  // Meshes and boxes.
-  gl.UseProgram(im.mesh_program);
-  const GLint u_model = gl.GetUniformLocation(im.mesh_program, "u_model");
-  const GLint u_normal = gl.GetUniformLocation(im.mesh_program, "u_normal_matrix");
-  const GLint u_vp = gl.GetUniformLocation(im.mesh_program, "u_view_projection");
-  const GLint u_colour = gl.GetUniformLocation(im.mesh_program, "u_colour");
-  const GLint u_vc = gl.GetUniformLocation(im.mesh_program, "u_vertex_colours");
-  const GLint u_flat = gl.GetUniformLocation(im.mesh_program, "u_flat");
-  const GLint u_light = gl.GetUniformLocation(im.mesh_program, "u_light_direction");
-  const GLint u_eye = gl.GetUniformLocation(im.mesh_program, "u_eye");
-  gl.UniformMatrix4fv(u_vp, 1, GL_FALSE, vp_m.data());
-  const Vec3 light = scene.light_direction.normalized();
-  gl.Uniform3fv(u_light, 1, light.data());
-  gl.Uniform3fv(u_eye, 1, eye.data());
-  auto draw_mesh = [&](const GpuMesh& g, const Mat4& model, const Rgba& colour, bool vc, bool wire,
-                       const Rgba& wire_colour) {
-    gl.UniformMatrix4fv(u_model, 1, GL_FALSE, model.data());
-    const Mat4 n = normal_matrix(model);
-    gl.UniformMatrix4fv(u_normal, 1, GL_FALSE, n.data());
-    const float c[4] = {colour.r, colour.g, colour.b, colour.a};
-    gl.Uniform4fv(u_colour, 1, c);
-    gl.Uniform1i(u_vc, vc && g.has_colours ? 1 : 0);
-    gl.Uniform1i(u_flat, 0);
-    if (g.cull_back_faces && im.cull_closed_meshes) {
-      // A mirroring model matrix (negative determinant) reverses the winding on screen.
-      const bool mirrored = model.block<3, 3>(0, 0).determinant() < 0;
-      gl.Enable(GL_CULL_FACE);
-      gl.CullFace(GL_BACK);
-      gl.FrontFace(mirrored != g.inward ? GL_CW : GL_CCW);
-    } else {
-      gl.Disable(GL_CULL_FACE);
-    }
-    gl.BindVertexArray(g.vao);
-    if (wire) {
-      gl.Enable(GL_POLYGON_OFFSET_FILL);
-      gl.PolygonOffset(1.0f, 1.0f);
-    }
-    gl.DrawElements(GL_TRIANGLES, g.index_count, GL_UNSIGNED_INT, nullptr);
-    if (wire) {
-      gl.Disable(GL_POLYGON_OFFSET_FILL);
-      gl.PolygonMode(GL_FRONT_AND_BACK, GL_LINE);
-      const float wc[4] = {wire_colour.r, wire_colour.g, wire_colour.b, wire_colour.a};
-      gl.Uniform4fv(u_colour, 1, wc);
-      gl.Uniform1i(u_flat, 1);
-      gl.DrawElements(GL_TRIANGLES, g.index_count, GL_UNSIGNED_INT, nullptr);
-      gl.PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
-    }
-  };
-  for (const MeshInstance& m : scene.meshes) {
-    auto it = im.meshes.find(m.mesh);
-    if (it == im.meshes.end()) continue;
-    draw_mesh(it->second, m.model, m.colour, m.vertex_colours, m.wireframe, m.wireframe_colour);
-  }
-  const GpuMesh& cube = im.meshes.at(im.cube);
-  for (const Box& b : scene.boxes) {
-    Mat4 s = Mat4::Identity();
-    s.diagonal().head<3>() = b.half_extents;
-    draw_mesh(cube, b.transform * s, b.colour, false, false, b.colour);
-  }
-  gl.Disable(GL_CULL_FACE);
-  gl.FrontFace(GL_CCW);
-
-  // Flat geometry: floor grid and depth-tested lines, then textured quads.
-  im.flat_vertices.clear();
-  if (scene.grid.visible && scene.grid.spacing > 0) {
-    const FloorGrid& g = scene.grid;
-    const int n = static_cast<int>(std::floor(g.extent / g.spacing + 1e-4f));
-    for (int i = -n; i <= n; ++i) {
-      const float t = static_cast<float>(i) * g.spacing;
-      Rgba c = g.colour;
-      c.a = (i % 10 == 0) ? 0.9f : 0.45f;
-      if (i == 0) c = {0.35f, 0.35f, 0.4f, 1.0f};
-      push_flat(im.flat_vertices, Vec3(t, g.height, -g.extent), c);
-      push_flat(im.flat_vertices, Vec3(t, g.height, g.extent), c);
-      push_flat(im.flat_vertices, Vec3(-g.extent, g.height, t), c);
-      push_flat(im.flat_vertices, Vec3(g.extent, g.height, t), c);
-    }
-  }
-  for (const Line& l : scene.lines) {
-    if (l.on_top) continue;
-    push_flat(im.flat_vertices, l.a, l.colour);
-    push_flat(im.flat_vertices, l.b, l.colour);
-  }
-  const size_t line_vertices = im.flat_vertices.size() / 9;
-  for (const TexturedQuad& q : scene.quads) {
-    const Rgba white;
-    const Vec3 p00 = q.centre - q.right - q.up, p10 = q.centre + q.right - q.up;
-    const Vec3 p11 = q.centre + q.right + q.up, p01 = q.centre - q.right + q.up;
-    push_flat(im.flat_vertices, p00, white, 0, 1);
-    push_flat(im.flat_vertices, p10, white, 1, 1);
-    push_flat(im.flat_vertices, p11, white, 1, 0);
-    push_flat(im.flat_vertices, p00, white, 0, 1);
-    push_flat(im.flat_vertices, p11, white, 1, 0);
-    push_flat(im.flat_vertices, p01, white, 0, 0);
-  }
-  if (!im.flat_vertices.empty()) {
-    gl.UseProgram(im.flat_program);
-    gl.UniformMatrix4fv(gl.GetUniformLocation(im.flat_program, "u_view_projection"), 1, GL_FALSE,
-                        vp_m.data());
-    gl.Uniform1i(gl.GetUniformLocation(im.flat_program, "u_texture"), 0);
-    const GLint u_tex = gl.GetUniformLocation(im.flat_program, "u_textured");
-    gl.BindVertexArray(im.flat_vao);
-    gl.BindBuffer(GL_ARRAY_BUFFER, im.flat_vbo);
-    gl.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(im.flat_vertices.size() * 4),
-                  im.flat_vertices.data(), GL_STREAM_DRAW);
-    gl.Uniform1i(u_tex, 0);
-    if (line_vertices > 0) gl.DrawArrays(GL_LINES, 0, static_cast<GLsizei>(line_vertices));
-    gl.Uniform1i(u_tex, 1);
-    gl.ActiveTexture(GL_TEXTURE0);
-    size_t first = line_vertices;
-    for (const TexturedQuad& q : scene.quads) {
-      auto it = im.textures.find(q.texture);
-      if (it != im.textures.end()) {
-        gl.BindTexture(GL_TEXTURE_2D, it->second);
-        gl.DrawArrays(GL_TRIANGLES, static_cast<GLint>(first), 6);
-      }
-      first += 6;
-    }
-  }
-
-  // Screen-space overlay.
-  std::vector<float>& ov = im.overlay_vertices;
-  ov.clear();
-  std::vector<OverlayBatch> batches;
-  auto begin_batch = [&](int mode) { batches.push_back({mode, ov.size() / 8, 0}); };
-  auto end_batch = [&]() { batches.back().count = ov.size() / 8 - batches.back().first; };
-  const int w = vp.width, h = vp.height;
-  begin_batch(0);
-  for (const Line& l : scene.lines) {
-    if (!l.on_top) continue;
-    float ax, ay, bx, by;
-    if (!project(vp_m, l.a, w, h, ax, ay) || !project(vp_m, l.b, w, h, bx, by)) continue;
-    float dx = bx - ax, dy = by - ay;
-    const float len = std::sqrt(dx * dx + dy * dy);
-    if (len < 1e-3f) continue;
-    const float half = 1.5f;
-    const float nx = -dy / len * half, ny = dx / len * half;
-    push_overlay(ov, ax + nx, ay + ny, 0, 0, l.colour);
-    push_overlay(ov, bx + nx, by + ny, 0, 0, l.colour);
-    push_overlay(ov, bx - nx, by - ny, 0, 0, l.colour);
-    push_overlay(ov, ax + nx, ay + ny, 0, 0, l.colour);
-    push_overlay(ov, bx - nx, by - ny, 0, 0, l.colour);
-    push_overlay(ov, ax - nx, ay - ny, 0, 0, l.colour);
-  }
-  end_batch();
-  begin_batch(1);
-  for (const Point& p : scene.points) {
-    float x, y;
-    if (!project(vp_m, p.position, w, h, x, y)) continue;
-    const float r = p.size_px / 2;
-    overlay_rect(ov, x - r - 1, y - r - 1, x + r + 1, y + r + 1, Rgba{1, 1, 1, 1});
-    overlay_rect(ov, x - r, y - r, x + r, y + r, p.colour);
-  }
-  end_batch();
-  begin_batch(0);
-  // Labels: boxes (text and background margin) on the screen; keep_clear labels that would
-  // cover another label move down until they are clear of it.
-  std::vector<const Label*> shown;
-  std::vector<TextBox> boxes;
-  for (const Label& l : scene.labels) {
-    float x = l.anchor.x(), y = l.anchor.y();
-    if (!l.screen && !project(vp_m, l.anchor, w, h, x, y)) continue;
-    const float tw = text_width(l.text, l.scale), th = text_height(l.text, l.scale);
-    if (!l.screen) {  // centre world labels vertically on their anchor, a little to the right
-      x += 6;
-      y -= th / 2;
-    }
-    shown.push_back(&l);
-    boxes.push_back({x - 3, y - 3, x + tw + 3, y + th + 1, !l.keep_clear});
-  }
-  separate_boxes(boxes, kLabelGapPx);
-  for (size_t i = 0; i < shown.size(); ++i) {
-    const Label& l = *shown[i];
-    const TextBox& b = boxes[i];
-    if (l.background) overlay_rect(ov, b.x0, b.y0, b.x1, b.y1, Rgba{1, 1, 1, 0.8f});
-    overlay_text(ov, l.text, b.x0 + 3, b.y0 + 3, l.scale, l.colour);
-  }
-  if (scene.legend.visible) {
-    const Legend& lg = scene.legend;
-    const float scale = 2.0f;
-    const float bar_w = 22, bar_h = std::min(220.0f, static_cast<float>(h) * 0.4f);
-    const float box_w = std::max(130.0f, text_width(lg.title, scale) + 16);
-    const float x0 = static_cast<float>(w) - box_w, y0 = 16;
-    overlay_rect(ov, x0 - 10, y0 - 8, static_cast<float>(w) - 6, y0 + bar_h + 34,
-                 Rgba{1, 1, 1, 0.85f});
-    overlay_text(ov, lg.title, x0 - 4, y0, scale, Rgba{0, 0, 0, 1});
-    const float by0 = y0 + 20;
-    const int steps = 32;
-    for (int i = 0; i < steps; ++i) {
-      // top = max value
-      const float t0 = 1 - static_cast<float>(i) / steps,
-                  t1 = 1 - static_cast<float>(i + 1) / steps;
-      const Rgba c0 = colour_at(lg.colour_map, t0), c1 = colour_at(lg.colour_map, t1);
-      const float ya = by0 + bar_h * static_cast<float>(i) / steps;
-      const float yb = by0 + bar_h * static_cast<float>(i + 1) / steps;
-      push_overlay(ov, x0, ya, 0, 0, c0);
-      push_overlay(ov, x0 + bar_w, ya, 0, 0, c0);
-      push_overlay(ov, x0 + bar_w, yb, 0, 0, c1);
-      push_overlay(ov, x0, ya, 0, 0, c0);
-      push_overlay(ov, x0 + bar_w, yb, 0, 0, c1);
-      push_overlay(ov, x0, yb, 0, 0, c1);
-    }
-    for (int k = 0; k <= 2; ++k) {
-      const float value = lg.max_value + (lg.min_value - lg.max_value) * static_cast<float>(k) / 2;
-      char text[32];
-      std::snprintf(text, sizeof text, "%.3g", static_cast<double>(value));
-      const float y = by0 + bar_h * static_cast<float>(k) / 2 - 6;
-      overlay_text(ov, text, x0 + bar_w + 8, y, scale, Rgba{0, 0, 0, 1});
-    }
-  }
-  end_batch();
-  if (!ov.empty()) {
-    gl.Disable(GL_DEPTH_TEST);
-    gl.UseProgram(im.overlay_program);
-    gl.Uniform2f(gl.GetUniformLocation(im.overlay_program, "u_viewport_size"),
-                 static_cast<float>(w), static_cast<float>(h));
-    const GLint u_mode = gl.GetUniformLocation(im.overlay_program, "u_mode");
-    gl.BindVertexArray(im.overlay_vao);
-    gl.BindBuffer(GL_ARRAY_BUFFER, im.overlay_vbo);
-    gl.BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(ov.size() * 4), ov.data(),
-                  GL_STREAM_DRAW);
-    for (const OverlayBatch& b : batches) {
-      if (b.count == 0) continue;
-      gl.Uniform1i(u_mode, b.mode);
-      gl.DrawArrays(GL_TRIANGLES, static_cast<GLint>(b.first), static_cast<GLsizei>(b.count));
-    }
-    gl.Enable(GL_DEPTH_TEST);
-  }
+  impl_->draw_meshes(gl, scene, vp_m, eye);  // lit, depth-tested meshes and boxes
+  impl_->draw_flat(gl, scene, vp_m);         // floor grid, depth-tested lines, textured quads
+  impl_->draw_overlay(gl, scene, vp_m, vp.width, vp.height);  // screen space, on top
   gl.BindVertexArray(0);
   gl.UseProgram(0);
   gl.Disable(GL_SCISSOR_TEST);

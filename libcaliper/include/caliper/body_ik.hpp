@@ -242,6 +242,13 @@ class BodyIk {
   };
   void solve_arm(int side, const IkInput& input);
   void solve_leg(int side, const Eigen::Vector3d& ankle, double foot_yaw);
+  /// body_yaw_ after this frame: head turns beyond the neck's range turn the body; so does the
+  /// line between the hands, when both are tracked and it agrees with the head (rate-limited,
+  /// towards the head only).
+  void update_heading(const IkInput& input, double head_yaw);
+  /// Feet planted; one starts a step when its place under the upright body (`goal`, left and
+  /// right) moved or turned away from it, a stepping foot moves on; then the legs are solved.
+  void move_feet(const IkInput& input, const std::array<Eigen::Vector3d, 2>& goal);
   void place(int joint);  ///< joints[joint] from its parent and the parent's global rotation
 
   IkRig rig_;

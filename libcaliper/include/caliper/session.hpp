@@ -179,6 +179,13 @@ class MeasuringSession {
   /// Why `tips` cannot be a take of `step` (a height at or below the floor, two tips at one
   /// point, NaN), in plain words for the person measuring; "" for a good take.
   std::string bad_take(const ProtocolStep& step, const std::vector<Eigen::Vector3d>& tips) const;
+  /// Why a full hold with these tip means and jitter is rejected (too much jitter, the tip off the
+  /// floor target, a take that is no length), or "" to accept it.
+  std::string rejected_hold(const std::vector<Eigen::Vector3d>& means, double jitter) const;
+  /// The trigger state machine before a hold: armed once both triggers are released, a hold
+  /// started (HoldStarted) when one is pressed.
+  void arm_hold(const SessionFrame& frame, bool any_pressed, bool all_released,
+                std::vector<SessionEvent>& events);
 
   Protocol protocol_;
   SessionOptions options_;

@@ -639,18 +639,10 @@ double time_evaluate_cpp(const ModelPtr& model, const InArray& betas, const py::
 
 }  // namespace
 
-// ---------------------------------------------------------------------------------------------
-// 10. Module
-// ---------------------------------------------------------------------------------------------
+namespace {
 
-PYBIND11_MODULE(_caliper, m) {
-  m.doc() =
-      "The Virtual Caliper for Python: SMPL-family body models (load, evaluate, export) and "
-      "metrically accurate avatars from body measurements (regressors, create, measure). "
-      "Units: metres, kilograms, radians; +Y up, the body faces +Z. See docs/library.md.";
-  m.attr("__version__") = CALIPER_VERSION;
-  register_errors(m);
-
+// BodyModel: loading, arrays, evaluation.
+void bind_model(py::module_& m) {
   // --- model ---
   py::class_<smpl::BodyModel, ModelPtr>(
       m, "BodyModel",
@@ -745,7 +737,10 @@ PYBIND11_MODULE(_caliper, m) {
         "restricted unpickler that never executes anything). num_betas: keep the first n shape "
         "components (-1: all). pose_blend_shapes=False skips posedirs (34 MB for SMPL). Raises "
         "ModelError naming the file and the problem.");
+}
 
+// The linear and noise-aware regressors, the regressor set, train_regressors and load_regressors.
+void bind_regressors(py::module_& m) {
   // --- regressors ---
   py::class_<caliper::LinearRegressor>(
       m, "LinearRegressor",
@@ -840,7 +835,10 @@ PYBIND11_MODULE(_caliper, m) {
   m.def("load_regressors", &load_regressors, py::arg("path"), py::arg("model") = nullptr,
         "Loads regressors saved by Regressors.save() or `caliper train --save`; with model, "
         "checks that they belong to it (ModelMismatchError).");
+}
 
+// MeasurementMapping and load_mapping.
+void bind_mapping(py::module_& m) {
   py::class_<caliper::MeasurementMapping, std::shared_ptr<caliper::MeasurementMapping>>(
       m, "Mapping", "A real-to-virtual measurement mapping (virtual = a real + b per measurement).")
       .def(
@@ -860,7 +858,10 @@ PYBIND11_MODULE(_caliper, m) {
   m.def("load_mapping", &load_mapping, py::arg("path"),
         "Loads a mapping: .json (from training) or a paired .csv (fitted now), as `caliper "
         "create --mapping`.");
+}
 
+// Plausibility and Avatar.
+void bind_avatar(py::module_& m) {
   // --- create ---
   py::class_<caliper::Plausibility>(m, "Plausibility",
                                     "How plausible a shape is under the prior betas ~ N(0, I).")
@@ -955,7 +956,10 @@ PYBIND11_MODULE(_caliper, m) {
                (w == a.avatar.achieved.end() ? std::string("?") : std::to_string(w->second)) +
                " kg>";
       });
+}
 
+// create: an avatar from measurements.
+void bind_create(py::module_& m) {
   m.def(
       "create",
       [](const ModelPtr& model, const RegressorsPtr& regressors, const py::object& measurements,
@@ -994,7 +998,10 @@ PYBIND11_MODULE(_caliper, m) {
       "noise-aware). exact_inputs: refine R2-R6 betas so every input is reproduced exactly. "
       "noise: SD per input for the noise-aware regressor. mapping: a real-to-virtual Mapping. "
       "force: accept inputs outside the hard limits (else InvalidInputError).");
+}
 
+// measure and evaluate.
+void bind_measure(py::module_& m) {
   // --- measure ---
   m.def(
       "measure",
@@ -1022,7 +1029,10 @@ PYBIND11_MODULE(_caliper, m) {
         "Returns vertices (N, V, 3) (or (V, 3) for 1-D betas) of dtype float64 or float32, and "
         "with joints=True a tuple (vertices, joints (N, K, 3)). The model's arrays are used in "
         "place (never copied); the GIL is released during the loop.");
+}
 
+// The exporters.
+void bind_export(py::module_& m) {
   // --- export ---
   m.def(
       "write_gltf",
@@ -1075,7 +1085,10 @@ PYBIND11_MODULE(_caliper, m) {
       },
       py::arg("path"), py::arg("vertices"), py::arg("faces"),
       "Writes a binary little-endian PLY of any triangle mesh.");
+}
 
+// Units: parsing and formatting.
+void bind_units(py::module_& m) {
   // --- units ---
   m.def(
       "parse_length", [](const std::string& text) { return caliper::parse_length(text, "length"); },
@@ -1129,7 +1142,10 @@ PYBIND11_MODULE(_caliper, m) {
       "plausibility",
       [](const py::object& betas) { return caliper::plausibility(to_vector(betas, "betas")); },
       py::arg("betas"), "Plausibility of a shape vector under betas ~ N(0, I).");
+}
 
+// The benchmark baselines.
+void bind_benchmarks(py::module_& m) {
   // --- benchmark baselines ---
   m.def("_time_create_cpp", &time_create_cpp, py::arg("model"), py::arg("regressors"),
         py::arg("measurements"), py::arg("regressor") = py::none(), py::arg("repeats") = 100,
@@ -1138,4 +1154,29 @@ PYBIND11_MODULE(_caliper, m) {
         py::arg("poses") = py::none(), py::arg("float32") = false, py::arg("repeats") = 5,
         "Benchmark baseline: median thread CPU seconds of the C++ loop of evaluate() (float64 or, "
         "with float32=True, float32 output), timed in C++.");
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// 10. Module
+// ---------------------------------------------------------------------------------------------
+
+PYBIND11_MODULE(_caliper, m) {
+  m.doc() =
+      "The Virtual Caliper for Python: SMPL-family body models (load, evaluate, export) and "
+      "metrically accurate avatars from body measurements (regressors, create, measure). "
+      "Units: metres, kilograms, radians; +Y up, the body faces +Z. See docs/library.md.";
+  m.attr("__version__") = CALIPER_VERSION;
+  register_errors(m);
+
+  bind_model(m);
+  bind_regressors(m);
+  bind_mapping(m);
+  bind_avatar(m);
+  bind_create(m);
+  bind_measure(m);
+  bind_export(m);
+  bind_units(m);
+  bind_benchmarks(m);
 }
