@@ -65,25 +65,23 @@ void declare_options(CLI::App& cli, Options& o, std::string& size) {
                  "run editor commands from FILE, one per frame (docs/editor.md)");
   app::add_value(cli, "--frames", o.frames, "N",
                  "stop after N frames (after the script) (default: run until closed; 2 headless)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(app::non_negative());
   app::add_value(cli, "--screenshot", o.screenshot, "PNG", "write the last frame to PNG");
   app::add_value(cli, "--size", size, "WxH",
                  "window / image size in pixels, each side at least 64\n"
                  "(default 1600x1000 or the remembered size)")
-      ->check(
-          [](const std::string& s) {
-            int w = 0, h = 0;
-            char end = 0;
-            return std::sscanf(s.c_str(), "%dx%d%c", &w, &h, &end) == 2 && w >= 64 && h >= 64
-                       ? std::string()
-                       : "expects WIDTHxHEIGHT in pixels, each at least 64, e.g. 1600x1000";
-          },
-          "WxH");
+      ->check([](const std::string& s) {
+        int w = 0, h = 0;
+        char end = 0;
+        return std::sscanf(s.c_str(), "%dx%d%c", &w, &h, &end) == 2 && w >= 64 && h >= 64
+                   ? std::string()
+                   : "expects WIDTHxHEIGHT in pixels, each at least 64, e.g. 1600x1000";
+      });
   app::add_flag(cli, "--strict", o.strict, "exit with status 1 if a script command failed");
   app::add_flag(cli, "--no-config", o.no_config, "neither read nor write the settings file");
   app::add_value(cli, "--exit-after", o.exit_after, "SECONDS",
                  "quit after this much wall time (benchmarks) (default: never)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(app::non_negative());
   app::add_flag(cli, "--no-idle-wait", o.no_idle_wait,
                 "redraw continuously instead of waiting for input (benchmarks)");
 }

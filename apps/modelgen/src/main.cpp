@@ -63,7 +63,7 @@ void declare_options(CLI::App& cli, Options& o) {
   app::add_value(cli, "--stats", o.stats_path, "FILE",
                  "the ANSUR II statistics table (default DIR/ansur_stats.csv, else "
                  "./assets/models/ansur_stats.csv)");
-  app::add_value(cli, "--gender", o.gender, "GENDER", "female, male, neutral or all")
+  app::add_value(cli, "--gender", o.gender, "GENDER", "which model to write")
       ->check(CLI::IsMember({"female", "male", "neutral", "all"}));
   app::add_value(cli, "--population", o.generator.population, "N",
                  "synthetic bodies whose principal components make the shape space");
@@ -77,7 +77,7 @@ void declare_options(CLI::App& cli, Options& o) {
                  "compare the model's bodies (betas ~ N(0, I)) with the survey (needs --stats)");
   app::add_value(cli, "--samples", o.samples, "N", "bodies drawn by --validate");
   app::add_value(cli, "--source", o.source, "SOURCE",
-                 "cage (the open models) or makehuman (work in progress, issue 11)")
+                 "the open models (cage) or MakeHuman's (makehuman: work in progress, issue 11)")
       ->check(CLI::IsMember({"cage", "makehuman"}));
   app::add_value(cli, "--makehuman", o.makehuman_dir, "DIR", "MakeHuman's CC0 assets");
   app::add_value(cli, "--surveys", o.survey_dir, "DIR",
@@ -165,6 +165,53 @@ void write_makehuman_shape_models(const modelgen::mh::Assets& assets, const smpl
   if (!quiet) std::printf("shape models in %.1f s\n", seconds(t0));
 }
 
+/// --validate: the model's bodies (betas ~ N(0, I)) against the survey statistics, as a
+/// markdown table.
+void print_validation(const std::string& validate, const std::string& stats_path, int samples) {
+  const modelgen::SurveyStats st = modelgen::read_stats_table(stats_path);
+  const smpl::BodyModel model = smpl::load_model(validate);
+  const auto t0 = std::chrono::steady_clock::now();
+  const modelgen::ValidationFigures m = modelgen::model_figures(model, samples, 12345);
+  const modelgen::ValidationFigures s = modelgen::survey_figures(st, model.meta.gender);
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("%s: %d bodies with betas ~ N(0, I) vs ANSUR II (%d subjects), %.1f s\n",
+              validate.c_str(), samples, s.count, secs);
+  std::printf(
+      "| measurement | model mean | survey mean | mean error | model SD | survey SD | SD ratio "
+      "|\n");
+  std::printf("|---|---|---|---|---|---|---|\n");
+  for (const std::string& id : modelgen::validation_ids()) {
+    const double scale = id == "weight" ? 1.0 : 1000.0;
+    const char* unit = id == "weight" ? "kg" : "mm";
+    std::printf("| %s (%s) | %.1f | %.1f | %+.2f %% | %.1f | %.1f | %.2f |\n", id.c_str(), unit,
+                m.mean.at(id) * scale, s.mean.at(id) * scale,
+                100.0 * (m.mean.at(id) / s.mean.at(id) - 1.0), m.sd.at(id) * scale,
+                s.sd.at(id) * scale, m.sd.at(id) / s.sd.at(id));
+  }
+  std::printf("| corr(stature, span) | %.3f | %.3f | %+.3f | | | |\n", m.corr_stature_span,
+              s.corr_stature_span, m.corr_stature_span - s.corr_stature_span);
+  std::printf("| corr(stature, weight) | %.3f | %.3f | %+.3f | | | |\n", m.corr_stature_weight,
+              s.corr_stature_weight, m.corr_stature_weight - s.corr_stature_weight);
+}
+
+/// --source makehuman: the template model, then the shape models (work in progress, issue 11).
+void write_makehuman_models(const Options& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const modelgen::mh::Assets assets = modelgen::mh::read_assets(o.makehuman_dir);
+  const smpl::BodyModel model =
+      modelgen::mh::template_model(assets, modelgen::mh::default_regressor_targets());
+  const std::string path = o.out + "/caliper-makehuman-template.npz";
+  smpl::SaveOptions so;
+  so.compress = true;
+  smpl::save_model(model, path, so);
+  if (!o.quiet) {
+    std::printf("wrote %s (%d vertices, %d faces, %d betas) in %.1f s\n", path.c_str(),
+                model.num_vertices(), model.num_faces(), model.num_betas(),
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  write_makehuman_shape_models(assets, model, o.survey_dir, o.out, o.quiet);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -206,31 +253,7 @@ int main(int argc, char** argv) {
       if (stats_path.empty()) {
         throw std::runtime_error("--validate needs --stats FILE");
       }
-      const modelgen::SurveyStats st = modelgen::read_stats_table(stats_path);
-      const smpl::BodyModel model = smpl::load_model(validate);
-      const auto t0 = std::chrono::steady_clock::now();
-      const modelgen::ValidationFigures m = modelgen::model_figures(model, samples, 12345);
-      const modelgen::ValidationFigures s = modelgen::survey_figures(st, model.meta.gender);
-      const double secs =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      std::printf("%s: %d bodies with betas ~ N(0, I) vs ANSUR II (%d subjects), %.1f s\n",
-                  validate.c_str(), samples, s.count, secs);
-      std::printf(
-          "| measurement | model mean | survey mean | mean error | model SD | survey SD | SD ratio "
-          "|\n");
-      std::printf("|---|---|---|---|---|---|---|\n");
-      for (const std::string& id : modelgen::validation_ids()) {
-        const double scale = id == "weight" ? 1.0 : 1000.0;
-        const char* unit = id == "weight" ? "kg" : "mm";
-        std::printf("| %s (%s) | %.1f | %.1f | %+.2f %% | %.1f | %.1f | %.2f |\n", id.c_str(), unit,
-                    m.mean.at(id) * scale, s.mean.at(id) * scale,
-                    100.0 * (m.mean.at(id) / s.mean.at(id) - 1.0), m.sd.at(id) * scale,
-                    s.sd.at(id) * scale, m.sd.at(id) / s.sd.at(id));
-      }
-      std::printf("| corr(stature, span) | %.3f | %.3f | %+.3f | | | |\n", m.corr_stature_span,
-                  s.corr_stature_span, m.corr_stature_span - s.corr_stature_span);
-      std::printf("| corr(stature, weight) | %.3f | %.3f | %+.3f | | | |\n", m.corr_stature_weight,
-                  s.corr_stature_weight, m.corr_stature_weight - s.corr_stature_weight);
+      print_validation(validate, stats_path, samples);
       if (out.empty()) {
         return 0;
       }
@@ -241,20 +264,7 @@ int main(int argc, char** argv) {
       return 2;
     }
     if (o.source == "makehuman") {
-      const auto t0 = std::chrono::steady_clock::now();
-      const modelgen::mh::Assets assets = modelgen::mh::read_assets(o.makehuman_dir);
-      const smpl::BodyModel model =
-          modelgen::mh::template_model(assets, modelgen::mh::default_regressor_targets());
-      const std::string path = out + "/caliper-makehuman-template.npz";
-      smpl::SaveOptions so;
-      so.compress = true;
-      smpl::save_model(model, path, so);
-      if (!quiet) {
-        std::printf("wrote %s (%d vertices, %d faces, %d betas) in %.1f s\n", path.c_str(),
-                    model.num_vertices(), model.num_faces(), model.num_betas(),
-                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-      }
-      write_makehuman_shape_models(assets, model, o.survey_dir, out, quiet);
+      write_makehuman_models(o);
       return 0;
     }
     if (stats_path.empty()) {

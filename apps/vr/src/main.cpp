@@ -66,9 +66,9 @@ struct VrOption {
 };
 
 const VrOption kOptions[] = {
-    {"--replay", "FILE", "modes", "replay a pose log headless (no headset, no display)"},
-    {"--simulate", "FILE", "modes", "write the pose log of a simulated person doing the protocol"},
-    {"--calibrate-tip", "HAND", "modes",
+    {"--replay", "FILE", "options", "replay a pose log headless (no headset, no display)"},
+    {"--simulate", "FILE", "options", "write the pose log of a simulated person doing the protocol"},
+    {"--calibrate-tip", "HAND", "options",
      "measure the tip offset of the left/right controller (pivot calibration)"},
     {"--assets", "DIR", "options",
      "the project's assets (default: $CALIPER_ASSETS, else the build\ntree's or the install "
@@ -155,7 +155,17 @@ bool parse_args(int argc, char** argv, Args& a) {
     return false;
   }
   caliper::app::no_positional(line);
-  a.argv.assign(argv + 1, argv + argc);
+  // The arguments as given, "--name=value" as "--name value" (resume_command() copies them).
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const size_t eq = arg.find('=');
+    if (arg.rfind("--", 0) != 0 || eq == std::string::npos) {
+      a.argv.push_back(arg);
+    } else {
+      a.argv.push_back(arg.substr(0, eq));
+      a.argv.push_back(arg.substr(eq + 1));
+    }
+  }
   for (const VrOption& o : kOptions) {
     if (cli.get_option(o.name)->count() == 0) continue;
     if (*o.value)

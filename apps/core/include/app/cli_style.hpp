@@ -79,9 +79,18 @@ class HelpFormatter : public CLI::Formatter {
     std::ostringstream out;
     out << make_usage(app, name);
     if (!app->get_description().empty()) out << "\n" << app->get_description() << "\n";
-    out << make_positionals(app) << make_groups(app, mode) << make_subcommands(app, mode);
+    out << "\n" << make_groups(app, mode) << make_subcommands(app, mode);
     if (!app->get_footer().empty()) out << "\n" << app->get_footer() << "\n";
     return out.str();
+  }
+
+  /// One group: its name and its options, no blank line before it (make_groups() puts one
+  /// between groups).
+  std::string make_group(std::string group, bool is_positional,
+                         std::vector<const CLI::Option*> opts) const override {
+    std::string out = group + ":\n";
+    for (const CLI::Option* opt : opts) out += make_option(opt, is_positional);
+    return out;
   }
 
   std::string make_usage(const CLI::App* app, std::string name) const override {
@@ -141,6 +150,17 @@ CLI::Option* add_value(CLI::App& app, const std::string& names, T& target,
 inline CLI::Option* add_flag(CLI::App& app, const std::string& names, bool& target,
                              const std::string& help) {
   return app.add_flag(names, target, help)->disable_flag_override();
+}
+
+/// A check that a number is 0 or more, with a message that says so.
+inline CLI::Validator non_negative() {
+  return CLI::Validator(
+      [](std::string& text) {
+        double v = 0;
+        if (!CLI::detail::lexical_cast(text, v)) return "'" + text + "' is not a number";
+        return v >= 0 ? std::string() : "must be 0 or more, not " + text;
+      },
+      "");
 }
 
 /// The plain-words message of a CLI11 parse error.
