@@ -163,8 +163,8 @@ inline CLI::Validator non_negative() {
       "");
 }
 
-/// The plain-words message of a CLI11 parse error.
-inline std::string describe(const CLI::ParseError& e) {
+/// The plain-words message of a CLI11 parse error of `app`.
+inline std::string describe(const CLI::ParseError& e, const CLI::App& app) {
   std::string m = e.what();
   const size_t colon = m.find(": ");
   const std::string option = colon == std::string::npos ? "" : m.substr(0, colon);
@@ -176,6 +176,14 @@ inline std::string describe(const CLI::ParseError& e) {
   }
   if (m.find("At Most 1 required but received") != std::string::npos)
     return "option " + option + " given more than once";
+  const std::string convert = "Could not convert: ";
+  if (m.rfind(convert, 0) == 0 && m.find(" = ") != std::string::npos) {
+    const size_t eq = m.find(" = ");
+    const std::string name = m.substr(convert.size(), eq - convert.size());
+    const CLI::Option* o = app.get_option_no_throw(name);
+    return "'" + m.substr(eq + 3) + "' is not a valid value for " + name +
+           (o && !o->get_type_name().empty() ? " " + o->get_type_name() : "");
+  }
   const size_t flag = m.find(" was given a disallowed flag override");
   if (flag != std::string::npos) return "option --" + m.substr(0, flag) + " takes no value";
   return m;
@@ -201,7 +209,7 @@ inline CommandLine parse_command_line(CLI::App& app, std::vector<std::string> ar
     out.help = true;
     return out;
   } catch (const CLI::ParseError& e) {
-    throw CommandLineError(describe(e));
+    throw CommandLineError(describe(e, app));
   }
   bool options_done = false;
   for (const std::string& a : app.remaining()) {
