@@ -67,7 +67,8 @@ struct VrOption {
 
 const VrOption kOptions[] = {
     {"--replay", "FILE", "options", "replay a pose log headless (no headset, no display)"},
-    {"--simulate", "FILE", "options", "write the pose log of a simulated person doing the protocol"},
+    {"--simulate", "FILE", "options",
+     "write the pose log of a simulated person doing the protocol"},
     {"--calibrate-tip", "HAND", "options",
      "measure the tip offset of the left/right controller (pivot calibration)"},
     {"--assets", "DIR", "options",
