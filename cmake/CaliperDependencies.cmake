@@ -44,6 +44,8 @@ if(CALIPER_BUILD_BENCHMARKS)
   find_package(benchmark REQUIRED)
 endif()
 if(CALIPER_BUILD_APPS)
+  # Every program's options and --help (apps/core/include/app/cli_style.hpp).
+  find_package(CLI11 2 REQUIRED CONFIG)
   find_package(OpenGL REQUIRED)
   find_package(glfw3 3.3 REQUIRED)
   find_package(glm REQUIRED)

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "app/cli_style.hpp"
 #include "cli_support.hpp"
 #include "inputs.hpp"
 #include "model_source.hpp"
@@ -102,6 +103,58 @@ TEST(Args, ErrorsNameTheOption) {
   EXPECT_EQ(parse_int("8", "jobs", 1, 8), 8);
   EXPECT_THROW(parse_number_list("1,,2", "--betas"), UsageError);
   EXPECT_EQ(parse_number_list("1, -0.5,2", "--betas").size(), 3u);
+}
+
+TEST(Args, ErrorsSayWhatWasWrong) {
+  const auto message = [](const std::vector<std::string>& args) {
+    try {
+      parse_args(args, kSpecs);
+    } catch (const UsageError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message({"--height"}), "option --height needs a value (LENGTH)");
+  EXPECT_EQ(message({"--json=yes"}), "option --json takes no value");
+  EXPECT_EQ(message({"--height", "1m", "--height", "2m"}), "option --height given more than once");
+  EXPECT_EQ(message({"-x"}), "unknown option -x");
+}
+
+TEST(Args, HelpIsWrittenByCli11InTheCommonStyle) {
+  const app::HelpText help{{"caliper demo FILE [options]", "caliper demo --ansur FILE"},
+                           "What the command does.",
+                           "example:\n  caliper demo a.csv"};
+  const ParsedArgs a = parse_args({"--json", "-h"}, kSpecs, help);
+  ASSERT_TRUE(a.flags.count("help"));
+  const std::string& h = a.help;
+  EXPECT_EQ(h.rfind("usage: caliper demo FILE [options]\n       caliper demo --ansur FILE\n", 0),
+            0u)
+      << h;
+  EXPECT_NE(h.find("What the command does."), std::string::npos) << h;
+  EXPECT_NE(h.find("options:"), std::string::npos) << h;
+  EXPECT_NE(h.find("-j,--jobs N"), std::string::npos) << h;
+  EXPECT_NE(h.find("--height LENGTH"), std::string::npos) << h;
+  EXPECT_NE(h.find("-h,--help"), std::string::npos) << h;
+  EXPECT_LT(h.find("--height"), h.find("example:")) << "the footer comes last: " << h;
+}
+
+TEST(CliStyle, DefaultsAndUnitsAreShown) {
+  CLI::App cli("", "demo");
+  app::apply_style(cli, {{"demo [options]"}, "", ""});
+  int population = 2000;
+  double seconds = -1;
+  app::add_value(cli, "--population", population, "N", "bodies in the population");
+  app::add_value(cli, "--exit-after", seconds, "SECONDS", "quit after this time (default: never)");
+  const std::string h = cli.help();
+  EXPECT_NE(h.find("bodies in the population (default 2000)"), std::string::npos) << h;
+  EXPECT_NE(h.find("quit after this time (default: never)"), std::string::npos) << h;
+  EXPECT_EQ(h.find("(default -1)"), std::string::npos) << "a stated default is not repeated";
+  EXPECT_THROW(app::parse_command_line(cli, {"--population", "many"}), app::CommandLineError);
+  const app::CommandLine line = app::parse_command_line(cli, {"--population", "12", "x"});
+  EXPECT_EQ(population, 12);
+  ASSERT_EQ(line.positional.size(), 1u);
+  EXPECT_THROW(app::no_positional(line), app::CommandLineError);
+  EXPECT_EQ(app::usage_error_line("demo", "bad"), "demo: error: bad (see demo --help)\n");
 }
 
 TEST(Csv, QuotesCrlfAndErrors) {

@@ -4,6 +4,7 @@
 #include <iostream>
 #include <new>
 
+#include "app/cli_style.hpp"
 #include "caliper/errors.hpp"
 #include "caliper/json.hpp"
 #include "cli_support.hpp"
@@ -22,56 +23,74 @@ std::string version_string() {
 
 namespace {
 
-const char* kTopHelp =
-    "caliper: metrically accurate avatars from body measurements (The Virtual Caliper)\n"
-    "\n"
-    "usage: caliper <command> [options]\n"
-    "\n"
-    "commands:\n"
-    "  create     measurements in (with units), an avatar (.glb/.gltf/.obj/.ply) and a report out\n"
-    "  measure    all measurements, volume and weight of an avatar file or of a model + betas\n"
-    "  train      fit and report the regressors R2, R4, R5, R6 and noise-aware for a model\n"
-    "  batch      a CSV of people (or ANSUR II files) in, a results CSV and avatars out\n"
-    "  models     list the open default models and describe model files\n"
-    "  render     PNG pictures of an avatar or a model (front, side, three-quarter, turntable)\n"
-    "  evaluate   the evaluation studies of docs/evaluation.md (table1, simulation, ansur)\n"
-    "\n"
-    "options:\n"
-    "  -h, --help     this help; `caliper <command> --help` for a command's options\n"
-    "  --version      print the version\n"
-    "\n"
+struct Command {
+  const char* name;
+  const char* summary;
+  int (*run)(const std::vector<std::string>&, Io&);
+};
+
+const Command kCommands[] = {
+    {"create", "measurements in (with units), an avatar (.glb/.gltf/.obj/.ply) and a report out",
+     cmd_create},
+    {"measure", "all measurements, volume and weight of an avatar file or of a model + betas",
+     cmd_measure},
+    {"train", "fit and report the regressors R2, R4, R5, R6 and noise-aware for a model",
+     cmd_train},
+    {"batch", "a CSV of people (or ANSUR II files) in, a results CSV and avatars out", cmd_batch},
+    {"models", "list the open default models and describe model files", cmd_models},
+    {"render", "PNG pictures of an avatar or a model (front, side, three-quarter, turntable)",
+     cmd_render},
+    {"evaluate", "the evaluation studies of docs/evaluation.md (table1, simulation, ansur)",
+     cmd_evaluate},
+};
+
+const app::HelpText kTopHelp{
+    {"caliper <command> [options]"},
+    "caliper: metrically accurate avatars from body measurements (The Virtual Caliper);\n"
+    "`caliper <command> --help` for a command's options",
     "example:\n"
-    "  caliper create --sex female --height 168cm --weight 62kg --out avatar.glb --png "
-    "avatar.png\n"
+    "  caliper create --sex female --height 168cm --weight 62kg --out avatar.glb --png avatar.png\n"
     "\n"
-    "exit codes: 0 ok, 1 runtime or input-file error, 2 usage error, 3 implausible input "
-    "refused\n"
-    "environment: CALIPER_ASSETS=<folder with models/caliper-{female,male,neutral}.npz>\n";
+    "exit codes: 0 ok, 1 runtime or input-file error, 2 usage error, 3 implausible input refused\n"
+    "environment: CALIPER_ASSETS=<folder with models/caliper-{female,male,neutral}.npz>"};
 
 int dispatch(const std::vector<std::string>& args, Io& io) {
-  if (args.empty()) {
-    io.err << kTopHelp;
-    return kExitUsage;
+  // The commands are CLI11 subcommands that take the rest of the line as it is: each command
+  // parses its own options (parse_args), so that `caliper create --help` is create's help.
+  CLI::App top("", "caliper");
+  app::apply_style(top, kTopHelp);
+  bool version = false;
+  app::add_flag(top, "--version", version, "print the version");
+  for (const Command& c : kCommands) {
+    CLI::App* sub = top.add_subcommand(c.name, c.summary);
+    sub->group("commands")->prefix_command()->set_help_flag();
   }
-  const std::string& cmd = args[0];
-  const std::vector<std::string> rest(args.begin() + 1, args.end());
-  if (cmd == "-h" || cmd == "--help" || cmd == "help") {
-    io.out << kTopHelp;
+  app::CommandLine line;
+  try {
+    line = app::parse_command_line(top, args);
+  } catch (const app::CommandLineError& e) {
+    throw UsageError(e.what());
+  }
+  for (const Command& c : kCommands) {
+    if (CLI::App* sub = top.get_subcommand(c.name); sub->parsed())
+      return c.run(sub->remaining(), io);
+  }
+  if (line.help || (line.positional.size() == 1 && line.positional[0] == "help")) {
+    io.out << top.help();
     return kExitOk;
   }
-  if (cmd == "--version" || cmd == "version") {
+  if (version || (line.positional.size() == 1 && line.positional[0] == "version")) {
     io.out << version_string() << "\n";
     return kExitOk;
   }
-  if (cmd == "create") return cmd_create(rest, io);
-  if (cmd == "measure") return cmd_measure(rest, io);
-  if (cmd == "train") return cmd_train(rest, io);
-  if (cmd == "batch") return cmd_batch(rest, io);
-  if (cmd == "models") return cmd_models(rest, io);
-  if (cmd == "render") return cmd_render(rest, io);
-  if (cmd == "evaluate") return cmd_evaluate(rest, io);
-  const std::string near =
-      closest_name(cmd, {"create", "measure", "train", "batch", "models", "render", "evaluate"});
+  if (line.positional.empty()) {
+    io.err << top.help();
+    return kExitUsage;
+  }
+  const std::string& cmd = line.positional[0];
+  std::vector<std::string> names;
+  for (const Command& c : kCommands) names.emplace_back(c.name);
+  const std::string near = closest_name(cmd, names);
   throw UsageError("unknown command '" + cmd + "'" +
                    (near.empty() ? "" : " (did you mean " + near + "?)") +
                    "; commands: create, measure, train, batch, models, render, evaluate");

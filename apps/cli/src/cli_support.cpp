@@ -1,5 +1,7 @@
 #include "cli_support.hpp"
 
+#include "app/cli_style.hpp"
+
 #include "caliper/assets.hpp"
 #include "caliper/errors.hpp"
 #include "caliper/inputs.hpp"
@@ -37,142 +39,45 @@ std::string ParsedArgs::get_or(const std::string& name, const std::string& fallb
   return v ? *v : fallback;
 }
 
-namespace {
-
-size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) prev[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    cur[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const size_t sub = prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1);
-      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, sub});
-    }
-    std::swap(prev, cur);
-  }
-  return prev[b.size()];
-}
-
-std::string closest_option(const std::string& name, const std::vector<OptionSpec>& specs) {
-  std::vector<std::string> names;
-  for (const auto& s : specs) names.push_back(s.name);
-  return closest_name(name, names);
-}
-
-}  // namespace
-
 std::string closest_name(const std::string& name, const std::vector<std::string>& names) {
-  std::string best;
-  size_t best_d = 4;  // suggest only near misses
-  for (const std::string& n : names) {
-    const size_t d = edit_distance(name, n);
-    if (d < best_d) {
-      best_d = d;
-      best = n;
-    }
-  }
-  return best;
+  return app::closest_name(name, names);
 }
 
 std::string count_noun(long long n, const std::string& singular, const std::string& plural) {
   return std::to_string(n) + " " + (n == 1 ? singular : plural);
 }
 
-ParsedArgs parse_args(const std::vector<std::string>& args, const std::vector<OptionSpec>& specs) {
+ParsedArgs parse_args(const std::vector<std::string>& args, const std::vector<OptionSpec>& specs,
+                      const app::HelpText& help) {
   ParsedArgs out;
-  auto find_long = [&](const std::string& n) -> const OptionSpec* {
-    for (const auto& s : specs)
-      if (s.name == n) return &s;
-    return nullptr;
-  };
-  auto find_short = [&](const std::string& n) -> const OptionSpec* {
-    for (const auto& s : specs)
-      if (!s.short_name.empty() && s.short_name == n) return &s;
-    return nullptr;
-  };
-  bool options_done = false;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    if (options_done || a.size() < 2 || a[0] != '-' ||
-        (std::isdigit(static_cast<unsigned char>(a[1])) || a[1] == '.')) {
-      out.positional.push_back(a);
-      continue;
-    }
-    if (a == "--") {
-      options_done = true;
-      continue;
-    }
-    std::string name;
-    std::optional<std::string> inline_value;
-    const OptionSpec* spec = nullptr;
-    std::string shown;
-    if (a.rfind("--", 0) == 0) {
-      name = a.substr(2);
-      const size_t eq = name.find('=');
-      if (eq != std::string::npos) {
-        inline_value = name.substr(eq + 1);
-        name = name.substr(0, eq);
-      }
-      shown = "--" + name;
-      if (name == "help") {
-        out.flags.insert("help");
-        continue;
-      }
-      spec = find_long(name);
+  CLI::App cli("", "caliper");
+  app::apply_style(cli, help);
+  std::map<std::string, bool> flags;  // node-based: the references CLI11 holds stay valid
+  for (const OptionSpec& s : specs) {
+    const std::string names =
+        (s.short_name.empty() ? "" : "-" + s.short_name + ",") + "--" + s.name;
+    if (s.value_name.empty()) {
+      app::add_flag(cli, names, flags[s.name], s.help);
     } else {
-      name = a.substr(1, 1);
-      if (a.size() > 2) inline_value = a.substr(2);
-      shown = "-" + name;
-      if (name == "h" && !inline_value) {
-        out.flags.insert("help");
-        continue;
-      }
-      spec = find_short(name);
+      app::add_value(cli, names, out.values[s.name], s.value_name, s.help, s.repeatable);
     }
-    if (!spec) {
-      std::string msg = "unknown option " + shown;
-      const std::string near = closest_option(name, specs);
-      if (!near.empty()) msg += " (did you mean --" + near + "?)";
-      throw UsageError(msg);
-    }
-    if (spec->value_name.empty()) {
-      if (inline_value) throw UsageError("option --" + spec->name + " takes no value");
-      out.flags.insert(spec->name);
-      continue;
-    }
-    std::string value;
-    if (inline_value) {
-      value = *inline_value;
-    } else {
-      if (i + 1 >= args.size())
-        throw UsageError("option " + shown + " needs a value (" + spec->value_name + ")");
-      value = args[++i];
-    }
-    auto& slot = out.values[spec->name];
-    if (!slot.empty() && !spec->repeatable)
-      throw UsageError("option --" + spec->name + " given more than once");
-    slot.push_back(value);
   }
+  app::CommandLine line;
+  try {
+    line = app::parse_command_line(cli, args);
+  } catch (const app::CommandLineError& e) {
+    throw UsageError(e.what());
+  }
+  if (line.help) {
+    out.flags.insert("help");
+    out.help = cli.help();
+  }
+  for (const auto& [name, given] : flags)
+    if (given) out.flags.insert(name);
+  for (auto it = out.values.begin(); it != out.values.end();)
+    it = it->second.empty() ? out.values.erase(it) : std::next(it);
+  out.positional = std::move(line.positional);
   return out;
-}
-
-std::string format_options(const std::vector<OptionSpec>& specs) {
-  std::ostringstream s;
-  std::vector<std::pair<std::string, std::string>> rows;
-  size_t width = 0;
-  for (const auto& o : specs) {
-    std::string left = "  ";
-    left += o.short_name.empty() ? "    " : "-" + o.short_name + ", ";
-    left += "--" + o.name;
-    if (!o.value_name.empty()) left += " " + o.value_name;
-    width = std::max(width, left.size());
-    rows.emplace_back(left, o.help);
-  }
-  rows.emplace_back("  -h, --help", "show this help and exit");
-  width = std::max<size_t>(width, 12);
-  for (const auto& [left, help] : rows)
-    s << std::left << std::setw(static_cast<int>(width + 2)) << left << help << "\n";
-  return s.str();
 }
 
 int parse_int(const std::string& text, const std::string& option, int lo, int hi) {
@@ -242,6 +147,38 @@ int CsvTable::column(const std::string& name) const {
   return -1;
 }
 
+namespace {
+
+/// Ends one CSV row: the first becomes the header, the others data rows (a row with another
+/// number of cells than the header throws, or with `per_row_errors` is kept with its error).
+/// Blank lines are skipped. Clears `row` and `cell`.
+void end_csv_row(CsvTable& t, std::vector<std::string>& row, std::string& cell,
+                 bool row_has_content, int row_line, const std::string& source,
+                 bool per_row_errors) {
+  row.push_back(cell);
+  cell.clear();
+  if (row_has_content || row.size() > 1 || !row[0].empty()) {
+    if (t.header.empty()) {
+      t.header = row;
+    } else {
+      std::string error;
+      if (row.size() != t.header.size()) {
+        error = source + ":" + std::to_string(row_line) + ": " + std::to_string(row.size()) +
+                " cells, but the header has " + std::to_string(t.header.size()) +
+                "; check for a missing comma";
+        if (!per_row_errors) throw RuntimeError(error);
+        row.resize(t.header.size());
+      }
+      t.rows.push_back(row);
+      t.line_numbers.push_back(row_line);
+      t.row_errors.push_back(error);
+    }
+  }
+  row.clear();
+}
+
+}  // namespace
+
 CsvTable parse_csv(const std::string& text, const std::string& source, bool per_row_errors) {
   CsvTable t;
   std::vector<std::string> row;
@@ -255,26 +192,7 @@ CsvTable parse_csv(const std::string& text, const std::string& source, bool per_
   if (text.size() >= 3 && text.compare(0, 3, "\xEF\xBB\xBF") == 0) i = 3;
   size_t row_start = i;  // first byte of the current row's line
   auto end_row = [&]() {
-    row.push_back(cell);
-    cell.clear();
-    if (row_has_content || row.size() > 1 || !row[0].empty()) {
-      if (t.header.empty()) {
-        t.header = row;
-      } else {
-        std::string error;
-        if (row.size() != t.header.size()) {
-          error = source + ":" + std::to_string(row_line) + ": " + std::to_string(row.size()) +
-                  " cells, but the header has " + std::to_string(t.header.size()) +
-                  "; check for a missing comma";
-          if (!per_row_errors) throw RuntimeError(error);
-          row.resize(t.header.size());
-        }
-        t.rows.push_back(row);
-        t.line_numbers.push_back(row_line);
-        t.row_errors.push_back(error);
-      }
-    }
-    row.clear();
+    end_csv_row(t, row, cell, row_has_content, row_line, source, per_row_errors);
     row_has_content = false;
   };
   // With per-row errors, a data row whose quoted cell is not closed on its own line (a stray ")

@@ -1,6 +1,6 @@
 /// \file cli_support.hpp
 /// Small pieces of the `caliper` command line that do not depend on libcaliper's algorithms:
-/// exit codes and the errors that carry them, a standard-library-only argument parser, lengths
+/// exit codes and the errors that carry them, option parsing (CLI11, app/cli_style.hpp), lengths
 /// and masses with units ("168cm", "1.68m", "66in", "5ft6in", "62kg", "137lb"), a CSV reader and
 /// writer, the asset locator and a progress reporter.
 #pragma once
@@ -14,6 +14,8 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "app/help_text.hpp"
 
 namespace caliper::cli {
 
@@ -60,8 +62,9 @@ struct OptionSpec {
 /// The result of parsing: option values by long name, flags, positional arguments.
 struct ParsedArgs {
   std::map<std::string, std::vector<std::string>> values;
-  std::set<std::string> flags;
+  std::set<std::string> flags;  ///< given flags; "help" for --help/-h
   std::vector<std::string> positional;
+  std::string help;  ///< with --help: the command's help text (written by CLI11)
 
   bool has(const std::string& name) const { return values.count(name) || flags.count(name); }
   /// The last value of `name`, if given.
@@ -71,18 +74,18 @@ struct ParsedArgs {
 };
 
 /// The name in `names` closest to `name` (edit distance < 4), or "" when none is near:
-/// the "did you mean" of unknown options and commands.
+/// the "did you mean" of unknown options and commands (app::closest_name).
 std::string closest_name(const std::string& name, const std::vector<std::string>& names);
 /// "1 person" / "2 people": a count with the singular or plural noun.
 std::string count_noun(long long n, const std::string& singular, const std::string& plural);
 
-/// Parses `--name value`, `--name=value`, `-x value`, `-xVALUE` and flags for one subcommand.
-/// `--` ends the options. Throws UsageError naming an unknown option (with the closest known
-/// one), a missing value or a flag given a value. `--help`/`-h` is always accepted as a flag.
-ParsedArgs parse_args(const std::vector<std::string>& args, const std::vector<OptionSpec>& specs);
-
-/// Formats the option table for --help.
-std::string format_options(const std::vector<OptionSpec>& specs);
+/// Parses one subcommand's arguments with CLI11 in the programs' common style
+/// (app/cli_style.hpp): `--name value`, `--name=value`, `-x value`, `-xVALUE`, flags; `--` ends
+/// the options. Throws UsageError naming an unknown option (with the closest known one), a
+/// missing value, a value given twice or a flag given a value. `--help`/`-h` is always accepted:
+/// it sets the "help" flag and `help` to the text CLI11 writes from `specs` and `help`.
+ParsedArgs parse_args(const std::vector<std::string>& args, const std::vector<OptionSpec>& specs,
+                      const app::HelpText& help = {});
 
 /// Parses an integer option value in [lo, hi]; throws UsageError naming the option.
 int parse_int(const std::string& text, const std::string& option, int lo, int hi);

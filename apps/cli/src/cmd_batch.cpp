@@ -25,6 +25,21 @@
 namespace caliper::cli {
 
 namespace {
+const app::HelpText kHelp{
+    {"caliper batch PEOPLE.csv [options]",
+     "caliper batch --ansur ANSUR_II_MALE_Public.csv [--ansur ...] [options]"},
+    "PEOPLE.csv: a header naming measurement ids with units (height_cm, weight_kg,\n"
+    "arm_span_fingertips_cm, inseam_height_cm, hip_width_cm, arm_length_cm; also _mm,\n"
+    "_m, _in, _lb) and optional id and sex columns. Results CSV: one row per person\n"
+    "with status (ok, refused, error), the achieved measurements (cm, kg, L),\n"
+    "plausibility, betas and (with --out-dir) the avatar's file; ids that give the\n"
+    "same file name get -2, -3, ... The outputs are checked before the work starts\n"
+    "and written atomically. Exit code 1 when any row was refused or failed, or a\n"
+    "file could not be written.",
+    "example:\n  caliper batch people.csv -j 2 --out results.csv --out-dir avatars"};
+}  // namespace
+
+namespace {
 
 /// What one person gives.
 struct Outcome {
@@ -123,8 +138,10 @@ void add_implausible_note(Outcome& o) {
 
 }  // namespace
 
-int cmd_batch(const std::vector<std::string>& args, Io& io) {
-  const std::vector<OptionSpec> specs = {
+namespace {
+
+const std::vector<OptionSpec>& batch_options() {
+  static const std::vector<OptionSpec> specs = {
       {"ansur", "", "FILE", "read an ANSUR II public CSV (repeatable: male and female files)",
        true},
       {"sex", "s", "SEX", "sex for rows without a sex column (default neutral)", false},
@@ -146,196 +163,224 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
        false},
       {"force", "", "", "create avatars even for inputs outside the hard limits", false},
   };
-  const ParsedArgs a = parse_args(args, specs);
-  if (a.flags.count("help")) {
-    io.out << "usage: caliper batch PEOPLE.csv [options]\n"
-              "       caliper batch --ansur ANSUR_II_MALE_Public.csv [--ansur ...] [options]\n\n"
-              "PEOPLE.csv: a header naming measurement ids with units (height_cm, weight_kg,\n"
-              "arm_span_fingertips_cm, inseam_height_cm, hip_width_cm, arm_length_cm; also _mm,\n"
-              "_m, _in, _lb) and optional id and sex columns. Results CSV: one row per person\n"
-              "with status (ok, refused, error), the achieved measurements (cm, kg, L),\n"
-              "plausibility, betas and (with --out-dir) the avatar's file; ids that give the\n"
-              "same file name get -2, -3, ... The outputs are checked before the work starts\n"
-              "and written atomically. Exit code 1 when any row was refused or failed, or a\n"
-              "file could not be written.\n\n"
-           << format_options(specs)
-           << "\nexample:\n  caliper batch people.csv -j 2 --out results.csv --out-dir avatars\n";
-    return kExitOk;
-  }
+  return specs;
+}
+
+/// Everything `caliper batch` is asked to do.
+struct BatchOptions {
+  std::optional<std::string> people_csv;
+  std::vector<std::string> ansur;
+  std::string default_sex = "neutral";
+  bool sex_given = false;
+  std::optional<std::string> regressor;  ///< one regressor for every row (normalised name)
+  std::optional<std::string> model, regressors, mapping, out, out_dir;
+  std::string format = "glb";
+  int jobs = 1;
+  std::optional<int> limit;
+  bool circumferences = false, exact_inputs = false, force = false;
+  /// Without avatar files or circumferences no mesh is needed: the measurements, volume and
+  /// weight come from the betas through ShapeMeasurer's exact precomputed maps (fast path).
+  bool need_mesh() const { return circumferences || exact_inputs || out_dir.has_value(); }
+};
+
+BatchOptions batch_options_from(const ParsedArgs& a) {
   if (a.positional.size() > 1) throw UsageError("give one people CSV file");
   if (a.positional.empty() && !a.get("ansur"))
     throw UsageError("give a people CSV file or --ansur FILE");
-  const std::string default_sex = a.get("sex") ? normalise_sex(*a.get("sex")) : "neutral";
-  std::optional<std::string> fixed_regressor;
-  if (auto r = a.get("regressor")) fixed_regressor = normalise_regressor_name(*r);
-  int jobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  if (auto j = a.get("jobs")) jobs = parse_int(*j, "jobs", 1, 256);
-  const std::string format = a.get_or("format", "glb");
-  if (!is_avatar_extension("avatar." + format))
-    throw UsageError("--format " + format + ": expected glb, gltf, vrm, fbx, obj or ply");
-  if (a.get("regressors") && !a.get("model"))
+  BatchOptions o;
+  if (!a.positional.empty()) o.people_csv = a.positional[0];
+  if (auto it = a.values.find("ansur"); it != a.values.end()) o.ansur = it->second;
+  o.sex_given = a.get("sex").has_value();
+  if (o.sex_given) o.default_sex = normalise_sex(*a.get("sex"));
+  if (auto r = a.get("regressor")) o.regressor = normalise_regressor_name(*r);
+  o.jobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (auto j = a.get("jobs")) o.jobs = parse_int(*j, "jobs", 1, 256);
+  o.format = a.get_or("format", "glb");
+  if (!is_avatar_extension("avatar." + o.format))
+    throw UsageError("--format " + o.format + ": expected glb, gltf, vrm, fbx, obj or ply");
+  o.model = a.get("model");
+  o.regressors = a.get("regressors");
+  if (o.regressors && !o.model)
     throw UsageError("--regressors needs --model (saved regressors belong to one model)");
+  o.mapping = a.get("mapping");
+  o.out = a.get("out");
+  o.out_dir = a.get("out-dir");
+  if (auto l = a.get("limit")) o.limit = parse_int(*l, "limit", 0, 100000000);
+  o.circumferences = a.flags.count("circumferences") > 0;
+  o.exact_inputs = a.flags.count("exact-inputs") > 0;
+  o.force = a.flags.count("force") > 0;
+  return o;
+}
 
+std::vector<Person> read_batch_people(const BatchOptions& opt) {
   std::vector<Person> people;
-  if (!a.positional.empty()) people = read_people_csv(a.positional[0]);
-  if (auto it = a.values.find("ansur"); it != a.values.end()) {
-    for (const auto& f : it->second) {
-      auto p = read_ansur_csv(f);
-      people.insert(people.end(), std::make_move_iterator(p.begin()),
-                    std::make_move_iterator(p.end()));
-    }
+  if (opt.people_csv) people = read_people_csv(*opt.people_csv);
+  for (const auto& f : opt.ansur) {
+    auto p = read_ansur_csv(f);
+    people.insert(people.end(), std::make_move_iterator(p.begin()),
+                  std::make_move_iterator(p.end()));
   }
-  if (auto l = a.get("limit")) {
-    const int n = parse_int(*l, "limit", 0, 100000000);
-    if (static_cast<size_t>(n) < people.size()) people.resize(static_cast<size_t>(n));
-  }
-  // Outputs are checked before the work starts, so that a long batch does not end in an error.
-  const std::optional<std::string> out_dir = a.get("out-dir");
-  if (out_dir) check_writable_folder(*out_dir, "--out-dir");
-  if (auto path = a.get("out")) {
-    const std::filesystem::path p(*path);
-    std::error_code ec;
-    if (std::filesystem::is_directory(p, ec))
-      throw RuntimeError("--out " + *path + ": is a folder; give a file name for the results CSV");
-    const std::filesystem::path parent = p.parent_path().empty() ? "." : p.parent_path();
-    if (!std::filesystem::is_directory(parent, ec))
-      throw RuntimeError("--out " + *path + ": the folder " + parent.string() +
-                         " does not exist; create it first");
-    // A device or FIFO (e.g. /dev/stdout) is written in place and cannot be probed.
-    if (std::filesystem::is_regular_file(p, ec) || !std::filesystem::exists(p, ec))
-      check_writable_folder(parent, "--out");
-  }
-  const std::vector<std::string> file_names =
-      out_dir ? avatar_file_names(people, format) : std::vector<std::string>{};
-  const bool circumferences = a.flags.count("circumferences") > 0;
-  // Without avatar files or circumferences no mesh is needed: the measurements, volume and
-  // weight come from the betas through ShapeMeasurer's exact precomputed maps (fast path).
-  const bool exact_inputs = a.flags.count("exact-inputs") > 0;
-  const bool need_mesh = circumferences || exact_inputs || out_dir.has_value();
-  const bool force = a.flags.count("force") > 0;
-  std::optional<MeasurementMapping> mapping;
-  if (auto m = a.get("mapping")) mapping = load_mapping(*m);
+  if (opt.limit && static_cast<size_t>(*opt.limit) < people.size())
+    people.resize(static_cast<size_t>(*opt.limit));
+  return people;
+}
 
-  // Load (and train) every model needed before the workers start.
-  BundleCache cache(a.get("model"), a.get("regressors"));
-  std::map<std::string, std::shared_ptr<const ModelBundle>> bundles;
+/// Checks the outputs before the work starts, so that a long batch does not end in an error.
+void check_batch_outputs(const BatchOptions& opt) {
+  if (opt.out_dir) check_writable_folder(*opt.out_dir, "--out-dir");
+  if (!opt.out) return;
+  const std::string& path = *opt.out;
+  const std::filesystem::path p(path);
+  std::error_code ec;
+  if (std::filesystem::is_directory(p, ec))
+    throw RuntimeError("--out " + path + ": is a folder; give a file name for the results CSV");
+  const std::filesystem::path parent = p.parent_path().empty() ? "." : p.parent_path();
+  if (!std::filesystem::is_directory(parent, ec))
+    throw RuntimeError("--out " + path + ": the folder " + parent.string() +
+                       " does not exist; create it first");
+  // A device or FIFO (e.g. /dev/stdout) is written in place and cannot be probed.
+  if (std::filesystem::is_regular_file(p, ec) || !std::filesystem::exists(p, ec))
+    check_writable_folder(parent, "--out");
+}
+
+/// Every model, measurer, regressor check and skin the workers need, made before they start.
+struct BatchModels {
+  std::map<std::string, std::shared_ptr<const ModelBundle>> bundles;       ///< by sex
+  std::map<const ModelBundle*, std::unique_ptr<ShapeMeasurer>> measurers;  ///< fast path only
+  /// Each regressor checked against its model once (the check computes the model's
+  /// fingerprint, a pass over the template and shape directions); a mismatch becomes the error
+  /// of every person that would use that regressor. Value: null when the check passed.
+  std::map<std::pair<const ModelBundle*, std::string>, std::exception_ptr> checked;
+  /// The GLB skin attributes depend on the model only: computed once per model.
+  std::map<const ModelBundle*, smpl::GltfSkinWeights> skins;
+  std::optional<MeasurementMapping> mapping;
+  double load_seconds = 0;
+};
+
+std::unique_ptr<ShapeMeasurer> fast_measurer(const ModelBundle& b) {
+  const LandmarkTable lm = landmarks_for(b.model);
+  const int k = b.regressors.linear.empty()
+                    ? std::min(10, b.model.num_betas())
+                    : static_cast<int>(b.regressors.linear.front().coefficients().rows());
+  return std::make_unique<ShapeMeasurer>(b.model, lm, available_measurements(lm), k);
+}
+
+void check_regressors_once(const ModelBundle& b, BatchModels& m) {
+  const auto check = [&](const std::string& name, const ModelSignature& signature) {
+    std::exception_ptr& result = m.checked[{&b, name}];
+    try {
+      signature.check(b.model);
+    } catch (const std::exception&) {
+      result = std::current_exception();
+    }
+  };
+  for (const auto& r : b.regressors.linear) check(r.name(), r.signature());
+  if (b.regressors.noise_aware) check("noise-aware", b.regressors.noise_aware->signature());
+}
+
+/// Loads (and trains) every model `people` need; people without a sex get the default one
+/// (their count is returned in `no_sex`).
+BatchModels load_batch_models(const BatchOptions& opt, std::vector<Person>& people,
+                              long long& no_sex) {
+  BatchModels m;
   const auto t_load = std::chrono::steady_clock::now();
-  long long no_sex = 0;
+  if (opt.mapping) m.mapping = load_mapping(*opt.mapping);
+  BundleCache cache(opt.model, opt.regressors);
+  no_sex = 0;
   for (auto& p : people) {
     if (p.sex.empty()) {
       ++no_sex;
-      p.sex = default_sex;
+      p.sex = opt.default_sex;
     }
-    if (!bundles.count(p.sex)) bundles[p.sex] = cache.get(p.sex);
+    if (!m.bundles.count(p.sex)) m.bundles[p.sex] = cache.get(p.sex);
   }
-  if (no_sex > 0 && !a.get("sex") && !a.get("model")) {
-    io.err << "caliper batch: " << count_noun(no_sex, "person has", "people have")
-           << " no sex (no sex column or an empty cell): the " << default_sex
-           << " model was used; fill the sex column or give --sex\n";
+  const bool skins = opt.out_dir && (opt.format == "glb" || opt.format == "gltf");
+  for (const auto& [sex, b] : m.bundles) {
+    (void)sex;
+    if (!opt.need_mesh() && !m.measurers.count(b.get())) m.measurers[b.get()] = fast_measurer(*b);
+    if (opt.need_mesh()) check_regressors_once(*b, m);
+    if (skins && !m.skins.count(b.get())) m.skins[b.get()] = smpl::gltf_skin_weights(b->model);
   }
-  std::map<const ModelBundle*, std::unique_ptr<ShapeMeasurer>> measurers;
-  if (!need_mesh) {
-    for (const auto& [sex, b] : bundles) {
-      (void)sex;
-      if (measurers.count(b.get())) continue;
-      const LandmarkTable lm = landmarks_for(b->model);
-      const int k = b->regressors.linear.empty()
-                        ? std::min(10, b->model.num_betas())
-                        : static_cast<int>(b->regressors.linear.front().coefficients().rows());
-      measurers[b.get()] =
-          std::make_unique<ShapeMeasurer>(b->model, lm, available_measurements(lm), k);
-    }
-  }
-  // Each regressor is checked against its model once here (the check computes the model's
-  // fingerprint, a pass over the template and shape directions); a mismatch becomes the error of
-  // every person that would use that regressor, as a per-avatar check would make it.
-  // (Value: null when the check passed.)
-  std::map<std::pair<const ModelBundle*, std::string>, std::exception_ptr> checked;
-  if (need_mesh) {
-    for (const auto& [sex, b] : bundles) {
-      (void)sex;
-      const auto check = [&](const std::string& name, const ModelSignature& signature) {
-        std::exception_ptr& result = checked[{b.get(), name}];
-        try {
-          signature.check(b->model);
-        } catch (const std::exception&) {
-          result = std::current_exception();
-        }
-      };
-      for (const auto& r : b->regressors.linear) check(r.name(), r.signature());
-      if (b->regressors.noise_aware) check("noise-aware", b->regressors.noise_aware->signature());
-    }
-  }
-  // The GLB skin attributes depend on the model only: computed once per model.
-  std::map<const ModelBundle*, smpl::GltfSkinWeights> skins;
-  if (out_dir && (format == "glb" || format == "gltf")) {
-    for (const auto& [sex, b] : bundles) {
-      (void)sex;
-      if (!skins.count(b.get())) skins[b.get()] = smpl::gltf_skin_weights(b->model);
-    }
-  }
-  const double load_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_load).count();
+  m.load_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_load).count();
+  return m;
+}
 
-  std::vector<Outcome> outcomes(people.size());
+/// One person's outcome. Per-person errors are data in the results CSV, not the end of the
+/// batch.
+Outcome batch_one(const BatchOptions& opt, const BatchModels& m, const Person& p,
+                  const std::string& file_name) {
+  Outcome o;
+  o.sex = p.sex;
+  try {
+    if (!p.error.empty()) throw RuntimeError(p.error);
+    o.regressor = opt.regressor ? *opt.regressor : default_regressor(p.inputs);
+    require_inputs(o.regressor, p.inputs);
+    std::vector<std::string> warnings;
+    try {
+      warnings = check_inputs(p.inputs, opt.force);
+    } catch (const ImplausibleInput& e) {
+      o.status = "refused";
+      o.message = e.what();
+      return o;
+    }
+    const ModelBundle& b = *m.bundles.at(p.sex);
+    const MeasurementMapping* mapping = m.mapping ? &*m.mapping : nullptr;
+    for (size_t w = 0; w < warnings.size(); ++w) o.message += (w ? "; " : "") + warnings[w];
+    if (!opt.need_mesh()) {
+      fast_avatar(b, *m.measurers.at(&b), o.regressor, p.inputs, mapping, o.betas, o.achieved,
+                  o.plausibility);
+      if (!o.plausibility.plausible) add_implausible_note(o);
+      return o;
+    }
+    const auto c = m.checked.find({&b, o.regressor});
+    if (c != m.checked.end() && c->second) std::rethrow_exception(c->second);
+    Avatar av = make_avatar(b, o.regressor, p.inputs, mapping, opt.circumferences, opt.exact_inputs,
+                            /*check_model=*/c == m.checked.end());
+    if (opt.out_dir) {
+      const std::string path = (std::filesystem::path(*opt.out_dir) / file_name).string();
+      const auto skin = m.skins.find(&b);
+      write_avatar(path, b.model, av.betas, av.vertices,
+                   {{"generator", version_string()}, {"regressor", o.regressor}},
+                   skin == m.skins.end() ? nullptr : &skin->second);
+    }
+    o.achieved = std::move(av.achieved);
+    o.betas = std::move(av.betas);
+    o.plausibility = av.plausibility;
+    if (!o.plausibility.plausible) add_implausible_note(o);
+  } catch (const std::exception& e) {
+    o.status = "error";
+    o.message = e.what();
+  }
+  return o;
+}
+
+/// The outcome of a batch, in row order.
+struct BatchResult {
+  std::vector<Outcome> outcomes;
+  std::vector<std::string> file_names;  ///< avatar file per person (with --out-dir)
+  int threads = 1;
+  double seconds = 0;
+};
+
+/// Runs every person on `opt.jobs` threads (the calling thread reports `progress`).
+BatchResult run_batch(const BatchOptions& opt, const std::vector<Person>& people,
+                      const BatchModels& m, Progress& progress) {
+  BatchResult r;
+  r.outcomes.resize(people.size());
+  if (opt.out_dir) r.file_names = avatar_file_names(people, opt.format);
   std::atomic<size_t> next{0};
   std::atomic<size_t> done{0};
   auto work = [&]() {
     for (size_t i = next.fetch_add(1); i < people.size(); i = next.fetch_add(1)) {
-      const Person& p = people[i];
-      Outcome& o = outcomes[i];
-      o.sex = p.sex;
-      // Per-person errors are data in the results CSV, not the end of the batch.
-      try {
-        if (!p.error.empty()) throw RuntimeError(p.error);
-        o.regressor = fixed_regressor ? *fixed_regressor : default_regressor(p.inputs);
-        require_inputs(o.regressor, p.inputs);
-        std::vector<std::string> warnings;
-        try {
-          warnings = check_inputs(p.inputs, force);
-        } catch (const ImplausibleInput& e) {
-          o.status = "refused";
-          o.message = e.what();
-          done.fetch_add(1);
-          continue;
-        }
-        const ModelBundle& b = *bundles.at(p.sex);
-        for (size_t w = 0; w < warnings.size(); ++w) o.message += (w ? "; " : "") + warnings[w];
-        if (!need_mesh) {
-          fast_avatar(b, *measurers.at(&b), o.regressor, p.inputs, mapping ? &*mapping : nullptr,
-                      o.betas, o.achieved, o.plausibility);
-          if (!o.plausibility.plausible) add_implausible_note(o);
-          done.fetch_add(1);
-          continue;
-        }
-        const auto c = checked.find({&b, o.regressor});
-        if (c != checked.end() && c->second) std::rethrow_exception(c->second);
-        Avatar av = make_avatar(b, o.regressor, p.inputs, mapping ? &*mapping : nullptr,
-                                circumferences, exact_inputs, /*check_model=*/c == checked.end());
-        if (out_dir) {
-          const std::string path = (std::filesystem::path(*out_dir) / file_names[i]).string();
-          const auto skin = skins.find(&b);
-          write_avatar(path, b.model, av.betas, av.vertices,
-                       {{"generator", version_string()}, {"regressor", o.regressor}},
-                       skin == skins.end() ? nullptr : &skin->second);
-        }
-        o.achieved = std::move(av.achieved);
-        o.betas = std::move(av.betas);
-        o.plausibility = av.plausibility;
-        if (!o.plausibility.plausible) add_implausible_note(o);
-      } catch (const std::exception& e) {
-        o.status = "error";
-        o.message = e.what();
-      }
+      r.outcomes[i] = batch_one(opt, m, people[i], opt.out_dir ? r.file_names[i] : "");
       done.fetch_add(1);
     }
   };
   const auto t0 = std::chrono::steady_clock::now();
   std::vector<std::thread> threads;
-  const int n_threads = std::min<int>(jobs, static_cast<int>(std::max<size_t>(1, people.size())));
-  for (int t = 1; t < n_threads; ++t) threads.emplace_back(work);
+  r.threads = std::min<int>(opt.jobs, static_cast<int>(std::max<size_t>(1, people.size())));
+  for (int t = 1; t < r.threads; ++t) threads.emplace_back(work);
   {
-    Progress progress(io.err, static_cast<std::int64_t>(people.size()), io.err_is_terminal);
     // The main thread works too, reporting progress between people.
     std::thread main_worker(work);
     while (done.load() < people.size()) {
@@ -346,13 +391,50 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
     progress.finish();
   }
   for (auto& t : threads) t.join();
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
 
-  // Results CSV.
+/// One person's row of the results CSV (without the line end).
+std::string result_row(const Person& p, const Outcome& o,
+                       const std::vector<std::string>& result_ids, int max_betas,
+                       const std::string* file_name) {
+  std::ostringstream out;
+  out << csv_escape(p.id) << "," << o.sex << "," << o.status << "," << o.regressor;
+  for (const auto& id : regressor_inputs(RegressorKind::R6)) {
+    auto it = p.inputs.find(id);
+    out << ",";
+    if (it != p.inputs.end()) out << format_number(it->second * display_unit(id).second, 2);
+  }
+  for (const auto& id : result_ids) {
+    auto it = o.achieved.find(id);
+    out << ",";
+    if (it != o.achieved.end()) out << format_number(it->second * display_unit(id).second, 2);
+  }
+  if (o.status == "ok") {
+    out << "," << format_number(o.plausibility.mahalanobis, 4) << ","
+        << format_number(o.plausibility.p_value, 6) << "," << o.plausibility.beyond_2sd.size()
+        << "," << o.plausibility.beyond_3sd.size() << ","
+        << (o.plausibility.plausible ? "yes" : "no");
+  } else {
+    out << ",,,,,";
+  }
+  for (int b = 0; b < max_betas; ++b) {
+    out << ",";
+    if (b < o.betas.size()) out << format_number(o.betas[b], 5);
+  }
+  if (file_name) out << "," << (o.status == "ok" ? csv_escape(*file_name) : "");
+  out << "," << csv_escape(o.message);
+  return out.str();
+}
+
+/// The results CSV (made in memory, so that it is written atomically: never a file cut
+/// mid-row).
+std::string results_csv(const BatchOptions& opt, const std::vector<Person>& people,
+                        const BatchResult& r) {
   // Beta columns: the components the regressors set (the model's further ones are always 0).
   int max_betas = 0;
-  for (const auto& o : outcomes) {
+  for (const auto& o : r.outcomes) {
     if (o.status == "ok")
       max_betas = std::max(
           max_betas, std::min(static_cast<int>(o.betas.size()), std::max(1, o.plausibility.dof)));
@@ -360,70 +442,76 @@ int cmd_batch(const std::vector<std::string>& args, Io& io) {
   // Circumference columns only when they are measured (--circumferences).
   std::vector<std::string> result_ids;
   for (const auto& id : report_ids()) {
-    if (circumferences || id.find("circumference") == std::string::npos) result_ids.push_back(id);
+    if (opt.circumferences || id.find("circumference") == std::string::npos)
+      result_ids.push_back(id);
   }
-  // The results CSV is made in memory and written atomically: never a file cut mid-row.
-  std::ostringstream csv;
-  std::ostream* out = &csv;
-  const auto& inputs = regressor_inputs(RegressorKind::R6);
+  std::ostringstream out;
   auto col = [](const std::string& id) { return id + "_" + display_unit(id).first; };
-  *out << "id,sex,status,regressor";
-  for (const auto& id : inputs) *out << ",input_" << col(id);
-  for (const auto& id : result_ids) *out << "," << col(id);
-  *out << ",mahalanobis,p_value,beyond_2sd,beyond_3sd,plausible";
-  for (int b = 0; b < max_betas; ++b) *out << ",beta" << b;
-  if (out_dir) *out << ",file";
-  *out << ",message\n";
-  int ok = 0, refused = 0, errors = 0;
+  out << "id,sex,status,regressor";
+  for (const auto& id : regressor_inputs(RegressorKind::R6)) out << ",input_" << col(id);
+  for (const auto& id : result_ids) out << "," << col(id);
+  out << ",mahalanobis,p_value,beyond_2sd,beyond_3sd,plausible";
+  for (int b = 0; b < max_betas; ++b) out << ",beta" << b;
+  if (opt.out_dir) out << ",file";
+  out << ",message\n";
   for (size_t i = 0; i < people.size(); ++i) {
-    const Person& p = people[i];
-    const Outcome& o = outcomes[i];
+    out << result_row(people[i], r.outcomes[i], result_ids, max_betas,
+                      opt.out_dir ? &r.file_names[i] : nullptr)
+        << "\n";
+  }
+  return out.str();
+}
+
+/// Writes the results CSV and the summary line; returns the exit code.
+int write_batch_report(const BatchOptions& opt, const std::vector<Person>& people,
+                       const BatchModels& m, const BatchResult& r, Io& io) {
+  const std::string csv = results_csv(opt, people, r);
+  if (opt.out) {
+    smpl::write_file_atomic(*opt.out, csv);
+  } else {
+    io.out << csv;
+    io.out.flush();
+    if (!io.out) throw RuntimeError("cannot write the results to standard output");
+  }
+  int ok = 0, refused = 0, errors = 0;
+  for (const Outcome& o : r.outcomes) {
     ok += o.status == "ok";
     refused += o.status == "refused";
     errors += o.status == "error";
-    *out << csv_escape(p.id) << "," << o.sex << "," << o.status << "," << o.regressor;
-    for (const auto& id : inputs) {
-      auto it = p.inputs.find(id);
-      *out << ",";
-      if (it != p.inputs.end()) *out << format_number(it->second * display_unit(id).second, 2);
-    }
-    for (const auto& id : result_ids) {
-      auto it = o.achieved.find(id);
-      *out << ",";
-      if (it != o.achieved.end()) *out << format_number(it->second * display_unit(id).second, 2);
-    }
-    if (o.status == "ok") {
-      *out << "," << format_number(o.plausibility.mahalanobis, 4) << ","
-           << format_number(o.plausibility.p_value, 6) << "," << o.plausibility.beyond_2sd.size()
-           << "," << o.plausibility.beyond_3sd.size() << ","
-           << (o.plausibility.plausible ? "yes" : "no");
-    } else {
-      *out << ",,,,,";
-    }
-    for (int b = 0; b < max_betas; ++b) {
-      *out << ",";
-      if (b < o.betas.size()) *out << format_number(o.betas[b], 5);
-    }
-    if (out_dir) *out << "," << (o.status == "ok" ? csv_escape(file_names[i]) : "");
-    *out << "," << csv_escape(o.message) << "\n";
-  }
-  if (auto path = a.get("out")) {
-    smpl::write_file_atomic(*path, csv.str());
-  } else {
-    io.out << csv.str();
-    io.out.flush();
-    if (!io.out) throw RuntimeError("cannot write the results to standard output");
   }
   char buf[256];
   std::snprintf(buf, sizeof buf,
                 " in %.3f s (%.0f per second, %s; models loaded and regressors trained in %.3f "
                 "s): %d ok, %d refused, %s\n",
-                seconds, seconds > 0 ? static_cast<double>(people.size()) / seconds : 0.0,
-                count_noun(n_threads, "job", "jobs").c_str(), load_s, ok, refused,
+                r.seconds, r.seconds > 0 ? static_cast<double>(people.size()) / r.seconds : 0.0,
+                count_noun(r.threads, "job", "jobs").c_str(), m.load_seconds, ok, refused,
                 count_noun(errors, "error", "errors").c_str());
   io.err << "caliper batch: "
          << count_noun(static_cast<long long>(people.size()), "person", "people") << buf;
   return (refused + errors) > 0 ? kExitRuntime : kExitOk;
+}
+
+}  // namespace
+
+int cmd_batch(const std::vector<std::string>& args, Io& io) {
+  const ParsedArgs a = parse_args(args, batch_options(), kHelp);
+  if (a.flags.count("help")) {
+    io.out << a.help;
+    return kExitOk;
+  }
+  const BatchOptions opt = batch_options_from(a);
+  std::vector<Person> people = read_batch_people(opt);
+  check_batch_outputs(opt);
+  long long no_sex = 0;
+  const BatchModels models = load_batch_models(opt, people, no_sex);
+  if (no_sex > 0 && !opt.sex_given && !opt.model) {
+    io.err << "caliper batch: " << count_noun(no_sex, "person has", "people have")
+           << " no sex (no sex column or an empty cell): the " << opt.default_sex
+           << " model was used; fill the sex column or give --sex\n";
+  }
+  Progress progress(io.err, static_cast<std::int64_t>(people.size()), io.err_is_terminal);
+  const BatchResult result = run_batch(opt, people, models, progress);
+  return write_batch_report(opt, people, models, result, io);
 }
 
 }  // namespace caliper::cli

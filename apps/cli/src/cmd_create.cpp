@@ -17,6 +17,25 @@
 namespace caliper::cli {
 
 namespace {
+const app::HelpText kHelp{
+    {"caliper create --height LENGTH [--weight MASS] [more measurements] [options]"},
+    "Creates an avatar from body measurements (units are required) and prints input\n"
+    "vs achieved measurements, the betas and their plausibility.",
+    "default regressor: exactly the inputs of R2 (height, weight), R4 (+ arm span, inseam)\n"
+    "or R5 (+ hip width) -> that regressor; all six inputs or any other subset ->\n"
+    "noise-aware (R6 reproduces every input but amplifies measurement noise).\n\n"
+    "formats (by the --out extension): .glb/.gltf (rigged glTF 2.0), .vrm (VRM 1.0),\n"
+    ".fbx (rigged, metres), .obj/.ply (mesh); every file records the model, sex, betas\n"
+    "and measurements, which `caliper measure` reads back; all but .ply keep the model's\n"
+    "texture coordinates when it has them.\n\n"
+    "examples:\n"
+    "  caliper create --sex female --height 168cm --weight 62kg --out avatar.glb --png avatar.png\n"
+    "  caliper create --sex male --height 181cm --weight 84kg --out me.glb --shape-keys 10\n"
+    "  caliper create --sex male --height 181cm --weight 84kg --out me.fbx --bone-names smpl "
+    "--pose apose.json"};
+}  // namespace
+
+namespace {
 
 struct InputOption {
   const char* option;
@@ -135,7 +154,9 @@ MeasurementMapping load_mapping(const std::string& path) {
   }
 }
 
-int cmd_create(const std::vector<std::string>& args, Io& io) {
+namespace {
+
+std::vector<OptionSpec> create_options() {
   std::vector<OptionSpec> specs = measurement_options();
   const std::vector<OptionSpec> more = {
       {"sex", "s", "SEX", "female, male or neutral (default neutral): picks the open model", false},
@@ -156,172 +177,222 @@ int cmd_create(const std::vector<std::string>& args, Io& io) {
   };
   specs.insert(specs.end(), more.begin(), more.end());
   specs.insert(specs.end(), export_option_specs().begin(), export_option_specs().end());
-  const ParsedArgs a = parse_args(args, specs);
-  if (a.flags.count("help")) {
-    io.out << "usage: caliper create --height LENGTH [--weight MASS] [more measurements] "
-              "[options]\n\n"
-              "Creates an avatar from body measurements (units are required) and prints input\n"
-              "vs achieved measurements, the betas and their plausibility.\n\n"
-           << format_options(specs)
-           << "\ndefault regressor: exactly the inputs of R2 (height, weight), R4 (+ arm span, "
-              "inseam)\nor R5 (+ hip width) -> that regressor; all six inputs or any other "
-              "subset ->\nnoise-aware (R6 reproduces every input but amplifies measurement "
-              "noise).\n\nformats (by the --out extension): .glb/.gltf (rigged glTF 2.0), .vrm "
-              "(VRM 1.0),\n.fbx (rigged, metres), .obj/.ply (mesh); every file records the "
-              "model, sex, betas\nand measurements, which `caliper measure` reads back; all but "
-              ".ply keep the model's\ntexture coordinates when it has them.\n\n"
-              "examples:\n  caliper create --sex female --height 168cm --weight 62kg "
-              "--out avatar.glb --png avatar.png\n  caliper create --sex male --height 181cm "
-              "--weight 84kg --out me.glb --shape-keys 10\n  caliper create --sex male --height "
-              "181cm --weight 84kg --out me.fbx --bone-names smpl --pose apose.json\n";
-    return kExitOk;
-  }
+  return specs;
+}
+
+/// Everything `caliper create` is asked to do.
+struct CreateOptions {
+  ParsedArgs args;  ///< the export options are read once the model is loaded
+  MeasurementMap inputs;
+  bool imperial = false;  ///< an input was typed in imperial units: report in inches and pounds
+  std::string sex = "neutral";
+  std::string regressor;
+  std::optional<std::string> model, regressors, mapping, out, png;
+  bool json = false, exact_inputs = false, force = false, quiet = false;
+};
+
+CreateOptions create_options_from(const ParsedArgs& a) {
   if (!a.positional.empty())
     throw UsageError("unexpected argument '" + a.positional[0] +
                      "' (measurements are options, "
                      "e.g. --height 168cm)");
-  const auto t_start = std::chrono::steady_clock::now();
-  const MeasurementMap inputs = read_measurement_options(a);
-  const std::string sex = a.get("sex") ? normalise_sex(*a.get("sex")) : "neutral";
-  const std::string regressor = a.get("regressor") ? normalise_regressor_name(*a.get("regressor"))
-                                                   : default_regressor(inputs);
-  require_inputs(regressor, inputs);
-  if (auto out = a.get("out"); out && !is_avatar_extension(*out))
-    throw UsageError("--out " + *out + ": use a " + avatar_extensions_text() + " file name");
-  if (!a.get("out")) {
+  CreateOptions o;
+  o.args = a;
+  o.inputs = read_measurement_options(a);
+  for (const auto& opt : kInputOptions) {
+    if (auto v = a.get(opt.option)) o.imperial = o.imperial || is_imperial_text(*v);
+  }
+  if (a.get("sex")) o.sex = normalise_sex(*a.get("sex"));
+  o.regressor = a.get("regressor") ? normalise_regressor_name(*a.get("regressor"))
+                                   : default_regressor(o.inputs);
+  require_inputs(o.regressor, o.inputs);
+  o.out = a.get("out");
+  if (o.out && !is_avatar_extension(*o.out))
+    throw UsageError("--out " + *o.out + ": use a " + avatar_extensions_text() + " file name");
+  if (!o.out) {
     for (const auto& spec : export_option_specs()) {
       if (a.has(spec.name)) throw UsageError("--" + spec.name + " needs --out FILE");
     }
   }
-  if (auto png = a.get("png"); png && extension_of(*png) != ".png")
-    throw UsageError("--png " + *png + ": the file name must end in .png");
-  std::vector<std::string> warnings = check_inputs(inputs, a.flags.count("force") > 0);
-  for (const auto& w : warnings) io.err << "caliper: warning: " << w << "\n";
+  o.png = a.get("png");
+  if (o.png && extension_of(*o.png) != ".png")
+    throw UsageError("--png " + *o.png + ": the file name must end in .png");
+  o.model = a.get("model");
+  o.regressors = a.get("regressors");
+  o.mapping = a.get("mapping");
+  o.json = a.flags.count("json") > 0;
+  o.exact_inputs = a.flags.count("exact-inputs") > 0;
+  o.force = a.flags.count("force") > 0;
+  o.quiet = a.flags.count("quiet") > 0;
+  return o;
+}
 
-  const auto bundle = load_bundle(resolve_model_path(a.get("model"), sex), a.get("regressors"));
-  if (!a.get("model") && !bundle->model.meta.gender.empty() && bundle->model.meta.gender != sex)
-    io.err << "caliper: warning: the model's gender is " << bundle->model.meta.gender << "\n";
+/// What `caliper create` made.
+struct CreateResult {
+  std::shared_ptr<const ModelBundle> bundle;
   std::optional<MeasurementMapping> mapping;
-  if (auto m = a.get("mapping")) mapping = load_mapping(*m);
+  Avatar avatar;
+  std::vector<std::string> warnings;
+  std::vector<std::string> written;  ///< files written, in order
+  double create_s = 0, write_s = 0, total_s = 0;
+};
+
+/// Writes the avatar file with the record `caliper measure` reads back.
+void write_created_avatar(const CreateOptions& opt, const CreateResult& r,
+                          smpl::ExportOptions export_options) {
+  std::map<std::string, std::string>& extras = export_options.extras;
+  extras["generator"] = version_string();
+  extras["regressor"] = opt.regressor;
+  extras["betas"] = betas_json(r.avatar.betas).dump();
+  extras["measurements"] = measurements_json(r.avatar.achieved).dump();
+  // Which model made the avatar, so that `caliper measure` picks it (and its weight formula)
+  // without being told: the model's name, and for an open default model its sex.
+  extras["model"] = r.bundle->model.meta.name;
+  if (!opt.model) extras["open_model_sex"] = opt.sex;
+  if (export_options.pose.size() > 0)
+    extras["pose"] =
+        Json(std::vector<double>(export_options.pose.data(),
+                                 export_options.pose.data() + export_options.pose.size()))
+            .dump();
+  write_avatar(*opt.out, r.bundle->model, r.avatar.betas, export_options);
+}
+
+/// Makes the avatar and writes its files; warnings go to `warn` as they come.
+CreateResult run_create(const CreateOptions& opt, std::ostream& warn) {
+  const auto t_start = std::chrono::steady_clock::now();
+  CreateResult r;
+  r.warnings = check_inputs(opt.inputs, opt.force);
+  for (const auto& w : r.warnings) warn << "caliper: warning: " << w << "\n";
+  r.bundle = load_bundle(resolve_model_path(opt.model, opt.sex), opt.regressors);
+  const smpl::BodyModel& model = r.bundle->model;
+  if (!opt.model && !model.meta.gender.empty() && model.meta.gender != opt.sex)
+    warn << "caliper: warning: the model's gender is " << model.meta.gender << "\n";
+  if (opt.mapping) r.mapping = load_mapping(*opt.mapping);
   // Export options are checked before the avatar is made, so a bad option costs no work.
   smpl::ExportOptions export_options;
-  if (auto out = a.get("out")) export_options = read_export_options(a, *out, bundle->model);
+  if (opt.out) export_options = read_export_options(opt.args, *opt.out, model);
 
   const auto t_create = std::chrono::steady_clock::now();
-  const Avatar avatar = make_avatar(*bundle, regressor, inputs, mapping ? &*mapping : nullptr, true,
-                                    a.flags.count("exact-inputs") > 0);
-  const double create_s = seconds_since(t_create);
-  if (!avatar.plausibility.plausible) {
+  r.avatar = make_avatar(*r.bundle, opt.regressor, opt.inputs, r.mapping ? &*r.mapping : nullptr,
+                         true, opt.exact_inputs);
+  r.create_s = seconds_since(t_create);
+  if (!r.avatar.plausibility.plausible) {
     const std::string w =
         "unusual body shape: the avatar is outside the usual range (Mahalanobis distance " +
-        format_number(avatar.plausibility.mahalanobis, 2) + ", " +
-        std::to_string(avatar.plausibility.beyond_3sd.size()) +
+        format_number(r.avatar.plausibility.mahalanobis, 2) + ", " +
+        std::to_string(r.avatar.plausibility.beyond_3sd.size()) +
         " components beyond 3 SD): check the measurements" +
-        (regressor == "noise-aware" ? "" : " or try --regressor noise-aware");
-    warnings.push_back(w);
-    io.err << "caliper: warning: " << w << "\n";
+        (opt.regressor == "noise-aware" ? "" : " or try --regressor noise-aware");
+    r.warnings.push_back(w);
+    warn << "caliper: warning: " << w << "\n";
   }
-
   const auto t_write = std::chrono::steady_clock::now();
-  std::vector<std::string> written;
-  if (auto out = a.get("out")) {
-    std::map<std::string, std::string>& extras = export_options.extras;
-    extras["generator"] = version_string();
-    extras["regressor"] = regressor;
-    extras["betas"] = betas_json(avatar.betas).dump();
-    extras["measurements"] = measurements_json(avatar.achieved).dump();
-    // Which model made the avatar, so that `caliper measure` picks it (and its weight formula)
-    // without being told: the model's name, and for an open default model its sex.
-    extras["model"] = bundle->model.meta.name;
-    if (!a.get("model")) extras["open_model_sex"] = sex;
-    if (export_options.pose.size() > 0)
-      extras["pose"] =
-          Json(std::vector<double>(export_options.pose.data(),
-                                   export_options.pose.data() + export_options.pose.size()))
-              .dump();
-    write_avatar(*out, bundle->model, avatar.betas, export_options);
-    written.push_back(*out);
+  if (opt.out) {
+    write_created_avatar(opt, r, export_options);
+    r.written.push_back(*opt.out);
   }
-  const double write_s = seconds_since(t_write);
-  if (auto png = a.get("png")) {
-    render_png(avatar.vertices, bundle->model.faces, *png, "three_quarter", 600, 800);
-    written.push_back(*png);
+  r.write_s = seconds_since(t_write);
+  if (opt.png) {
+    render_png(r.avatar.vertices, model.faces, *opt.png, "three_quarter", 600, 800);
+    r.written.push_back(*opt.png);
   }
-  const double total_s = seconds_since(t_start);
-  if (!a.get("out")) {
+  r.total_s = seconds_since(t_start);
+  return r;
+}
+
+Json create_report_json(const CreateResult& r, const std::string& regressor) {
+  const Avatar& avatar = r.avatar;
+  Json j = Json::object();
+  j.set("command", "create");
+  j.set("version", version_string());
+  Json model = Json::object();
+  model.set("path", r.bundle->path);
+  model.set("name", r.bundle->model.meta.name);
+  model.set("gender", r.bundle->model.meta.gender);
+  model.set("vertices", r.bundle->model.num_vertices());
+  model.set("betas", r.bundle->model.num_betas());
+  j.set("model", model);
+  j.set("regressor", regressor);
+  j.set("units",
+        json_object({{"length", Json("m")}, {"weight", Json("kg")}, {"volume", Json("m3")}}));
+  j.set("input", measurements_json(avatar.input));
+  if (r.mapping) j.set("mapped_input", measurements_json(avatar.mapped));
+  j.set("achieved", measurements_json(avatar.achieved));
+  Json diff = Json::object();
+  for (const auto& [id, v] : avatar.mapped) {
+    auto it = avatar.achieved.find(id);
+    if (it != avatar.achieved.end()) diff.set(id, it->second - v);
+  }
+  j.set("difference", diff);
+  j.set("betas", betas_json(avatar.betas));
+  if (avatar.covariance) {
+    const Eigen::VectorXd sd = avatar.covariance->diagonal().cwiseSqrt();
+    j.set("betas_sd", betas_json(sd));
+  }
+  j.set("plausibility", plausibility_json(avatar.plausibility));
+  Json w = Json::array();
+  for (const auto& s : r.warnings) w.push_back(s);
+  j.set("warnings", w);
+  Json files = Json::array();
+  for (const auto& s : r.written) files.push_back(s);
+  j.set("written", files);
+  j.set("timing_seconds", json_object({{"load_model", Json(r.bundle->load_seconds)},
+                                       {"train_regressors", Json(r.bundle->train_seconds)},
+                                       {"create", Json(r.create_s)},
+                                       {"write_avatar", Json(r.write_s)},
+                                       {"total", Json(r.total_s)}}));
+  return j;
+}
+
+void write_create_text(const CreateOptions& opt, const CreateResult& r, std::ostream& out) {
+  const smpl::BodyModel& model = r.bundle->model;
+  const Avatar& avatar = r.avatar;
+  out << "model: " << (model.meta.name.empty() ? "(unnamed)" : model.meta.name) << " ("
+      << (model.meta.gender.empty() ? "?" : model.meta.gender) << ", " << r.bundle->path << ")\n"
+      << "regressor: " << opt.regressor;
+  if (r.mapping) out << " with mapping " << *opt.mapping << " (input column: mapped values)";
+  out << "\n\n"
+      << measurement_table(r.mapping ? avatar.mapped : avatar.input, avatar.achieved, opt.imperial);
+  out << "\nbetas: " << format_betas(avatar.betas) << "\n";
+  if (avatar.covariance) {
+    out << "betas posterior SD: " << format_betas(avatar.covariance->diagonal().cwiseSqrt().eval())
+        << "\n";
+  }
+  out << "plausibility: " << format_plausibility(avatar.plausibility);
+  for (const auto& f : r.written) out << "wrote " << f << "\n";
+  std::ostringstream t;
+  t << std::fixed << std::setprecision(1) << "time: load model " << r.bundle->load_seconds * 1e3
+    << " ms, train regressors " << r.bundle->train_seconds * 1e3 << " ms, create "
+    << r.create_s * 1e3 << " ms, write " << r.write_s * 1e3 << " ms, total " << r.total_s * 1e3
+    << " ms\n";
+  out << t.str();
+}
+
+/// Writes the report: JSON, text, or (--quiet) nothing.
+int write_create_report(const CreateOptions& opt, const CreateResult& r, Io& io) {
+  if (!opt.out) {
     io.err << "caliper create: no avatar file written (add --out avatar.glb, or .gltf, .obj, "
               ".ply, to write one)\n";
   }
+  if (opt.json) {
+    io.out << create_report_json(r, opt.regressor).dump(2) << "\n";
+  } else if (!opt.quiet) {
+    write_create_text(opt, r, io.out);
+  }
+  return kExitOk;
+}
 
-  if (a.flags.count("json")) {
-    Json j = Json::object();
-    j.set("command", "create");
-    j.set("version", version_string());
-    Json model = Json::object();
-    model.set("path", bundle->path);
-    model.set("name", bundle->model.meta.name);
-    model.set("gender", bundle->model.meta.gender);
-    model.set("vertices", bundle->model.num_vertices());
-    model.set("betas", bundle->model.num_betas());
-    j.set("model", model);
-    j.set("regressor", regressor);
-    j.set("units",
-          json_object({{"length", Json("m")}, {"weight", Json("kg")}, {"volume", Json("m3")}}));
-    j.set("input", measurements_json(avatar.input));
-    if (mapping) j.set("mapped_input", measurements_json(avatar.mapped));
-    j.set("achieved", measurements_json(avatar.achieved));
-    Json diff = Json::object();
-    for (const auto& [id, v] : avatar.mapped) {
-      auto it = avatar.achieved.find(id);
-      if (it != avatar.achieved.end()) diff.set(id, it->second - v);
-    }
-    j.set("difference", diff);
-    j.set("betas", betas_json(avatar.betas));
-    if (avatar.covariance) {
-      const Eigen::VectorXd sd = avatar.covariance->diagonal().cwiseSqrt();
-      j.set("betas_sd", betas_json(sd));
-    }
-    j.set("plausibility", plausibility_json(avatar.plausibility));
-    Json w = Json::array();
-    for (const auto& s : warnings) w.push_back(s);
-    j.set("warnings", w);
-    Json files = Json::array();
-    for (const auto& s : written) files.push_back(s);
-    j.set("written", files);
-    j.set("timing_seconds", json_object({{"load_model", Json(bundle->load_seconds)},
-                                         {"train_regressors", Json(bundle->train_seconds)},
-                                         {"create", Json(create_s)},
-                                         {"write_avatar", Json(write_s)},
-                                         {"total", Json(total_s)}}));
-    io.out << j.dump(2) << "\n";
+}  // namespace
+
+int cmd_create(const std::vector<std::string>& args, Io& io) {
+  const ParsedArgs a = parse_args(args, create_options(), kHelp);
+  if (a.flags.count("help")) {
+    io.out << a.help;
     return kExitOk;
   }
-  if (a.flags.count("quiet")) return kExitOk;
-  io.out << "model: " << (bundle->model.meta.name.empty() ? "(unnamed)" : bundle->model.meta.name)
-         << " (" << (bundle->model.meta.gender.empty() ? "?" : bundle->model.meta.gender) << ", "
-         << bundle->path << ")\n"
-         << "regressor: " << regressor;
-  if (mapping) io.out << " with mapping " << *a.get("mapping") << " (input column: mapped values)";
-  // Inputs typed in imperial units get the report in inches and pounds too.
-  bool imperial = false;
-  for (const auto& o : kInputOptions) {
-    if (auto v = a.get(o.option)) imperial = imperial || is_imperial_text(*v);
-  }
-  io.out << "\n\n"
-         << measurement_table(mapping ? avatar.mapped : avatar.input, avatar.achieved, imperial);
-  io.out << "\nbetas: " << format_betas(avatar.betas) << "\n";
-  if (avatar.covariance) {
-    io.out << "betas posterior SD: "
-           << format_betas(avatar.covariance->diagonal().cwiseSqrt().eval()) << "\n";
-  }
-  io.out << "plausibility: " << format_plausibility(avatar.plausibility);
-  for (const auto& f : written) io.out << "wrote " << f << "\n";
-  std::ostringstream t;
-  t << std::fixed << std::setprecision(1) << "time: load model " << bundle->load_seconds * 1e3
-    << " ms, train regressors " << bundle->train_seconds * 1e3 << " ms, create " << create_s * 1e3
-    << " ms, write " << write_s * 1e3 << " ms, total " << total_s * 1e3 << " ms\n";
-  io.out << t.str();
-  return kExitOk;
+  const CreateOptions opt = create_options_from(a);
+  const CreateResult result = run_create(opt, io.err);
+  return write_create_report(opt, result, io);
 }
 
 }  // namespace caliper::cli

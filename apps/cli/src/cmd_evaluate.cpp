@@ -2,7 +2,9 @@
 // markdown tables.
 #include <chrono>
 #include <cstdio>
+#include <optional>
 #include <ostream>
+#include <sstream>
 
 #include "command_common.hpp"
 #include "commands.hpp"
@@ -11,8 +13,19 @@
 
 namespace caliper::cli {
 
-int cmd_evaluate(const std::vector<std::string>& args, Io& io) {
-  const std::vector<OptionSpec> specs = {
+namespace {
+const app::HelpText kHelp{
+    {"caliper evaluate table1|simulation|ansur [options]"},
+    "  table1      the paper's Table 1: input vs avatar measurements per regressor\n"
+    "  simulation  noisy inputs of bodies drawn from the model, vertex-to-vertex error\n"
+    "  ansur       held-out ANSUR II subjects: avatar circumferences vs the survey",
+    "example:\n  caliper evaluate ansur --ansur-dir ../shared/data/ansur2"};
+}  // namespace
+
+namespace {
+
+const std::vector<OptionSpec>& evaluate_options() {
+  static const std::vector<OptionSpec> specs = {
       {"model", "m", "FILE", "model file (table1, simulation); default: the open model", false},
       {"sex", "s", "SEX", "female, male or neutral (default neutral, as for every command)", false},
       {"regressors", "", "FILE", "regressors saved by caliper train (with --model)", false},
@@ -26,54 +39,87 @@ int cmd_evaluate(const std::vector<std::string>& args, Io& io) {
        false},
       {"every", "", "K", "ansur: hold out every K-th subject (default 5)", false},
   };
-  const ParsedArgs a = parse_args(args, specs);
-  if (a.flags.count("help") || a.positional.empty()) {
-    io.out << "usage: caliper evaluate table1|simulation|ansur [options]\n\n"
-              "  table1      the paper's Table 1: input vs avatar measurements per regressor\n"
-              "  simulation  noisy inputs of bodies drawn from the model, vertex-to-vertex error\n"
-              "  ansur       held-out ANSUR II subjects: avatar circumferences vs the survey\n\n"
-           << format_options(specs)
-           << "\nexample:\n  caliper evaluate ansur --ansur-dir ../shared/data/ansur2\n";
-    return a.flags.count("help") ? kExitOk : kExitUsage;
-  }
-  const std::string study = a.positional[0];
+  return specs;
+}
+
+/// Everything `caliper evaluate` is asked to do.
+struct EvaluateCommand {
+  std::string study;  ///< table1, simulation or ansur
   std::uint64_t seed = 1;
+  std::string sex = "neutral";
+  std::optional<std::string> model, regressors, male_model, female_model;
+  std::optional<int> bodies;  ///< default 1000 (table1) / 500 (simulation)
+  bool exact = false, exact_inputs = false;
+  std::string ansur_dir;
+  int every = 5;
+};
+
+EvaluateCommand evaluate_command_from(const ParsedArgs& a) {
+  EvaluateCommand c;
+  c.study = a.positional[0];
   if (auto s = a.get("seed"))
-    seed = static_cast<std::uint64_t>(parse_int(*s, "seed", 0, 2147483647));
-  const auto t0 = std::chrono::steady_clock::now();
-  if (study == "table1" || study == "simulation") {
-    const std::string sex = a.get("sex") ? normalise_sex(*a.get("sex")) : "neutral";
-    const auto bundle = load_bundle(resolve_model_path(a.get("model"), sex), a.get("regressors"));
-    io.out << "model: " << bundle->path << " (" << bundle->model.meta.name << ", "
-           << bundle->model.num_vertices() << " vertices)\n\n";
-    if (study == "table1") {
-      const int n = a.get("bodies") ? parse_int(*a.get("bodies"), "bodies", 1, 1000000) : 1000;
-      const bool exact = a.flags.count("exact") > 0;
-      const Table1Result r =
-          table1_study(*bundle, n, seed, !exact, a.flags.count("exact-inputs") > 0);
-      io.out << n << " bodies; " << r.condition << "; cm, weight kg; bold: not an input\n\n"
-             << table1_markdown(r, true);
-    } else {
-      const int n = a.get("bodies") ? parse_int(*a.get("bodies"), "bodies", 1, 1000000) : 500;
-      io.out << simulation_markdown(simulation_study(*bundle, n, seed));
-    }
-  } else if (study == "ansur") {
-    const std::string dir = a.get_or("ansur-dir", "");
-    if (dir.empty()) throw UsageError("ansur needs --ansur-dir DIR (the ANSUR II CSV folder)");
+    c.seed = static_cast<std::uint64_t>(parse_int(*s, "seed", 0, 2147483647));
+  if (a.get("sex")) c.sex = normalise_sex(*a.get("sex"));
+  c.model = a.get("model");
+  c.regressors = a.get("regressors");
+  c.male_model = a.get("male-model");
+  c.female_model = a.get("female-model");
+  if (auto n = a.get("bodies")) c.bodies = parse_int(*n, "bodies", 1, 1000000);
+  c.exact = a.flags.count("exact") > 0;
+  c.exact_inputs = a.flags.count("exact-inputs") > 0;
+  c.ansur_dir = a.get_or("ansur-dir", "");
+  if (auto e = a.get("every")) c.every = parse_int(*e, "every", 2, 1000);
+  if (c.study != "table1" && c.study != "simulation" && c.study != "ansur")
+    throw UsageError("unknown study '" + c.study + "' (table1, simulation, ansur)");
+  if (c.study == "ansur" && c.ansur_dir.empty())
+    throw UsageError("ansur needs --ansur-dir DIR (the ANSUR II CSV folder)");
+  return c;
+}
+
+/// Runs the study; returns its markdown report.
+std::string run_evaluate(const EvaluateCommand& c) {
+  std::ostringstream out;
+  if (c.study == "ansur") {
     std::vector<std::pair<std::vector<Person>, const ModelBundle*>> groups;
-    const auto male = load_bundle(resolve_model_path(a.get("male-model"), "male"), std::nullopt);
-    const auto female =
-        load_bundle(resolve_model_path(a.get("female-model"), "female"), std::nullopt);
-    groups.emplace_back(read_ansur_csv(dir + "/ANSUR_II_MALE_Public.csv"), male.get());
-    groups.emplace_back(read_ansur_csv(dir + "/ANSUR_II_FEMALE_Public.csv"), female.get());
-    const int every = a.get("every") ? parse_int(*a.get("every"), "every", 2, 1000) : 5;
-    io.out << "held out: every " << every
-           << "th subject of each file; MAE in mm (mean signed "
-              "error avatar - survey in brackets)\n\n"
-           << ansur_markdown(ansur_study(groups, every));
-  } else {
-    throw UsageError("unknown study '" + study + "' (table1, simulation, ansur)");
+    const auto male = load_bundle(resolve_model_path(c.male_model, "male"), std::nullopt);
+    const auto female = load_bundle(resolve_model_path(c.female_model, "female"), std::nullopt);
+    groups.emplace_back(read_ansur_csv(c.ansur_dir + "/ANSUR_II_MALE_Public.csv"), male.get());
+    groups.emplace_back(read_ansur_csv(c.ansur_dir + "/ANSUR_II_FEMALE_Public.csv"), female.get());
+    out << "held out: every " << c.every
+        << "th subject of each file; MAE in mm (mean signed "
+           "error avatar - survey in brackets)\n\n"
+        << ansur_markdown(ansur_study(groups, c.every));
+    return out.str();
   }
+  const auto bundle = load_bundle(resolve_model_path(c.model, c.sex), c.regressors);
+  out << "model: " << bundle->path << " (" << bundle->model.meta.name << ", "
+      << bundle->model.num_vertices() << " vertices)\n\n";
+  if (c.study == "table1") {
+    const int n = c.bodies.value_or(1000);
+    const Table1Result r = table1_study(*bundle, n, c.seed, !c.exact, c.exact_inputs);
+    out << n << " bodies; " << r.condition << "; cm, weight kg; bold: not an input\n\n"
+        << table1_markdown(r, true);
+  } else {
+    out << simulation_markdown(simulation_study(*bundle, c.bodies.value_or(500), c.seed));
+  }
+  return out.str();
+}
+
+}  // namespace
+
+int cmd_evaluate(const std::vector<std::string>& args, Io& io) {
+  const ParsedArgs a = parse_args(args, evaluate_options(), kHelp);
+  if (a.flags.count("help")) {
+    io.out << a.help;
+    return kExitOk;
+  }
+  if (a.positional.empty()) {
+    io.err << a.help;
+    return kExitUsage;
+  }
+  const EvaluateCommand command = evaluate_command_from(a);
+  const auto t0 = std::chrono::steady_clock::now();
+  io.out << run_evaluate(command);
   char buf[64];
   std::snprintf(buf, sizeof buf, "\n(%.1f s)\n",
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());

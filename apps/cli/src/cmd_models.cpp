@@ -14,6 +14,14 @@
 namespace caliper::cli {
 
 namespace {
+const app::HelpText kHelp{
+    {"caliper models [FILE...] [--json]"},
+    "Lists the open default models (assets/models/) and describes the given model\n"
+    "files: name, gender, vertices, joints, betas, landmarks present.",
+    "example:\n  caliper models ~/smpl/SMPL_FEMALE.npz"};
+}  // namespace
+
+namespace {
 
 Json describe(const std::string& path, const smpl::BodyModel& m) {
   Json j = Json::object();
@@ -48,12 +56,9 @@ int cmd_models(const std::vector<std::string>& args, Io& io) {
   const std::vector<OptionSpec> specs = {
       {"json", "", "", "print JSON", false},
   };
-  const ParsedArgs a = parse_args(args, specs);
+  const ParsedArgs a = parse_args(args, specs, kHelp);
   if (a.flags.count("help")) {
-    io.out << "usage: caliper models [FILE...] [--json]\n\n"
-              "Lists the open default models (assets/models/) and describes the given model\n"
-              "files: name, gender, vertices, joints, betas, landmarks present.\n\n"
-           << format_options(specs) << "\nexample:\n  caliper models ~/smpl/SMPL_FEMALE.npz\n";
+    io.out << a.help;
     return kExitOk;
   }
   std::vector<std::string> paths;

@@ -13,6 +13,14 @@
 
 namespace caliper::cli {
 
+namespace {
+const app::HelpText kHelp{
+    {"caliper render AVATAR.glb|.gltf|.obj|.ply [options]",
+     "caliper render [--model FILE | --sex SEX] [--betas LIST] [options]"},
+    "Renders PNG pictures with the off-screen (OSMesa) renderer; no display needed.",
+    "example:\n  caliper render avatar.glb --views front,side --turntable 36 --out pics/avatar"};
+}  // namespace
+
 int cmd_render(const std::vector<std::string>& args, Io& io) {
   const std::vector<OptionSpec> specs = {
       {"model", "m", "FILE", "render this model (with --betas) instead of an avatar file", false},
@@ -25,14 +33,9 @@ int cmd_render(const std::vector<std::string>& args, Io& io) {
       {"size", "", "WxH", "image size in pixels (default 600x800)", false},
       {"out", "o", "PREFIX", "output prefix: PREFIX_front.png, ... (default: avatar)", false},
   };
-  const ParsedArgs a = parse_args(args, specs);
+  const ParsedArgs a = parse_args(args, specs, kHelp);
   if (a.flags.count("help")) {
-    io.out << "usage: caliper render AVATAR.glb|.gltf|.obj|.ply [options]\n"
-              "       caliper render [--model FILE | --sex SEX] [--betas LIST] [options]\n\n"
-              "Renders PNG pictures with the off-screen (OSMesa) renderer; no display needed.\n\n"
-           << format_options(specs)
-           << "\nexample:\n  caliper render avatar.glb --views front,side --turntable 36 --out "
-              "pics/avatar\n";
+    io.out << a.help;
     return kExitOk;
   }
   if (a.positional.size() > 1) throw UsageError("give one avatar file");

@@ -15,8 +15,18 @@
 
 namespace caliper::cli {
 
-int cmd_train(const std::vector<std::string>& args, Io& io) {
-  const std::vector<OptionSpec> specs = {
+namespace {
+const app::HelpText kHelp{
+    {"caliper train [--model FILE | --sex SEX] [--save regressors.json]"},
+    "Builds the training set (the paper's 2^10 bodies at +/-2 SD, or Gaussian samples),\n"
+    "fits R2, R4, R5, R6 and the noise-aware regressor, and reports them.",
+    "example:\n  caliper train --sex female --save female-regressors.json"};
+}  // namespace
+
+namespace {
+
+const std::vector<OptionSpec>& train_options() {
+  static const std::vector<OptionSpec> specs = {
       {"model", "m", "FILE", "the model (default: the open model of --sex)", false},
       {"sex", "s", "SEX", "female, male or neutral (default neutral)", false},
       {"betas", "", "K", "shape components to regress (default min(10, model's))", false},
@@ -26,17 +36,21 @@ int cmd_train(const std::vector<std::string>& args, Io& io) {
       {"save", "", "FILE", "write the fitted regressors as JSON", false},
       {"json", "", "", "print the report as JSON", false},
   };
-  const ParsedArgs a = parse_args(args, specs);
-  if (a.flags.count("help")) {
-    io.out << "usage: caliper train [--model FILE | --sex SEX] [--save regressors.json]\n\n"
-              "Builds the training set (the paper's 2^10 bodies at +/-2 SD, or Gaussian samples),\n"
-              "fits R2, R4, R5, R6 and the noise-aware regressor, and reports them.\n\n"
-           << format_options(specs)
-           << "\nexample:\n  caliper train --sex female --save female-regressors.json\n";
-    return kExitOk;
-  }
+  return specs;
+}
+
+/// Everything `caliper train` is asked to do.
+struct TrainCommand {
+  TrainOptions train;  ///< num_betas 0: min(10, the model's)
+  std::string sex = "neutral";
+  std::optional<std::string> model, save;
+  bool json = false;
+};
+
+TrainCommand train_command_from(const ParsedArgs& a) {
   if (!a.positional.empty()) throw UsageError("unexpected argument '" + a.positional[0] + "'");
-  TrainOptions opt;
+  TrainCommand c;
+  TrainOptions& opt = c.train;
   if (auto v = a.get("betas")) opt.num_betas = parse_int(*v, "betas", 1, kMaxTrainingBetas);
   if (auto v = a.get("gaussian")) {
     opt.gaussian = true;
@@ -48,10 +62,34 @@ int cmd_train(const std::vector<std::string>& args, Io& io) {
     opt.corner_sd = parse_number(*v, "--corner-sd");
     if (opt.corner_sd <= 0) throw UsageError("--corner-sd must be positive");
   }
-  const std::string sex = a.get("sex") ? normalise_sex(*a.get("sex")) : "neutral";
-  const std::string path = resolve_model_path(a.get("model"), sex);
-  const smpl::BodyModel model = smpl::load_model(path);
+  if (a.get("sex")) c.sex = normalise_sex(*a.get("sex"));
+  c.model = a.get("model");
+  c.save = a.get("save");
+  c.json = a.flags.count("json") > 0;
+  return c;
+}
 
+/// What `caliper train` fitted.
+struct TrainResult {
+  std::string path;  ///< the model file
+  std::string gender;
+  int vertices = 0, model_betas = 0;
+  TrainOptions options;  ///< as used (num_betas set)
+  TrainingSet set;
+  RegressorSet regressors;
+  double seconds = 0;  ///< training time
+};
+
+/// Builds the training set and fits the regressors (saved with --save).
+TrainResult run_train(const TrainCommand& c) {
+  TrainResult r;
+  r.path = resolve_model_path(c.model, c.sex);
+  const smpl::BodyModel model = smpl::load_model(r.path);
+  r.gender = model.meta.gender;
+  r.vertices = model.num_vertices();
+  r.model_betas = model.num_betas();
+  r.options = c.train;
+  TrainOptions& opt = r.options;
   const auto t0 = std::chrono::steady_clock::now();
   const int k = opt.num_betas > 0 ? opt.num_betas : std::min(10, model.num_betas());
   if (k > model.num_betas())
@@ -64,28 +102,21 @@ int cmd_train(const std::vector<std::string>& args, Io& io) {
   const ShapeMeasurer measurer(model, landmarks_for(model), defs, k);
   const Eigen::MatrixXd betas = opt.gaussian ? gaussian_betas(opt.gaussian_count, k, opt.seed)
                                              : corner_betas(k, opt.corner_sd);
-  const TrainingSet set = make_training_set(measurer, betas, weight_formula_for(model.meta.gender));
-  const RegressorSet regs = train_regressors(set, ModelSignature::of(model, k), opt);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.set = make_training_set(measurer, betas, weight_formula_for(model.meta.gender));
+  r.regressors = train_regressors(r.set, ModelSignature::of(model, k), opt);
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (c.save) r.regressors.save(*c.save);
+  return r;
+}
 
-  if (auto s = a.get("save")) regs.save(*s);
-
-  // Training-set statistics of the six inputs.
-  std::vector<std::string> ids = regressor_inputs(RegressorKind::R6);
+/// The training-set statistics of the six inputs: a text table into `text`, JSON returned.
+Json training_set_stats(const TrainResult& r, std::ostream& text) {
   Json stats = Json::object();
-  std::ostringstream text;
-  text << "model: " << path << " (" << (model.meta.gender.empty() ? "?" : model.meta.gender) << ", "
-       << model.num_vertices() << " vertices, " << model.num_betas() << " betas)\n"
-       << "training set: " << set.size() << " bodies ("
-       << (opt.gaussian ? "Gaussian samples, seed " + std::to_string(opt.seed)
-                        : "corners at +/-" + std::to_string(opt.corner_sd).substr(0, 4) + " SD")
-       << ") over " << k << " betas; weight formula " << set.weight_formula.name << "\n\n";
   text << std::left << std::setw(26) << "input" << std::right << std::setw(11) << "mean"
        << std::setw(11) << "SD" << std::setw(11) << "min" << std::setw(11) << "max"
        << "\n";
-  for (const auto& id : ids) {
-    const Eigen::VectorXd c = set.column(id);
+  for (const auto& id : regressor_inputs(RegressorKind::R6)) {
+    const Eigen::VectorXd c = r.set.column(id);
     const double mean = c.mean();
     const double sd =
         std::sqrt((c.array() - mean).square().sum() / std::max<Eigen::Index>(1, c.size() - 1));
@@ -100,8 +131,11 @@ int cmd_train(const std::vector<std::string>& args, Io& io) {
                                {"min", Json(c.minCoeff())},
                                {"max", Json(c.maxCoeff())}}));
   }
-  text << "\nfit residuals (RMS over the training set of each input when the avatar is re-measured "
-          "linearly; mm, weight feature in mm of cube-root volume):\n";
+  return stats;
+}
+
+/// The linear regressors' fit residuals: text lines into `text`, JSON returned.
+Json linear_residuals(const RegressorSet& regs, std::ostream& text) {
   Json regs_json = Json::array();
   for (const auto& r : regs.linear) {
     text << "  " << std::left << std::setw(4) << r.name() << std::right;
@@ -119,53 +153,88 @@ int cmd_train(const std::vector<std::string>& args, Io& io) {
     rj.set("training_rms", res);
     regs_json.push_back(rj);
   }
-  Json na = Json::object();
-  if (regs.noise_aware) {
-    const auto& n = *regs.noise_aware;
-    text << "  noise-aware: linearisation RMS (mm)";
-    Json lin = Json::object(), noise = Json::object();
-    for (size_t i = 0; i < n.inputs().size(); ++i) {
-      char buf[80];
-      std::snprintf(buf, sizeof buf, "  %s %.3f", n.inputs()[i].c_str(),
-                    n.linearisation_rms()[static_cast<Eigen::Index>(i)] * 1000.0);
-      text << buf;
-      lin.set(n.inputs()[i], n.linearisation_rms()[static_cast<Eigen::Index>(i)]);
-    }
-    text << "\n  noise-aware: measurement noise SD";
-    for (const auto& [id, sd] : n.noise()) {
-      char buf[80];
-      std::snprintf(buf, sizeof buf, "  %s %.2f %s", id.c_str(), id == "weight" ? sd : sd * 100.0,
-                    id == "weight" ? "kg" : "cm");
-      text << buf;
-      noise.set(id, sd);
-    }
-    text << "\n";
-    na.set("linearisation_rms", lin);
-    na.set("noise_sd", noise);
-  }
-  char tbuf[80];
-  std::snprintf(tbuf, sizeof tbuf, "\ntraining time: %.1f ms\n", seconds * 1e3);
-  text << tbuf;
-  if (auto s = a.get("save")) text << "wrote " << *s << "\n";
+  return regs_json;
+}
 
-  if (a.flags.count("json")) {
-    Json j = Json::object();
-    j.set("command", "train");
-    j.set("model", path);
-    j.set("training_set", json_object({{"bodies", Json(set.size())},
-                                       {"betas", Json(k)},
-                                       {"kind", Json(opt.gaussian ? "gaussian" : "corners")},
-                                       {"weight_formula", Json(set.weight_formula.name)},
-                                       {"inputs", Json(stats)}}));
-    j.set("linear", regs_json);
-    if (regs.noise_aware) j.set("noise_aware", na);
-    j.set("seconds", seconds);
-    if (auto s = a.get("save")) j.set("saved", *s);
-    io.out << j.dump(2) << "\n";
-  } else {
-    io.out << text.str();
+/// The noise-aware regressor's linearisation residuals and noise: text into `text`, JSON
+/// returned.
+Json noise_aware_report(const NoiseAwareRegressor& n, std::ostream& text) {
+  Json na = Json::object();
+  text << "  noise-aware: linearisation RMS (mm)";
+  Json lin = Json::object(), noise = Json::object();
+  for (size_t i = 0; i < n.inputs().size(); ++i) {
+    char buf[80];
+    std::snprintf(buf, sizeof buf, "  %s %.3f", n.inputs()[i].c_str(),
+                  n.linearisation_rms()[static_cast<Eigen::Index>(i)] * 1000.0);
+    text << buf;
+    lin.set(n.inputs()[i], n.linearisation_rms()[static_cast<Eigen::Index>(i)]);
   }
+  text << "\n  noise-aware: measurement noise SD";
+  for (const auto& [id, sd] : n.noise()) {
+    char buf[80];
+    std::snprintf(buf, sizeof buf, "  %s %.2f %s", id.c_str(), id == "weight" ? sd : sd * 100.0,
+                  id == "weight" ? "kg" : "cm");
+    text << buf;
+    noise.set(id, sd);
+  }
+  text << "\n";
+  na.set("linearisation_rms", lin);
+  na.set("noise_sd", noise);
+  return na;
+}
+
+/// Prints the report: text, or JSON with --json.
+int write_train_report(const TrainCommand& c, const TrainResult& r, Io& io) {
+  const TrainOptions& opt = r.options;
+  std::ostringstream text;
+  text << "model: " << r.path << " (" << (r.gender.empty() ? "?" : r.gender) << ", " << r.vertices
+       << " vertices, " << r.model_betas << " betas)\n"
+       << "training set: " << r.set.size() << " bodies ("
+       << (opt.gaussian ? "Gaussian samples, seed " + std::to_string(opt.seed)
+                        : "corners at +/-" + std::to_string(opt.corner_sd).substr(0, 4) + " SD")
+       << ") over " << opt.num_betas << " betas; weight formula " << r.set.weight_formula.name
+       << "\n\n";
+  const Json stats = training_set_stats(r, text);
+  text << "\nfit residuals (RMS over the training set of each input when the avatar is re-measured "
+          "linearly; mm, weight feature in mm of cube-root volume):\n";
+  const Json regs_json = linear_residuals(r.regressors, text);
+  Json na = Json::object();
+  if (r.regressors.noise_aware) na = noise_aware_report(*r.regressors.noise_aware, text);
+  char tbuf[80];
+  std::snprintf(tbuf, sizeof tbuf, "\ntraining time: %.1f ms\n", r.seconds * 1e3);
+  text << tbuf;
+  if (c.save) text << "wrote " << *c.save << "\n";
+  if (!c.json) {
+    io.out << text.str();
+    return kExitOk;
+  }
+  Json j = Json::object();
+  j.set("command", "train");
+  j.set("model", r.path);
+  j.set("training_set", json_object({{"bodies", Json(r.set.size())},
+                                     {"betas", Json(opt.num_betas)},
+                                     {"kind", Json(opt.gaussian ? "gaussian" : "corners")},
+                                     {"weight_formula", Json(r.set.weight_formula.name)},
+                                     {"inputs", Json(stats)}}));
+  j.set("linear", regs_json);
+  if (r.regressors.noise_aware) j.set("noise_aware", na);
+  j.set("seconds", r.seconds);
+  if (c.save) j.set("saved", *c.save);
+  io.out << j.dump(2) << "\n";
   return kExitOk;
+}
+
+}  // namespace
+
+int cmd_train(const std::vector<std::string>& args, Io& io) {
+  const ParsedArgs a = parse_args(args, train_options(), kHelp);
+  if (a.flags.count("help")) {
+    io.out << a.help;
+    return kExitOk;
+  }
+  const TrainCommand command = train_command_from(a);
+  const TrainResult result = run_train(command);
+  return write_train_report(command, result, io);
 }
 
 }  // namespace caliper::cli

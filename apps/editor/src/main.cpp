@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "app/cli_style.hpp"
 #include "app/editor_core.hpp"
 #include "caliper/assets.hpp"
 #include "config.hpp"
@@ -43,67 +44,62 @@ struct Options {
   bool no_idle_wait = false;  // draw every frame even when nothing changes (benchmark baseline)
 };
 
-void usage() {
-  std::printf(
-      "usage: caliper-editor [options]\n"
-      "  --model FILE          open an SMPL-family or project .npz/.pkl model (repeatable)\n"
-      "  --models-dir DIR      folder with the open models caliper-{female,male,neutral}.npz\n"
-      "                        (default: models/ in $CALIPER_ASSETS, the build tree or the\n"
-      "                        install prefix's share/virtual-caliper/assets)\n"
-      "  --no-open-models      do not look for the open models\n"
-      "  --headless            no window: render off-screen with OSMesa\n"
-      "  --script FILE         run editor commands from FILE, one per frame (docs/editor.md)\n"
-      "  --frames N            stop after N frames (after the script)\n"
-      "  --screenshot PNG      write the last frame to PNG\n"
-      "  --size WxH            window / image size (default 1600x1000 or the remembered size)\n"
-      "  --strict              exit with status 1 if a script command failed\n"
-      "  --no-config           neither read nor write the settings file\n"
-      "  --exit-after SECONDS  quit after this much time (benchmarks)\n"
-      "  --no-idle-wait        redraw continuously instead of waiting for input (benchmarks)\n");
+/// The options on a CLI11 app in the programs' common style (app/cli_style.hpp).
+void declare_options(CLI::App& cli, Options& o, std::string& size) {
+  namespace app = caliper::app;
+  app::apply_style(cli, {{"caliper-editor [options]"},
+                         "Type or drag body measurements and watch the avatar (docs/editor.md).",
+                         "examples:\n"
+                         "  caliper-editor\n"
+                         "  caliper-editor --headless --script demo.txt --screenshot shot.png\n\n"
+                         "exit codes: 0 ok, 1 a script command failed (--strict), 2 error"});
+  app::add_value(cli, "--model", o.models, "FILE",
+                 "open an SMPL-family or project .npz/.pkl model (repeatable)", true);
+  app::add_value(cli, "--models-dir", o.models_dir, "DIR",
+                 "folder with the open models caliper-{female,male,neutral}.npz\n"
+                 "(default: models/ in $CALIPER_ASSETS, the build tree or the\n"
+                 "install prefix's share/virtual-caliper/assets)");
+  app::add_flag(cli, "--no-open-models", o.no_open_models, "do not look for the open models");
+  app::add_flag(cli, "--headless", o.headless, "no window: render off-screen with OSMesa");
+  app::add_value(cli, "--script", o.script, "FILE",
+                 "run editor commands from FILE, one per frame (docs/editor.md)");
+  app::add_value(cli, "--frames", o.frames, "N",
+                 "stop after N frames (after the script) (default: run until closed; 2 headless)")
+      ->check(app::non_negative());
+  app::add_value(cli, "--screenshot", o.screenshot, "PNG", "write the last frame to PNG");
+  app::add_value(cli, "--size", size, "WxH",
+                 "window / image size in pixels, each side at least 64\n"
+                 "(default 1600x1000 or the remembered size)")
+      ->check([](const std::string& s) {
+        int w = 0, h = 0;
+        char end = 0;
+        return std::sscanf(s.c_str(), "%dx%d%c", &w, &h, &end) == 2 && w >= 64 && h >= 64
+                   ? std::string()
+                   : "expects WIDTHxHEIGHT in pixels, each at least 64, e.g. 1600x1000";
+      });
+  app::add_flag(cli, "--strict", o.strict, "exit with status 1 if a script command failed");
+  app::add_flag(cli, "--no-config", o.no_config, "neither read nor write the settings file");
+  app::add_value(cli, "--exit-after", o.exit_after, "SECONDS",
+                 "quit after this much wall time (benchmarks) (default: never)")
+      ->check(app::non_negative());
+  app::add_flag(cli, "--no-idle-wait", o.no_idle_wait,
+                "redraw continuously instead of waiting for input (benchmarks)");
 }
 
+/// Reads the command line into `o`; false when it asked for --help (then printed). Throws
+/// app::CommandLineError naming what was wrong.
 bool parse(int argc, char** argv, Options& o) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) throw std::invalid_argument(a + " needs a value");
-      return argv[++i];
-    };
-    if (a == "--headless")
-      o.headless = true;
-    else if (a == "--script")
-      o.script = next();
-    else if (a == "--frames")
-      o.frames = std::stoi(next());
-    else if (a == "--screenshot")
-      o.screenshot = next();
-    else if (a == "--model")
-      o.models.push_back(next());
-    else if (a == "--models-dir")
-      o.models_dir = next();
-    else if (a == "--no-open-models")
-      o.no_open_models = true;
-    else if (a == "--strict")
-      o.strict = true;
-    else if (a == "--no-config")
-      o.no_config = true;
-    else if (a == "--no-idle-wait")
-      o.no_idle_wait = true;
-    else if (a == "--exit-after")
-      o.exit_after = std::stod(next());
-    else if (a == "--size") {
-      const std::string s = next();
-      if (std::sscanf(s.c_str(), "%dx%d", &o.width, &o.height) != 2 || o.width < 64 ||
-          o.height < 64) {
-        throw std::invalid_argument("--size expects WIDTHxHEIGHT, e.g. 1600x1000");
-      }
-    } else if (a == "--help" || a == "-h") {
-      usage();
-      return false;
-    } else {
-      throw std::invalid_argument("unknown option " + a + " (see --help)");
-    }
+  CLI::App cli("", "caliper-editor");
+  std::string size;
+  declare_options(cli, o, size);
+  const caliper::app::CommandLine line =
+      caliper::app::parse_command_line(cli, std::vector<std::string>(argv + 1, argv + argc));
+  if (line.help) {
+    std::fputs(cli.help().c_str(), stdout);
+    return false;
   }
+  caliper::app::no_positional(line);
+  if (!size.empty()) std::sscanf(size.c_str(), "%dx%d", &o.width, &o.height);
   return true;
 }
 
@@ -356,7 +352,12 @@ int run_window(EditorCore& core, const Options& o, const std::vector<std::string
 int main(int argc, char** argv) {
   try {
     Options o;
-    if (!parse(argc, argv, o)) return 0;
+    try {
+      if (!parse(argc, argv, o)) return 0;
+    } catch (const caliper::app::CommandLineError& e) {
+      std::fputs(caliper::app::usage_error_line("caliper-editor", e.what()).c_str(), stderr);
+      return 2;
+    }
     const std::vector<std::string> script = read_script(o.script);
     EditorCore core;
     load_models(core, o);

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "ansur_stats.hpp"
+#include "app/cli_style.hpp"
 #include "generator.hpp"
 #include "makehuman_rig.hpp"
 #include "makehuman_shape.hpp"
@@ -24,24 +25,63 @@
 
 namespace {
 
-void usage() {
-  std::cout
-      << "usage: caliper-modelgen --out DIR [--stats FILE] [--gender female|male|neutral|all]\n"
-         "                        [--population N] [--components K] [--quiet]\n"
-         "       caliper-modelgen --stats-from ANSUR_DIR --stats-out FILE\n"
-         "Writes DIR/caliper-<gender>.npz. The statistics table defaults to\n"
-         "DIR/ansur_stats.csv, else ./assets/models/ansur_stats.csv; --stats-from recomputes it\n"
-         "from the ANSUR II survey files.\n"
-         "       caliper-modelgen --validate MODEL.npz --stats FILE [--samples N]\n"
-         "       caliper-modelgen --source makehuman [--makehuman DIR] [--surveys DIR] --out DIR\n"
-         "Work in progress (issue 11): --source makehuman writes\n"
-         "DIR/caliper-makehuman-template.npz, MakeHuman's CC0 base mesh (skin only, T-pose,\n"
-         "SMPL's 24 joints, merged weights, fitted joint regressor, the paper's landmarks), and\n"
-         "DIR/caliper-makehuman-{female,male,neutral}.npz, its targets fitted to every ANSUR II\n"
-         "and NHANES subject under --surveys (ansur2/, nhanes/; default ../shared/data) and\n"
-         "their principal components (about 2 minutes); it prints the fit residuals.\n"
-         "--makehuman defaults to ../shared/data/makehuman. The default --source cage\n"
-         "writes the three open models.\n";
+/// Everything the command line sets.
+struct Options {
+  std::string out, stats_path, stats_from, stats_out, gender = "all";
+  modelgen::GeneratorOptions generator;
+  bool quiet = false;
+  std::string validate;
+  std::string source = "cage", makehuman_dir = "../shared/data/makehuman";
+  std::string survey_dir = "../shared/data";
+  int samples = 10000;
+};
+
+/// The options on a CLI11 app in the programs' common style (app/cli_style.hpp).
+void declare_options(CLI::App& cli, Options& o) {
+  namespace app = caliper::app;
+  app::apply_style(
+      cli,
+      {{"caliper-modelgen --out DIR [--stats FILE] [--gender female|male|neutral|all]",
+        "                 [--population N] [--components K] [--quiet]",
+        "caliper-modelgen --stats-from ANSUR_DIR --stats-out FILE",
+        "caliper-modelgen --validate MODEL.npz --stats FILE [--samples N]",
+        "caliper-modelgen --source makehuman [--makehuman DIR] [--surveys DIR] --out DIR"},
+       "Writes DIR/caliper-<gender>.npz. The statistics table defaults to\n"
+       "DIR/ansur_stats.csv, else ./assets/models/ansur_stats.csv; --stats-from recomputes it\n"
+       "from the ANSUR II survey files.\n"
+       "Work in progress (issue 11): --source makehuman writes\n"
+       "DIR/caliper-makehuman-template.npz, MakeHuman's CC0 base mesh (skin only, T-pose,\n"
+       "SMPL's 24 joints, merged weights, fitted joint regressor, the paper's landmarks), and\n"
+       "DIR/caliper-makehuman-{female,male,neutral}.npz, its targets fitted to every ANSUR II\n"
+       "and NHANES subject under --surveys (ansur2/, nhanes/; default ../shared/data) and\n"
+       "their principal components (about 2 minutes); it prints the fit residuals.\n"
+       "--makehuman defaults to ../shared/data/makehuman. The default --source cage\n"
+       "writes the three open models.",
+       "example:\n  caliper-modelgen --out assets/models --quiet\n\n"
+       "exit codes: 0 ok, 1 error, 2 usage error"});
+  app::add_value(cli, "--out", o.out, "DIR", "write the models into DIR");
+  app::add_value(cli, "--stats", o.stats_path, "FILE",
+                 "the ANSUR II statistics table (default DIR/ansur_stats.csv, else "
+                 "./assets/models/ansur_stats.csv)");
+  app::add_value(cli, "--gender", o.gender, "GENDER", "which model to write")
+      ->check(CLI::IsMember({"female", "male", "neutral", "all"}));
+  app::add_value(cli, "--population", o.generator.population, "N",
+                 "synthetic bodies whose principal components make the shape space");
+  app::add_value(cli, "--components", o.generator.components, "K",
+                 "shape components (betas) per model");
+  app::add_flag(cli, "--quiet", o.quiet, "print nothing but errors");
+  app::add_value(cli, "--stats-from", o.stats_from, "ANSUR_DIR",
+                 "recompute the statistics table from the ANSUR II survey files");
+  app::add_value(cli, "--stats-out", o.stats_out, "FILE", "where --stats-from writes the table");
+  app::add_value(cli, "--validate", o.validate, "MODEL.npz",
+                 "compare the model's bodies (betas ~ N(0, I)) with the survey (needs --stats)");
+  app::add_value(cli, "--samples", o.samples, "N", "bodies drawn by --validate");
+  app::add_value(cli, "--source", o.source, "SOURCE",
+                 "the open models (cage) or MakeHuman's (makehuman: work in progress, issue 11)")
+      ->check(CLI::IsMember({"cage", "makehuman"}));
+  app::add_value(cli, "--makehuman", o.makehuman_dir, "DIR", "MakeHuman's CC0 assets");
+  app::add_value(cli, "--surveys", o.survey_dir, "DIR",
+                 "the folder that holds ansur2/ and nhanes/");
 }
 
 /// The shape models of the open model v2 (work in progress, issue 11): every survey subject
@@ -125,61 +165,78 @@ void write_makehuman_shape_models(const modelgen::mh::Assets& assets, const smpl
   if (!quiet) std::printf("shape models in %.1f s\n", seconds(t0));
 }
 
+/// --validate: the model's bodies (betas ~ N(0, I)) against the survey statistics, as a
+/// markdown table.
+void print_validation(const std::string& validate, const std::string& stats_path, int samples) {
+  const modelgen::SurveyStats st = modelgen::read_stats_table(stats_path);
+  const smpl::BodyModel model = smpl::load_model(validate);
+  const auto t0 = std::chrono::steady_clock::now();
+  const modelgen::ValidationFigures m = modelgen::model_figures(model, samples, 12345);
+  const modelgen::ValidationFigures s = modelgen::survey_figures(st, model.meta.gender);
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("%s: %d bodies with betas ~ N(0, I) vs ANSUR II (%d subjects), %.1f s\n",
+              validate.c_str(), samples, s.count, secs);
+  std::printf(
+      "| measurement | model mean | survey mean | mean error | model SD | survey SD | SD ratio "
+      "|\n");
+  std::printf("|---|---|---|---|---|---|---|\n");
+  for (const std::string& id : modelgen::validation_ids()) {
+    const double scale = id == "weight" ? 1.0 : 1000.0;
+    const char* unit = id == "weight" ? "kg" : "mm";
+    std::printf("| %s (%s) | %.1f | %.1f | %+.2f %% | %.1f | %.1f | %.2f |\n", id.c_str(), unit,
+                m.mean.at(id) * scale, s.mean.at(id) * scale,
+                100.0 * (m.mean.at(id) / s.mean.at(id) - 1.0), m.sd.at(id) * scale,
+                s.sd.at(id) * scale, m.sd.at(id) / s.sd.at(id));
+  }
+  std::printf("| corr(stature, span) | %.3f | %.3f | %+.3f | | | |\n", m.corr_stature_span,
+              s.corr_stature_span, m.corr_stature_span - s.corr_stature_span);
+  std::printf("| corr(stature, weight) | %.3f | %.3f | %+.3f | | | |\n", m.corr_stature_weight,
+              s.corr_stature_weight, m.corr_stature_weight - s.corr_stature_weight);
+}
+
+/// --source makehuman: the template model, then the shape models (work in progress, issue 11).
+void write_makehuman_models(const Options& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const modelgen::mh::Assets assets = modelgen::mh::read_assets(o.makehuman_dir);
+  const smpl::BodyModel model =
+      modelgen::mh::template_model(assets, modelgen::mh::default_regressor_targets());
+  const std::string path = o.out + "/caliper-makehuman-template.npz";
+  smpl::SaveOptions so;
+  so.compress = true;
+  smpl::save_model(model, path, so);
+  if (!o.quiet) {
+    std::printf("wrote %s (%d vertices, %d faces, %d betas) in %.1f s\n", path.c_str(),
+                model.num_vertices(), model.num_faces(), model.num_betas(),
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  }
+  write_makehuman_shape_models(assets, model, o.survey_dir, o.out, o.quiet);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  Options o;
+  CLI::App cli("", "caliper-modelgen");
+  declare_options(cli, o);
   try {
-    std::string out, stats_path, stats_from, stats_out, gender = "all";
-    modelgen::GeneratorOptions opt;
-    bool quiet = false;
-    std::string validate;
-    std::string source = "cage", makehuman_dir = "../shared/data/makehuman";
-    std::string survey_dir = "../shared/data";
-    int samples = 10000;
-    for (int i = 1; i < argc; ++i) {
-      const std::string a = argv[i];
-      auto next = [&]() -> std::string {
-        if (i + 1 >= argc) {
-          throw std::runtime_error("option " + a + " needs a value");
-        }
-        return argv[++i];
-      };
-      if (a == "--out") {
-        out = next();
-      } else if (a == "--stats") {
-        stats_path = next();
-      } else if (a == "--stats-from") {
-        stats_from = next();
-      } else if (a == "--stats-out") {
-        stats_out = next();
-      } else if (a == "--gender") {
-        gender = next();
-      } else if (a == "--population") {
-        opt.population = std::stoi(next());
-      } else if (a == "--components") {
-        opt.components = std::stoi(next());
-      } else if (a == "--validate") {
-        validate = next();
-      } else if (a == "--samples") {
-        samples = std::stoi(next());
-      } else if (a == "--source") {
-        source = next();
-        if (source != "cage" && source != "makehuman") {
-          throw std::runtime_error("--source must be 'cage' or 'makehuman', not '" + source + "'");
-        }
-      } else if (a == "--makehuman") {
-        makehuman_dir = next();
-      } else if (a == "--surveys") {
-        survey_dir = next();
-      } else if (a == "--quiet") {
-        quiet = true;
-      } else if (a == "-h" || a == "--help") {
-        usage();
-        return 0;
-      } else {
-        throw std::runtime_error("unknown option '" + a + "' (see --help)");
-      }
+    const caliper::app::CommandLine line =
+        caliper::app::parse_command_line(cli, std::vector<std::string>(argv + 1, argv + argc));
+    if (line.help) {
+      std::cout << cli.help();
+      return 0;
     }
+    caliper::app::no_positional(line);
+  } catch (const caliper::app::CommandLineError& e) {
+    std::cerr << caliper::app::usage_error_line("caliper-modelgen", e.what());
+    return 2;
+  }
+  try {
+    const std::string& out = o.out;
+    const std::string &stats_from = o.stats_from, &stats_out = o.stats_out;
+    std::string stats_path = o.stats_path;
+    const std::string& validate = o.validate;
+    const bool quiet = o.quiet;
+    const int samples = o.samples;
     if (!stats_from.empty()) {
       if (stats_out.empty()) {
         throw std::runtime_error("--stats-from needs --stats-out FILE");
@@ -196,54 +253,18 @@ int main(int argc, char** argv) {
       if (stats_path.empty()) {
         throw std::runtime_error("--validate needs --stats FILE");
       }
-      const modelgen::SurveyStats st = modelgen::read_stats_table(stats_path);
-      const smpl::BodyModel model = smpl::load_model(validate);
-      const auto t0 = std::chrono::steady_clock::now();
-      const modelgen::ValidationFigures m = modelgen::model_figures(model, samples, 12345);
-      const modelgen::ValidationFigures s = modelgen::survey_figures(st, model.meta.gender);
-      const double secs =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      std::printf("%s: %d bodies with betas ~ N(0, I) vs ANSUR II (%d subjects), %.1f s\n",
-                  validate.c_str(), samples, s.count, secs);
-      std::printf(
-          "| measurement | model mean | survey mean | mean error | model SD | survey SD | SD ratio "
-          "|\n");
-      std::printf("|---|---|---|---|---|---|---|\n");
-      for (const std::string& id : modelgen::validation_ids()) {
-        const double scale = id == "weight" ? 1.0 : 1000.0;
-        const char* unit = id == "weight" ? "kg" : "mm";
-        std::printf("| %s (%s) | %.1f | %.1f | %+.2f %% | %.1f | %.1f | %.2f |\n", id.c_str(), unit,
-                    m.mean.at(id) * scale, s.mean.at(id) * scale,
-                    100.0 * (m.mean.at(id) / s.mean.at(id) - 1.0), m.sd.at(id) * scale,
-                    s.sd.at(id) * scale, m.sd.at(id) / s.sd.at(id));
-      }
-      std::printf("| corr(stature, span) | %.3f | %.3f | %+.3f | | | |\n", m.corr_stature_span,
-                  s.corr_stature_span, m.corr_stature_span - s.corr_stature_span);
-      std::printf("| corr(stature, weight) | %.3f | %.3f | %+.3f | | | |\n", m.corr_stature_weight,
-                  s.corr_stature_weight, m.corr_stature_weight - s.corr_stature_weight);
+      print_validation(validate, stats_path, samples);
       if (out.empty()) {
         return 0;
       }
     }
     if (out.empty()) {
-      usage();
+      std::cerr << caliper::app::usage_error_line("caliper-modelgen",
+                                                  "give the output folder with --out DIR");
       return 2;
     }
-    if (source == "makehuman") {
-      const auto t0 = std::chrono::steady_clock::now();
-      const modelgen::mh::Assets assets = modelgen::mh::read_assets(makehuman_dir);
-      const smpl::BodyModel model =
-          modelgen::mh::template_model(assets, modelgen::mh::default_regressor_targets());
-      const std::string path = out + "/caliper-makehuman-template.npz";
-      smpl::SaveOptions so;
-      so.compress = true;
-      smpl::save_model(model, path, so);
-      if (!quiet) {
-        std::printf("wrote %s (%d vertices, %d faces, %d betas) in %.1f s\n", path.c_str(),
-                    model.num_vertices(), model.num_faces(), model.num_betas(),
-                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-      }
-      write_makehuman_shape_models(assets, model, survey_dir, out, quiet);
+    if (o.source == "makehuman") {
+      write_makehuman_models(o);
       return 0;
     }
     if (stats_path.empty()) {
@@ -256,15 +277,15 @@ int main(int argc, char** argv) {
     }
     const modelgen::SurveyStats stats = modelgen::read_stats_table(stats_path);
     std::vector<std::string> genders;
-    if (gender == "all") {
+    if (o.gender == "all") {
       genders = {"female", "male", "neutral"};
     } else {
-      genders = {gender};
+      genders = {o.gender};
     }
     for (const std::string& g : genders) {
       const auto t0 = std::chrono::steady_clock::now();
       modelgen::GenerationReport report;
-      const smpl::BodyModel model = modelgen::generate_model(stats, g, opt, &report);
+      const smpl::BodyModel model = modelgen::generate_model(stats, g, o.generator, &report);
       const std::string path = out + "/caliper-" + g + ".npz";
       smpl::SaveOptions so;
       so.compress = true;

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "app/cli_style.hpp"
 #include "caliper/assets.hpp"
 #include "caliper/cpu_time.hpp"
 #include "caliper/errors.hpp"
@@ -43,47 +44,6 @@ constexpr int kExitUsage = 2;
 constexpr int kExitIncomplete = 3;
 constexpr int kExitNoRuntime = 4;
 
-const char* kUsage =
-    "Usage: caliper-vr [options]\n"
-    "  (no mode)            measure with a headset through OpenXR\n"
-    "  --replay FILE        replay a pose log headless (no headset, no display)\n"
-    "  --simulate FILE      write the pose log of a simulated person doing the protocol\n"
-    "  --calibrate-tip HAND measure the tip offset of the left/right controller (pivot "
-    "calibration)\n"
-    "Options:\n"
-    "  --assets DIR         the project's assets (default: $CALIPER_ASSETS, else the build\n"
-    "                       tree's or the install prefix's share/virtual-caliper/assets)\n"
-    "  --protocol FILE      measuring protocol (default: assets/protocol/virtual-caliper.json)\n"
-    "  --controllers FILE   tip offsets per interaction profile (default: "
-    "assets/protocol/controllers.json)\n"
-    "  --role self|operator who measures (default: the log's role, else self)\n"
-    "  --journal FILE       session journal (default: OUT/journal.jsonl, or "
-    "./caliper-journal.jsonl)\n"
-    "  --resume FILE        continue the session of this journal where it stopped\n"
-    "  --force              start a new session even when the journal (or the --record) file\n"
-    "                       exists (it is overwritten; without --force caliper-vr refuses and\n"
-    "                       names --resume)\n"
-    "  --out DIR            write DIR/session.json and DIR/avatar.glb at the end\n"
-    "  --record FILE        record every frame's poses and buttons as a pose log\n"
-    "  --weight KG --sex female|male   typed values (else from the operator window or the log;\n"
-    "                       weight 10 to 300 kg)\n"
-    "  --model FILE | --models-dir DIR  body model (default: DIR/caliper-<sex>.npz)\n"
-    "  --regressor R2|R4|R5|R6 (default R5)  --regressors FILE  --mapping FILE\n"
-    "  --eye-size WxH       replay: size of each eye's image (default 320x356)\n"
-    "  --draw-every N       replay: rasterise every N-th frame (default 1; 0 = only snapshots)\n"
-    "  --frames-dir DIR     replay: save key frames as PNG (floor targets, panel, mirror)\n"
-    "  --timing FILE        replay: per-frame CPU times as CSV\n"
-    "  --embodiment-report FILE  replay: how well the avatar followed the tracking (JSON)\n"
-    "  --max-frames N       stop after N frames (a simulated crash)\n"
-    "  --no-audio           no confirmation tones\n"
-    "  --operator-window    also open the operator's desktop window (replay: instead of OSMesa;\n"
-    "                       needs a display, e.g. xvfb-run)\n"
-    "Simulation (--simulate): --betas \"b0 b1 ...\" --noise M --seed N --frame-rate HZ\n"
-    "  --dropout STEP --third-take STEP --early-release STEP --redo STEP\n"
-    "  --profile PATH       the controllers' interaction profile (default: the HTC Vive wand)\n"
-    "  --motions            after the measurements: wave, reach up, cross arms, squat, turn\n"
-    "  (every simulated session ends with the right controller's menu button)\n";
-
 struct Args {
   std::map<std::string, std::string> values;
   std::vector<std::string> flags;
@@ -97,36 +57,124 @@ struct Args {
   }
 };
 
-Args parse_args(int argc, char** argv) {
-  static const std::vector<std::string> kFlags = {
-      "--no-audio", "--operator-window", "--motions", "--force", "--help", "-h"};
-  static const std::vector<std::string> kValues = {
-      "--replay",     "--simulate",      "--calibrate-tip",
-      "--protocol",   "--controllers",   "--role",
-      "--journal",    "--resume",        "--out",
-      "--record",     "--weight",        "--sex",
-      "--model",      "--models-dir",    "--regressor",
-      "--regressors", "--mapping",       "--eye-size",
-      "--draw-every", "--frames-dir",    "--timing",
-      "--max-frames", "--betas",         "--noise",
-      "--seed",       "--frame-rate",    "--dropout",
-      "--third-take", "--early-release", "--redo",
-      "--assets",     "--typed-in-log",  "--embodiment-report",
-      "--profile"};
-  Args a;
-  a.argv.assign(argv + 1, argv + argc);
+/// One option of caliper-vr: its name, value name ("" for a flag), help group and description.
+struct VrOption {
+  const char* name;
+  const char* value;
+  const char* group;
+  const char* help;
+};
+
+const VrOption kOptions[] = {
+    {"--replay", "FILE", "options", "replay a pose log headless (no headset, no display)"},
+    {"--simulate", "FILE", "options",
+     "write the pose log of a simulated person doing the protocol"},
+    {"--calibrate-tip", "HAND", "options",
+     "measure the tip offset of the left/right controller (pivot calibration)"},
+    {"--assets", "DIR", "options",
+     "the project's assets (default: $CALIPER_ASSETS, else the build\ntree's or the install "
+     "prefix's share/virtual-caliper/assets)"},
+    {"--protocol", "FILE", "options",
+     "measuring protocol (default: assets/protocol/virtual-caliper.json)"},
+    {"--controllers", "FILE", "options",
+     "tip offsets per interaction profile (default: assets/protocol/controllers.json)"},
+    {"--role", "self|operator", "options", "who measures (default: the log's role, else self)"},
+    {"--journal", "FILE", "options",
+     "session journal (default: OUT/journal.jsonl, or ./caliper-journal.jsonl)"},
+    {"--resume", "FILE", "options", "continue the session of this journal where it stopped"},
+    {"--force", "", "options",
+     "start a new session even when the journal (or the --record) file\nexists (it is "
+     "overwritten; without --force caliper-vr refuses and\nnames --resume)"},
+    {"--out", "DIR", "options", "write DIR/session.json and DIR/avatar.glb at the end"},
+    {"--record", "FILE", "options", "record every frame's poses and buttons as a pose log"},
+    {"--weight", "KG", "options",
+     "typed weight in kg, 10 to 300 (else from the operator window or the log;\n--simulate: the "
+     "simulated person's weight, default 65)"},
+    {"--sex", "female|male", "options",
+     "typed sex (else from the operator window or the log; --simulate: default female)"},
+    {"--model", "FILE", "options", "body model (default: DIR/caliper-<sex>.npz)"},
+    {"--models-dir", "DIR", "options", "folder of the body models (default: assets/models)"},
+    {"--regressor", "R2|R4|R5|R6", "options", "regressor (default R5)"},
+    {"--regressors", "FILE", "options", "fitted regressors (JSON, caliper train --save)"},
+    {"--mapping", "FILE", "options", "measurement mapping (JSON or CSV)"},
+    {"--max-frames", "N", "options", "stop after N frames (a simulated crash)"},
+    {"--no-audio", "", "options", "no confirmation tones"},
+    {"--operator-window", "", "options",
+     "also open the operator's desktop window (replay: instead of OSMesa;\nneeds a display, "
+     "e.g. xvfb-run)"},
+    {"--eye-size", "WxH", "replay", "size of each eye's image in pixels (default 320x356)"},
+    {"--draw-every", "N", "replay", "rasterise every N-th frame (default 1; 0 = only snapshots)"},
+    {"--frames-dir", "DIR", "replay", "save key frames as PNG (floor targets, panel, mirror)"},
+    {"--timing", "FILE", "replay", "per-frame CPU times as CSV"},
+    {"--embodiment-report", "FILE", "replay", "how well the avatar followed the tracking (JSON)"},
+    {"--betas", "\"b0 b1 ...\"", "simulation (--simulate)",
+     "the simulated person's shape components, space-separated (default: all 0)"},
+    {"--noise", "M", "simulation (--simulate)",
+     "controller tip noise, standard deviation per axis in metres (default 0)"},
+    {"--seed", "N", "simulation (--simulate)", "random seed (default 1)"},
+    {"--frame-rate", "HZ", "simulation (--simulate)", "frames per second (default 90)"},
+    {"--dropout", "STEP", "simulation (--simulate)",
+     "the step whose first hold loses one controller's tracking for 0.15 s"},
+    {"--third-take", "STEP", "simulation (--simulate)",
+     "the step whose second take is 3 % too long, so that a third is asked for"},
+    {"--early-release", "STEP", "simulation (--simulate)",
+     "the step whose first hold is released after 0.4 s"},
+    {"--redo", "STEP", "simulation (--simulate)",
+     "operator role: the step after whose first take the operator presses redo"},
+    {"--profile", "PATH", "simulation (--simulate)",
+     "the controllers' interaction profile (default: the HTC Vive wand)"},
+    {"--typed-in-log", "yes|no", "simulation (--simulate)",
+     "write the typed weight and sex into the log (default yes)"},
+    {"--motions", "", "simulation (--simulate)",
+     "after the measurements: wave, reach up, cross arms, squat, turn\n(every simulated "
+     "session ends with the right controller's menu button)"},
+};
+
+/// Reads the command line with CLI11 in the programs' common style (app/cli_style.hpp).
+/// Returns false when it asked for --help (then printed); throws app::CommandLineError.
+bool parse_args(int argc, char** argv, Args& a) {
+  CLI::App cli("", "caliper-vr");
+  caliper::app::apply_style(
+      cli, {{"caliper-vr [options]                 measure with a headset through OpenXR",
+             "caliper-vr --replay LOG [options]    replay a pose log, headless (OSMesa)",
+             "caliper-vr --simulate LOG [options]  write the pose log of a simulated person"},
+            "The VR measuring app (docs/vr.md).",
+            "exit codes: 0 ok, 1 error, 2 usage error, 3 session not finished (resume it),\n"
+            "4 no OpenXR runtime"});
+  std::map<std::string, std::string> values;  // node-based: CLI11 keeps references
+  std::map<std::string, bool> flags;
+  for (const VrOption& o : kOptions) {
+    CLI::Option* opt = *o.value
+                           ? caliper::app::add_value(cli, o.name, values[o.name], o.value, o.help)
+                           : caliper::app::add_flag(cli, o.name, flags[o.name], o.help);
+    opt->group(o.group);
+  }
+  const caliper::app::CommandLine line =
+      caliper::app::parse_command_line(cli, std::vector<std::string>(argv + 1, argv + argc));
+  if (line.help) {
+    std::cout << cli.help();
+    return false;
+  }
+  caliper::app::no_positional(line);
+  // The arguments as given, "--name=value" as "--name value" (resume_command() copies them).
   for (int i = 1; i < argc; ++i) {
-    const std::string k = argv[i];
-    if (std::count(kFlags.begin(), kFlags.end(), k)) {
-      a.flags.push_back(k);
-    } else if (std::count(kValues.begin(), kValues.end(), k)) {
-      if (i + 1 >= argc) throw std::invalid_argument(k + " needs a value");
-      a.values[k] = argv[++i];
+    const std::string arg = argv[i];
+    const size_t eq = arg.find('=');
+    if (arg.rfind("--", 0) != 0 || eq == std::string::npos) {
+      a.argv.push_back(arg);
     } else {
-      throw std::invalid_argument("unknown option \"" + k + "\"");
+      a.argv.push_back(arg.substr(0, eq));
+      a.argv.push_back(arg.substr(eq + 1));
     }
   }
-  return a;
+  for (const VrOption& o : kOptions) {
+    if (cli.get_option(o.name)->count() == 0) continue;
+    if (*o.value)
+      a.values[o.name] = values[o.name];
+    else
+      a.flags.emplace_back(o.name);
+  }
+  return true;
 }
 
 double number(const Args& a, const std::string& k, double fallback) {
@@ -673,14 +721,10 @@ int run_live(const Args& a) {
 int main(int argc, char** argv) {
   Args args;
   try {
-    args = parse_args(argc, argv);
-  } catch (const std::exception& e) {
-    std::cerr << "caliper-vr: " << e.what() << "\n\n" << kUsage;
+    if (!parse_args(argc, argv, args)) return 0;
+  } catch (const caliper::app::CommandLineError& e) {
+    std::cerr << caliper::app::usage_error_line("caliper-vr", e.what());
     return kExitUsage;
-  }
-  if (args.has("--help") || args.has("-h")) {
-    std::cout << kUsage;
-    return 0;
   }
   try {
     if (args.has("--simulate")) return run_simulate(args);
@@ -691,7 +735,7 @@ int main(int argc, char** argv) {
     std::cerr << "caliper-vr: " << e.what() << "\n";
     return kExitNoRuntime;
   } catch (const std::invalid_argument& e) {
-    std::cerr << "caliper-vr: " << e.what() << "\n\n" << kUsage;
+    std::cerr << caliper::app::usage_error_line("caliper-vr", e.what());
     return kExitUsage;
   } catch (const std::exception& e) {
     std::cerr << "caliper-vr: " << e.what() << "\n";
