@@ -133,7 +133,8 @@ MeasurementMap read_session_measurements(const std::string& path) {
     }
     return found;
   } catch (const JsonError&) {
-    return journal_measurements(*contents, path);  // not one JSON value: a journal
+    // Not one JSON value (or one whose measurements are malformed): a JSON Lines journal.
+    return journal_measurements(*contents, path);
   }
 }
 
