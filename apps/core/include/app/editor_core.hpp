@@ -8,69 +8,32 @@
 /// edits height and weight (R2), level 2 adds inseam height and arm span (R4), level 3 adds
 /// arm length and hip width (R6). Measurements not yet editable show the avatar's own values;
 /// moving up a level starts the new inputs from those values so that the avatar does not jump.
+///
+/// EditorCore is a thin facade over the units that do the work: the undoable Document and its
+/// rules (document.hpp), the pure recompute() of the avatar (recompute.hpp), a History of
+/// documents (history.hpp), profiles, sessions and export metadata (editor_files.hpp), the
+/// comparison avatar (comparison.hpp), the message log (messages.hpp) and the text command
+/// language (commands.hpp). It holds the state they share and turns every failure into one
+/// message (MessageLog::attempt).
 #pragma once
 
+#include <cstdint>
 #include <deque>
 #include <map>
-#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include <Eigen/Core>
-
+#include "app/comparison.hpp"
+#include "app/document.hpp"
+#include "app/editor_files.hpp"
+#include "app/history.hpp"
+#include "app/messages.hpp"
+#include "app/recompute.hpp"
 #include "app/units.hpp"
-#include "caliper/measurements.hpp"
-#include "caliper/plausibility.hpp"
-#include "caliper/regressor.hpp"
 #include "smpl/avatar_export.hpp"
-#include "smpl/body_model.hpp"
 
 namespace caliper::app {
-
-/// Every avatar file format the editor exports, in the order a file dialog should offer them
-/// (extension, description, rigged): smpl::export_formats().
-const std::vector<smpl::ExportFormat>& export_formats();
-
-/// Which regressor turns the measurements into betas.
-enum class RegressorChoice { R2, R4, R5, R6, NoiseAware };
-std::string to_string(RegressorChoice choice);  ///< "R2" .. "R6", "noise-aware"
-/// Parses "R2".."R6", "noise-aware"/"noise_aware"/"NA" (case-insensitive).
-std::optional<RegressorChoice> parse_regressor_choice(const std::string& text);
-/// Input ids of a choice (noise-aware: the six R6 inputs).
-const std::vector<std::string>& choice_inputs(RegressorChoice choice);
-
-/// A body model with its fitted regressors, shared read-only.
-struct ModelEntry {
-  std::string label;  ///< shown in the UI, e.g. "caliper-female" or the file name
-  std::shared_ptr<const smpl::BodyModel> model;
-  std::shared_ptr<const RegressorSet> regressors;
-  LandmarkTable landmarks;  ///< landmarks_for(*model)
-};
-
-/// Builds a ModelEntry: validates the model, computes its landmark table and fits the
-/// regressors (train_regressors). Throws smpl::ModelError / caliper::CaliperError naming the
-/// problem (e.g. a model without the landmarks the regressors need).
-ModelEntry make_model_entry(std::shared_ptr<const smpl::BodyModel> model, const std::string& label,
-                            const TrainOptions& options = {});
-
-/// The undoable part of the editor state.
-struct Document {
-  MeasurementMap values;  ///< typed or dragged inputs, SI
-  RegressorChoice regressor = RegressorChoice::R2;
-  bool hierarchical = true;
-  int level = 1;  ///< 1..3, used when hierarchical
-  bool operator==(const Document& o) const {
-    return values == o.values && regressor == o.regressor && hierarchical == o.hierarchical &&
-           level == o.level;
-  }
-  bool operator!=(const Document& o) const { return !(*this == o); }
-};
-
-/// The human name of a measurement for the UI ("Arm span (fingertips)"; "Weight", "Volume").
-std::string measurement_label(const std::string& id);
-/// One line describing a regressor choice, e.g. "R4: height, weight, inseam, arm span".
-std::string describe_regressor(RegressorChoice choice);
 
 /// How the avatar is coloured.
 enum class ColourMode { Skin, Plausibility, Uncertainty };
@@ -87,34 +50,6 @@ struct ViewSettings {
   /// true: the 3D view keeps one scale (a 2.2 m tall box) so bodies of different heights look
   /// different, with a height ruler on the floor grid; false: it fits the avatar.
   bool fixed_scale = false;
-};
-
-/// The current avatar and what is derived from it.
-struct AvatarView {
-  Eigen::VectorXd betas;    ///< model.num_betas() (zeros beyond the regressor's outputs)
-  Eigen::VectorXd beta_sd;  ///< posterior SD per beta (noise-aware), else empty
-  smpl::Vertices vertices;  ///< rest pose, translated so that the floor (min y) is at y = 0
-  Plausibility plausibility;
-  MeasurementMap achieved;         ///< measured on the avatar (13 + volume + weight when final)
-  bool achieved_complete = false;  ///< false during a drag (lengths only; cheap)
-  /// Per-vertex colour-map values: plausibility (metres of displacement due to components
-  /// beyond 2 SD) and uncertainty (posterior positional SD in metres; 0 without noise-aware).
-  std::vector<float> implausible_displacement;
-  std::vector<float> uncertainty;
-};
-
-/// A comparison avatar pinned from an earlier state.
-struct Comparison {
-  std::string label;
-  smpl::Vertices vertices;  ///< floor at y = 0
-  MeasurementMap values;
-  std::vector<float> difference;  ///< per-vertex |current - pinned|, metres (same model only)
-};
-
-/// A message for the window's status area.
-struct Message {
-  enum class Level { Info, Warning, Error } level = Level::Info;
-  std::string text;
 };
 
 class EditorCore {
@@ -169,8 +104,8 @@ class EditorCore {
 
   // ---- Undo / redo ---------------------------------------------------------------------
   /// Undo and redo post what they changed ("undone: height 170.0 cm -> 165.2 cm").
-  bool can_undo() const { return !undo_.empty(); }
-  bool can_redo() const { return !redo_.empty(); }
+  bool can_undo() const { return history_.can_undo(); }
+  bool can_redo() const { return history_.can_redo(); }
   bool undo();
   bool redo();
 
@@ -217,33 +152,32 @@ class EditorCore {
   const AvatarView& avatar() const { return avatar_; }
   /// Increments whenever avatar().vertices change (renderers re-upload when it differs).
   std::uint64_t revision() const { return revision_; }
-  const std::deque<Message>& messages() const { return messages_; }
+  const std::deque<Message>& messages() const { return log_.messages(); }
   void post(Message::Level level, const std::string& text);
   /// Drops the errors and warnings of earlier commands (each edit starts with a clean status).
   void clear_stale_messages();
 
-  /// Runs one text command (the headless script language, docs/editor.md), e.g.
-  /// "set height 180 cm", "units imperial", "level 2", "undo". Returns false (with a
-  /// message) for an unknown or malformed command. View-only commands that need a renderer
-  /// (screenshot) are not handled here: the caller handles them first.
+  /// Runs one text command (app::run_command in commands.hpp: the headless script language,
+  /// docs/editor.md), e.g. "set height 180 cm", "units imperial", "level 2", "undo". Returns
+  /// false (with a message) for an unknown or malformed command. View-only commands that need
+  /// a renderer (screenshot) are not handled here: the caller handles them first.
   bool run_command(const std::string& line);
 
  private:
-  /// Pushes the current document onto the undo history (before an edit that changes it).
-  void push_undo();
-  /// Pushes `before` onto the undo history (at most kMaxUndo steps) and clears the redo history.
-  void remember(const Document& before);
-  /// Applies `d` as one undoable step; when apply() throws, state and history are unchanged.
-  void commit(const Document& d);
-  void apply(const Document& doc, bool complete);
-  /// Moves one document from the back of `from` to the current state, pushing the current one
-  /// onto `to` (undo: from = undo_, to = redo_; redo: the reverse). False when `from` is empty
-  /// or the document cannot be applied (a message is posted naming `what`).
-  bool step_history(std::vector<Document>& from, std::vector<Document>& to, const char* what);
-  void recompute(bool complete);
+  /// Makes `avatar` current: updates the comparison's difference and the revision.
+  void show(AvatarView avatar);
+  /// Makes `d` the document on model `model` (recomputing the avatar; `complete`: every
+  /// measurement). Without a model only the document changes. Throws, changing nothing, when
+  /// the avatar of `d` cannot be computed.
+  void apply(const Document& d, bool complete, int model);
+  void apply(const Document& d, bool complete) { apply(d, complete, current_); }
+  /// apply() as one undo step (the current document is recorded only when apply succeeds).
+  void commit(const Document& d, int model);
+  void commit(const Document& d) { commit(d, current_); }
+  /// Undo (`undo`) or redo one step, posting what changed. False when there is none or the
+  /// document cannot be applied (a message names the problem).
+  bool step_history(bool undo);
   bool check_value(const std::string& id, double value_si);
-  /// A short account of what differs between two documents, for undo/redo messages.
-  std::string describe_change(const Document& from, const Document& to) const;
 
   std::vector<ModelEntry> models_;
   int current_ = -1;
@@ -253,11 +187,10 @@ class EditorCore {
   ViewSettings view_;
   AvatarView avatar_;
   std::optional<Comparison> comparison_;
-  std::vector<Document> undo_, redo_;
+  History<Document> history_{200};
   bool dragging_ = false;
   std::uint64_t revision_ = 0;
-  std::deque<Message> messages_;
-  Eigen::VectorXd shaped_;  // scratch: 3V
+  MessageLog log_{50};
 };
 
 }  // namespace caliper::app

@@ -1,0 +1,132 @@
+// The editor's document and the rules that follow from it alone (regressor choices, the
+// hierarchy's inputs, descriptions for messages).
+#include "app/document.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "caliper/regressor.hpp"
+#include "smpl/text.hpp"
+
+namespace caliper::app {
+
+std::string to_string(RegressorChoice choice) {
+  switch (choice) {
+    case RegressorChoice::R2:
+      return "R2";
+    case RegressorChoice::R4:
+      return "R4";
+    case RegressorChoice::R5:
+      return "R5";
+    case RegressorChoice::R6:
+      return "R6";
+    case RegressorChoice::NoiseAware:
+      return "noise-aware";
+  }
+  return "R2";
+}
+
+std::optional<RegressorChoice> parse_regressor_choice(const std::string& text) {
+  const std::string t = smpl::to_lower(text);
+  if (t == "r2") return RegressorChoice::R2;
+  if (t == "r4") return RegressorChoice::R4;
+  if (t == "r5") return RegressorChoice::R5;
+  if (t == "r6") return RegressorChoice::R6;
+  if (t == "noise-aware" || t == "noise_aware" || t == "na") return RegressorChoice::NoiseAware;
+  return std::nullopt;
+}
+
+const std::vector<std::string>& choice_inputs(RegressorChoice choice) {
+  switch (choice) {
+    case RegressorChoice::R2:
+      return regressor_inputs(RegressorKind::R2);
+    case RegressorChoice::R4:
+      return regressor_inputs(RegressorKind::R4);
+    case RegressorChoice::R5:
+      return regressor_inputs(RegressorKind::R5);
+    case RegressorChoice::R6:
+    case RegressorChoice::NoiseAware:
+      break;
+  }
+  return regressor_inputs(RegressorKind::R6);
+}
+
+namespace {
+/// The regressor of hierarchy level 1..3 (paper: height+weight, + inseam+arm span, + arm
+/// length+hip width).
+RegressorChoice level_choice(int level) {
+  return level <= 1 ? RegressorChoice::R2 : level == 2 ? RegressorChoice::R4 : RegressorChoice::R6;
+}
+}  // namespace
+
+const std::vector<std::string>& level_inputs(int level) {
+  return choice_inputs(level_choice(level));
+}
+
+RegressorChoice active_regressor(const Document& doc) {
+  if (!doc.hierarchical || doc.regressor == RegressorChoice::NoiseAware) return doc.regressor;
+  return level_choice(doc.level);
+}
+
+const std::vector<std::string>& editable_inputs(const Document& doc) {
+  return doc.hierarchical ? level_inputs(doc.level) : choice_inputs(doc.regressor);
+}
+
+void start_from_avatar(Document& doc, const std::vector<std::string>& ids,
+                       const std::vector<std::string>& kept, const MeasurementMap& achieved) {
+  for (const std::string& id : ids) {
+    if (std::find(kept.begin(), kept.end(), id) != kept.end()) continue;
+    auto it = achieved.find(id);
+    if (it != achieved.end()) doc.values[id] = it->second;
+  }
+}
+
+std::string measurement_label(const std::string& id) {
+  if (id == "weight") return "Weight";
+  if (id == "volume") return "Volume";
+  for (const MeasurementDef& d : paper_measurements()) {
+    if (d.id == id) return d.label;
+  }
+  return id;
+}
+
+std::string describe_regressor(RegressorChoice choice) {
+  std::string s = to_string(choice) + ": ";
+  if (choice == RegressorChoice::NoiseAware) s = "noise-aware: ";
+  bool first = true;
+  for (const std::string& id : choice_inputs(choice)) {
+    s += (first ? "" : ", ") + measurement_label(id);
+    first = false;
+  }
+  if (choice == RegressorChoice::NoiseAware)
+    s += " (weighs each input by its measuring noise; shows the shape's uncertainty)";
+  return s;
+}
+
+std::string describe_change(const Document& from, const Document& to, UnitSystem units) {
+  std::string s;
+  auto add = [&](const std::string& part) { s += (s.empty() ? "" : "; ") + part; };
+  if (from.regressor != to.regressor || from.hierarchical != to.hierarchical ||
+      from.level != to.level) {
+    if (to.hierarchical && to.regressor != RegressorChoice::NoiseAware)
+      add("hierarchical level " + std::to_string(to.level));
+    else
+      add("regressor " + to_string(to.regressor));
+  }
+  for (const auto& [id, v] : to.values) {
+    auto it = from.values.find(id);
+    if (it != from.values.end() && it->second == v) continue;
+    char buf[128];
+    const double shown = to_display(id, v, units);
+    if (it != from.values.end()) {
+      std::snprintf(buf, sizeof buf, "%.1f -> %.1f %s", to_display(id, it->second, units), shown,
+                    unit_label(id, units).c_str());
+    } else {
+      std::snprintf(buf, sizeof buf, "%.1f %s", shown, unit_label(id, units).c_str());
+    }
+    add(measurement_label(id) + " " + buf);
+  }
+  return s.empty() ? "no visible change" : s;
+}
+
+}  // namespace caliper::app

@@ -1,0 +1,134 @@
+// From a Document to the avatar: model entries and the pure recomputation.
+#include "app/recompute.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "caliper/errors.hpp"
+#include "smpl/io.hpp"
+
+namespace caliper::app {
+
+ModelEntry make_model_entry(std::shared_ptr<const smpl::BodyModel> model, const std::string& label,
+                            const TrainOptions& options) {
+  smpl::validate(*model, label);
+  ModelEntry e;
+  e.label = label;
+  e.landmarks = landmarks_for(*model);
+  e.regressors = std::make_shared<const RegressorSet>(train_regressors(*model, options));
+  e.model = std::move(model);
+  return e;
+}
+
+MeasurementMap mean_shape_inputs(const ModelEntry& entry) {
+  MeasureOptions mo;
+  mo.circumferences = false;
+  const MeasurementMap all = measure_all(*entry.model, entry.model->v_template, mo);
+  MeasurementMap inputs;
+  for (const std::string& id : choice_inputs(RegressorChoice::R6)) {
+    auto it = all.find(id);
+    if (it != all.end()) inputs[id] = it->second;
+  }
+  return inputs;
+}
+
+namespace {
+
+/// The betas the active regressor of `doc` predicts (model.num_betas() of them, zeros beyond
+/// the regressor's outputs); the posterior SD and covariance for the noise-aware one.
+struct Prediction {
+  Eigen::VectorXd betas;  ///< the regressor's outputs only
+  Eigen::VectorXd sd;
+  std::optional<Eigen::MatrixXd> covariance;
+};
+
+Prediction predict(const Document& doc, const ModelEntry& e) {
+  MeasurementMap in;
+  for (const std::string& id : editable_inputs(doc)) {
+    auto it = doc.values.find(id);
+    if (it == doc.values.end()) throw InvalidInputError("no value for " + id);
+    in[id] = it->second;
+  }
+  Prediction p;
+  const RegressorChoice choice = active_regressor(doc);
+  if (choice == RegressorChoice::NoiseAware) {
+    if (!e.regressors->noise_aware)
+      throw InvalidInputError("this model has no noise-aware regressor");
+    Posterior post = e.regressors->noise_aware->predict(in);
+    p.betas = post.mean;
+    p.sd = post.sd();
+    p.covariance = post.covariance;
+  } else {
+    const LinearRegressor* r = e.regressors->find(to_string(choice));
+    if (r == nullptr) throw InvalidInputError("this model has no regressor " + to_string(choice));
+    p.betas = r->predict(in);
+  }
+  if (!p.betas.allFinite()) throw InvalidInputError("the regressor returned non-finite betas");
+  return p;
+}
+
+/// Metres each vertex moves because of the beta components beyond +-2 SD.
+std::vector<float> implausible_displacement(const smpl::BodyModel& m, const Eigen::VectorXd& b) {
+  const Eigen::Index k = b.size();
+  const Eigen::VectorXd excess = b - b.cwiseMax(-2.0).cwiseMin(2.0);
+  std::vector<float> out(static_cast<size_t>(m.num_vertices()), 0.0f);
+  if (excess.cwiseAbs().maxCoeff() > 0) {
+    const Eigen::VectorXd d = m.shapedirs.leftCols(k) * excess;
+    for (int v = 0; v < m.num_vertices(); ++v) {
+      out[static_cast<size_t>(v)] = static_cast<float>(d.segment<3>(3 * v).norm());
+    }
+  }
+  return out;
+}
+
+/// Posterior positional SD of each vertex (metres) for the beta covariance `s`.
+std::vector<float> uncertainty(const smpl::BodyModel& m, const Eigen::MatrixXd& s) {
+  const Eigen::Index k = s.rows();
+  std::vector<float> out(static_cast<size_t>(m.num_vertices()), 0.0f);
+  for (int v = 0; v < m.num_vertices(); ++v) {
+    const auto block = m.shapedirs.block(3 * v, 0, 3, k);
+    const double trace = (block * s * block.transpose()).trace();
+    out[static_cast<size_t>(v)] = static_cast<float>(std::sqrt(std::max(0.0, trace)));
+  }
+  return out;
+}
+
+}  // namespace
+
+AvatarView recompute(const Document& doc, const ModelEntry& entry, bool complete) {
+  const smpl::BodyModel& m = *entry.model;
+  Prediction p = predict(doc, entry);
+  const Eigen::VectorXd& b = p.betas;
+  const Eigen::Index k = b.size();
+  AvatarView a;
+  a.beta_sd = std::move(p.sd);
+  a.betas = Eigen::VectorXd::Zero(m.num_betas());
+  a.betas.head(k) = b;
+  // Rest-pose vertices: v_template + shapedirs * betas.
+  const Eigen::Index n3 = m.v_template.size();
+  const Eigen::VectorXd shaped = m.shapedirs.leftCols(k) * b;
+  a.vertices.resize(m.num_vertices(), 3);
+  Eigen::Map<Eigen::VectorXd>(a.vertices.data(), n3) =
+      Eigen::Map<const Eigen::VectorXd>(m.v_template.data(), n3) + shaped;
+  const double floor = a.vertices.col(1).minCoeff();
+  a.vertices.col(1).array() -= floor;
+  a.plausibility = plausibility(b);
+  if (complete) {
+    MeasureOptions mo;
+    mo.circumferences = true;
+    a.achieved = measure_all(m, a.vertices, mo);
+    a.achieved_complete = true;
+  } else {
+    a.achieved = measure(a.vertices, entry.landmarks);
+  }
+  a.implausible_displacement = implausible_displacement(m, b);
+  if (p.covariance && complete) {
+    a.uncertainty = uncertainty(m, *p.covariance);
+  } else {
+    a.uncertainty.assign(static_cast<size_t>(m.num_vertices()), 0.0f);
+  }
+  return a;
+}
+
+}  // namespace caliper::app
