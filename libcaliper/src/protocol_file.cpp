@@ -39,22 +39,6 @@ StepKind parse_kind(const std::string& s, const std::string& name, const std::st
        "unknown kind \"" + s + "\" (known: height, distance, typed_number, typed_choice)");
 }
 
-ProtocolStep make_step(const char* id, StepKind kind, const char* title, const char* instruction,
-                       std::vector<Tip> tips, std::vector<std::string> landmarks,
-                       const char* demo) {
-  ProtocolStep s;
-  s.id = id;
-  s.measurement = id;
-  s.kind = kind;
-  s.title = title;
-  s.instruction = instruction;
-  s.tips = std::move(tips);
-  s.landmarks = std::move(landmarks);
-  s.demo_pose = demo;
-  s.unit = (kind == StepKind::Height || kind == StepKind::Distance) ? "m" : "";
-  return s;
-}
-
 }  // namespace
 
 const char* step_kind_name(StepKind kind) {
@@ -184,49 +168,9 @@ Protocol read_protocol(const std::string& path) {
 }
 
 Protocol default_protocol() {
-  Protocol p;
-  p.name = "The Virtual Caliper (Pujades et al. 2019, sec. 3.1)";
-  p.floor.instruction =
-      "Floor calibration. Put the tip of a controller on the floor inside the glowing ring and "
-      "hold the trigger for one second. Five rings, one after the other.";
-  p.floor.targets = {{0.0, 0.0}, {0.5, 0.0}, {0.0, 0.5}, {-0.5, 0.0}, {0.0, -0.5}};
-  p.steps.push_back(make_step(
-      "height", StepKind::Height, "Height",
-      "Stand straight, heels together, look ahead. Put the tip of the right controller flat on the "
-      "top of your head and hold the trigger for one second.",
-      {Tip::Right}, {"head_top"}, "arms_down"));
-  p.steps.push_back(make_step(
-      "arm_span_fingertips", StepKind::Distance, "Arm span",
-      "Stretch both arms out to the sides at shoulder height, palms forward. Hold each controller "
-      "so that its tip is at the tip of your middle finger, then hold a trigger for one second.",
-      {Tip::Left, Tip::Right}, {"left_fingertip", "right_fingertip"}, "t_pose"));
-  p.steps.back().video = "../media/arm-span.mp4";
-  p.steps.push_back(make_step(
-      "inseam_height", StepKind::Height, "Inseam height",
-      "Stand straight with your feet slightly apart. Put the tip of the right controller against "
-      "your crotch, pointing up, and hold the trigger for one second.",
-      {Tip::Right}, {"crotch"}, "a_pose"));
-  p.steps.push_back(make_step(
-      "hip_width", StepKind::Distance, "Hip width",
-      "Put the controller tips on the widest points of your hips, one on each side, and hold a "
-      "trigger for one second.",
-      {Tip::Left, Tip::Right}, {"left_hip", "right_hip"}, "arms_down"));
-  p.steps.push_back(make_step(
-      "arm_length", StepKind::Distance, "Arm length",
-      "Hold your left arm straight down. Put the right controller tip on the top of your left "
-      "shoulder and the left controller tip at your left wrist, then hold a trigger for one "
-      "second.",
-      {Tip::Right, Tip::Left}, {"left_shoulder", "left_wrist"}, "arms_down"));
-  ProtocolStep w =
-      make_step("weight", StepKind::TypedNumber, "Weight",
-                "Type the weight in kilograms (operator window or --weight).", {}, {}, "arms_down");
-  w.unit = "kg";
-  p.steps.push_back(w);
-  ProtocolStep sex = make_step("sex", StepKind::TypedChoice, "Sex",
-                               "Choose the body model: female or male (operator window or --sex).",
-                               {}, {}, "arms_down");
-  sex.choices = {"female", "male"};
-  p.steps.push_back(sex);
+  Protocol p = parse_protocol(default_protocol_json(),
+                              "the built-in protocol (assets/protocol/virtual-caliper.json)");
+  p.path.clear();
   return p;
 }
 

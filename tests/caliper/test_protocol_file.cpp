@@ -1,17 +1,28 @@
-// Protocol file: the committed asset equals the built-in protocol; bad files name the problem.
+// Protocol file: the built-in protocol is the committed asset (embedded byte for byte at build
+// time); bad files name the problem.
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <string>
 
 #include "caliper/protocol_file.hpp"
 #include "caliper/simulator.hpp"
 #include "session_fixtures.hpp"
+#include "smpl/text.hpp"
 
 namespace caliper {
 namespace {
 
 const std::string kAsset =
     std::string(CALIPER_SOURCE_DIR) + "/assets/protocol/virtual-caliper.json";
+
+TEST(ProtocolFile, TheBuiltInProtocolIsTheAssetByteForByte) {
+  const std::optional<std::string> asset = smpl::read_file(kAsset);
+  ASSERT_TRUE(asset) << kAsset;
+  EXPECT_EQ(std::string(default_protocol_json()), *asset)
+      << "the embedded copy is stale: rebuild libcaliper";
+  EXPECT_EQ(default_protocol().path, "");
+}
 
 TEST(ProtocolFile, AssetEqualsTheBuiltInProtocol) {
   const Protocol a = read_protocol(kAsset);

@@ -1,32 +1,24 @@
 /// \file openxr_system.hpp
-/// The live path: OpenXR 1.0 through the Khronos loader (Debian libopenxr-dev 1.0.20), an OpenGL
-/// session with the Xlib binding (XR_KHR_opengl_enable) on a GLFW/GLX context, stereo projection
-/// layers drawn by the shared renderer, action bindings for the HTC Vive wand, Valve Index,
-/// Oculus Touch and the KHR simple controller, and haptics. The operator's desktop window
-/// (ImGui) mirrors the left eye and issues start/redo/skip and typed weight and sex.
+/// The live path: OpenXR 1.0 through the Khronos loader (Debian libopenxr-dev 1.0.20) in the
+/// shape of Khronos hello_xr: the program (openxr_program.hpp: instance, session, frame loop),
+/// a graphics plugin (openxr_graphics.hpp; here OpenGL with the Xlib binding on a GLFW/GLX
+/// context, openxr_graphics_gl.hpp) and the input (openxr_input.hpp: actions for the HTC Vive
+/// wand, Valve Index, Oculus Touch and the KHR simple controller, and haptics). This file runs
+/// the app on them: a measuring session or a pivot calibration of a controller tip. The
+/// operator's desktop window (ImGui) mirrors the left eye and issues start/redo/skip and typed
+/// weight and sex.
 #pragma once
 
 #include <functional>
 #include <memory>
 #include <optional>
-#include <stdexcept>
 #include <string>
 
 #include "audio.hpp"
+#include "openxr_errors.hpp"
 #include "vr_app.hpp"
 
 namespace caliper::vr {
-
-/// No OpenXR runtime is installed or running; the message says how to fix it.
-class NoRuntimeError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
-/// The plain-words message for a missing runtime.
-inline const char* kNoRuntimeMessage =
-    "No OpenXR runtime is running. Start SteamVR or Monado, or set XR_RUNTIME_JSON; "
-    "to test without a headset use --replay FILE";
 
 /// What run_openxr() needs from main.
 struct LiveOptions {

@@ -7,24 +7,10 @@
 #include <string>
 #include <vector>
 
+#include "panel_content.hpp"
 #include "render/image.hpp"
 
 namespace caliper::vr {
-
-/// What the panel says.
-struct PanelContent {
-  std::string title;
-  std::string body;                ///< word-wrapped
-  std::vector<std::string> lines;  ///< extra lines (takes, results), one per row
-  std::string footer;              ///< status / last feedback
-  bool highlight = false;          ///< accent background (a sample was just accepted)
-
-  bool operator==(const PanelContent& o) const {
-    return title == o.title && body == o.body && lines == o.lines && footer == o.footer &&
-           highlight == o.highlight;
-  }
-  bool operator!=(const PanelContent& o) const { return !(*this == o); }
-};
 
 /// Draws the panel into a width x height image (top row first).
 render::Image panel_image(const PanelContent& content, int width, int height);

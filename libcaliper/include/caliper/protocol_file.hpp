@@ -81,9 +81,13 @@ Protocol read_protocol(const std::string& path);
 /// Parses protocol JSON text (`name` is used in messages).
 Protocol parse_protocol(const std::string& text, const std::string& name);
 
-/// The paper's protocol built in code (same content as assets/protocol/virtual-caliper.json):
-/// floor (5 targets), height, arm_span_fingertips, inseam_height, hip_width, arm_length, weight,
-/// sex.
+/// The paper's protocol: assets/protocol/virtual-caliper.json as embedded at build time (floor
+/// with 5 targets, height, arm_span_fingertips, inseam_height, hip_width, arm_length, weight,
+/// sex); `path` is "".
 Protocol default_protocol();
+
+/// The text of assets/protocol/virtual-caliper.json, byte for byte, embedded at build time
+/// (libcaliper/cmake/embed_protocol.cmake): the one source of default_protocol().
+const char* default_protocol_json();
 
 }  // namespace caliper
