@@ -38,10 +38,12 @@ install(FILES ${CMAKE_CURRENT_BINARY_DIR}/VirtualCaliperConfig.cmake
 # so `cmake --install build --prefix P` works for any P). The libraries are static, so their link
 # dependencies are in Requires (not Requires.private): plain `pkg-config --libs` links.
 set(CALIPER_PC_REQUIRES "eigen3 zlib nlohmann_json")
-set(CALIPER_PC_LIBS "-lcaliper -lsmpl")
+# minizip goes in Libs, not Requires: its Cflags would put /usr/include/minizip (whose zip.h
+# shadows libzip's) on every consumer's include path, and no installed header includes it.
+set(CALIPER_PC_LIBS "-lcaliper -lsmpl -lminizip")
 if(CALIPER_HAVE_GLTF)
   set(CALIPER_PC_REQUIRES "${CALIPER_PC_REQUIRES} tinygltf")
-  set(CALIPER_PC_LIBS "-lcaliper -lsmpl_gltf -lsmpl")
+  set(CALIPER_PC_LIBS "-lcaliper -lsmpl_gltf -lsmpl -lminizip")
 endif()
 file(RELATIVE_PATH CALIPER_PC_TO_PREFIX /${CMAKE_INSTALL_LIBDIR}/pkgconfig /)
 string(REGEX REPLACE "/$" "" CALIPER_PC_TO_PREFIX "${CALIPER_PC_TO_PREFIX}")

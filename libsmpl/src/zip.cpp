@@ -1,9 +1,36 @@
-// .npz archives: the zip container (PKWARE APPNOTE.TXT 6.3: local headers, central directory,
-// end of central directory, zip64 records and extra fields), stored and deflated members (RFC 1951
-// through zlib's raw inflate), CRC-32 checked.
+// .npz archives. Reading: the zip container (PKWARE APPNOTE.TXT 6.3: local headers, central
+// directory, end of central directory, zip64 records and extra fields) parsed here, with the
+// hostile-input checks a model loader needs (sizes against the file and against what deflate can
+// produce, overlapping members, the .npy header checked before a member is inflated); stored and
+// deflated members (RFC 1951 through zlib's raw inflate), CRC-32 checked.
+// Writing: minizip (Debian's libminizip, zlib's contrib/minizip), which is told every field the
+// committed models carry (version 2.0 made by MS-DOS, no flags, no extra fields, DOS time
+// 1980-01-01 00:00, raw deflate level 6, windowBits 15, memLevel 8, default strategy, no zip64), so
+// the models regenerate byte-identically (`caliper-modelgen` + cmp, in CI).
+// Why not libzip (1.7.3, Debian 12) for writing: it cannot be told two of those fields. Its deflate
+// is hard-wired to memLevel 9 (MAX_MEM_LEVEL in zip_algorithm_deflate.c), which gives another
+// stream: repacking caliper-neutral.npz's 17 members with libzip at level 6 gives 3,021,108 bytes
+// instead of 3,020,056 (6 of the 17 deflate streams differ in length, e.g. f.npy 102,790 bytes, not
+// 102,500, shapedirs.npy 2,576,700 instead of 2,576,820; first differing byte 3,353, f.npy's
+// compressed size in its local header). And every central directory entry it writes has "version
+// made by" 0x003F (6.3; _zip_dirent_apply_attributes sets the low byte to 63 unconditionally;
+// zip_file_set_external_attributes sets only the host byte) where the models have 0x0014. minizip
+// repacks the same members into the committed file exactly (cmp: identical).
+// (Experiment: the 17 members of caliper-neutral.npz extracted, added in the same order with
+// zip_source_buffer + zip_set_file_compression(DEFLATE, 6) + zip_file_set_mtime(1980-01-01) +
+// zip_file_set_external_attributes(DOS, 0); and with minizip's zipOpenNewFileInZip4_64 using the
+// fields above. npz_bytes gives the same bytes as the hand-written writer it replaced, stored and
+// deflated; tests/smpl/test_npz.cpp pins every field.)
+// Why the reader is not on libzip (yet): libzip 1.7.3 does not check that members' data spans are
+// disjoint (_zip_checkcons in zip_open.c only keeps them below the central directory and compares
+// each local header with its directory entry), and its zip_stat_t has no offsets, so the
+// overlapping-members refusal (tests/smpl/test_hostile_files.cpp, HostileNpz) could not be kept
+// on top of it. Not tried: minizip's unzip (unzGetCurrentFileZStreamPos64 gives data offsets).
 #include <algorithm>
+#include <cstring>
 #include <limits>
 
+#include <minizip/zip.h>  // not <zip.h>: libzip-dev installs a different /usr/include/zip.h
 #include <zlib.h>
 
 #include "smpl/npz.hpp"
@@ -29,10 +56,6 @@ std::uint64_t le(const std::uint8_t* p, int n) {
   std::uint64_t v = 0;
   for (int i = n - 1; i >= 0; --i) v = (v << 8) | p[i];
   return v;
-}
-
-void put(std::vector<std::uint8_t>& out, std::uint64_t v, int n) {
-  for (int i = 0; i < n; ++i) out.push_back(static_cast<std::uint8_t>((v >> (8 * i)) & 0xFF));
 }
 
 std::uint32_t crc_of(const std::uint8_t* p, std::size_t n) {
@@ -108,23 +131,6 @@ class RawInflater {
   std::size_t produced_ = 0;
   bool ended_ = false;
 };
-
-std::vector<std::uint8_t> deflate_raw(const std::vector<std::uint8_t>& in) {
-  z_stream zs{};
-  if (deflateInit2(&zs, 6, Z_DEFLATED, -15, 8, Z_DEFAULT_STRATEGY) != Z_OK) {
-    throw ModelError("zlib deflateInit2 failed");
-  }
-  std::vector<std::uint8_t> out(deflateBound(&zs, static_cast<uLong>(in.size())));
-  zs.next_in = const_cast<Bytef*>(in.data());
-  zs.avail_in = static_cast<uInt>(in.size());
-  zs.next_out = out.data();
-  zs.avail_out = static_cast<uInt>(out.size());
-  const int rc = deflate(&zs, Z_FINISH);
-  out.resize(zs.total_out);
-  deflateEnd(&zs);
-  if (rc != Z_STREAM_END) throw ModelError("zlib deflate failed");
-  return out;
-}
 
 // Where the central directory is and how many entries it has: from the end-of-central-directory
 // record (the last signature whose comment fits the file) or its zip64 version.
@@ -360,69 +366,102 @@ NpzArchive parse_npz(const std::uint8_t* bytes, std::size_t size, const std::str
   return out;
 }
 
+namespace {
+
+// minizip's file functions over a byte vector: the archive is made in memory (npz_bytes returns
+// it; write_npz writes it atomically). minizip writes sequentially and seeks back to complete
+// each local header, so the buffer grows on writes past its end.
+struct MemoryZip {
+  std::vector<std::uint8_t> bytes;
+  std::uint64_t pos = 0;
+};
+
+voidpf ZCALLBACK memory_open(voidpf opaque, const void* /*filename*/, int /*mode*/) {
+  return opaque;
+}
+uLong ZCALLBACK memory_read(voidpf /*opaque*/, voidpf /*stream*/, void* /*buf*/, uLong /*size*/) {
+  return 0;  // the writer never reads (APPEND_STATUS_CREATE)
+}
+uLong ZCALLBACK memory_write(voidpf /*opaque*/, voidpf stream, const void* buf, uLong size) {
+  auto& z = *static_cast<MemoryZip*>(stream);
+  if (z.pos + size > z.bytes.size()) z.bytes.resize(z.pos + size);
+  std::memcpy(z.bytes.data() + z.pos, buf, size);
+  z.pos += size;
+  return size;
+}
+ZPOS64_T ZCALLBACK memory_tell(voidpf /*opaque*/, voidpf stream) {
+  return static_cast<MemoryZip*>(stream)->pos;
+}
+long ZCALLBACK memory_seek(voidpf /*opaque*/, voidpf stream, ZPOS64_T offset, int origin) {
+  auto& z = *static_cast<MemoryZip*>(stream);
+  const std::uint64_t base = origin == ZLIB_FILEFUNC_SEEK_SET   ? 0
+                             : origin == ZLIB_FILEFUNC_SEEK_CUR ? z.pos
+                                                                : z.bytes.size();
+  if (base + offset > z.bytes.size()) return -1;
+  z.pos = base + offset;
+  return 0;
+}
+int ZCALLBACK memory_close(voidpf /*opaque*/, voidpf /*stream*/) {
+  return 0;
+}
+int ZCALLBACK memory_error(voidpf /*opaque*/, voidpf /*stream*/) {
+  return 0;
+}
+
+// The fields every member gets (see the file's header): DOS date 1980-01-01 (0x0021), time 0;
+// version 2.0 made by MS-DOS; no attributes.
+constexpr uLong kDosDate1980 = 0x00210000;
+constexpr uLong kMadeByDos20 = 20;
+
+}  // namespace
+
 std::vector<std::uint8_t> npz_bytes(const NpzArchive& arrays, bool compress) {
-  std::vector<std::uint8_t> out;
-  std::vector<std::uint8_t> central;
+  if (arrays.size() >= 0xFFFF) throw ModelError("npz_bytes: too many arrays (65535 or more)");
+  MemoryZip memory;
+  zlib_filefunc64_def io{};
+  io.zopen64_file = memory_open;
+  io.zread_file = memory_read;
+  io.zwrite_file = memory_write;
+  io.ztell64_file = memory_tell;
+  io.zseek64_file = memory_seek;
+  io.zclose_file = memory_close;
+  io.zerror_file = memory_error;
+  io.opaque = &memory;
+  zipFile zf = zipOpen2_64("npz_bytes", APPEND_STATUS_CREATE, nullptr, &io);
+  if (zf == nullptr) throw ModelError("npz_bytes: minizip could not start the archive");
+  // Closes the archive (and so frees minizip's state) on every path; the bytes are kept only
+  // when everything was written.
+  auto close_or_fail = [&zf](const std::string& what) {
+    zipClose(zf, nullptr);
+    throw ModelError("npz_bytes: " + what);
+  };
   for (const auto& [key, array] : arrays) {
     const std::string name = key + ".npy";
-    if (name.size() > 0xFFFF) throw ModelError("npz_bytes: key too long: " + key.substr(0, 80));
+    if (name.size() > 0xFFFF) close_or_fail("key too long: " + key.substr(0, 80));
     const std::vector<std::uint8_t> npy = npy_bytes(array);
-    const std::uint32_t crc = crc_of(npy.data(), npy.size());
-    std::vector<std::uint8_t> deflated;
-    if (compress) deflated = deflate_raw(npy);
-    const std::vector<std::uint8_t>& payload = compress ? deflated : npy;
-    const std::uint64_t offset = out.size();
-    if (npy.size() >= 0xFFFFFFFFu || payload.size() >= 0xFFFFFFFFu || offset >= 0xFFFFFFFFu) {
-      throw ModelError("npz_bytes: array '" + key + "' makes the archive larger than 4 GiB");
+    if (npy.size() >= 0xFFFFFFFFu || memory.bytes.size() >= 0xFFFFFFFFu) {
+      close_or_fail("array '" + key + "' makes the archive larger than 4 GiB");
     }
-    const std::uint16_t method = compress ? 8 : 0;
-    // Local header: version 2.0, no flags, 1980-01-01 00:00:00 (DOS date 0x0021, time 0).
-    put(out, kLocalSig, 4);
-    put(out, 20, 2);
-    put(out, 0, 2);
-    put(out, method, 2);
-    put(out, 0, 2);
-    put(out, 0x0021, 2);
-    put(out, crc, 4);
-    put(out, payload.size(), 4);
-    put(out, npy.size(), 4);
-    put(out, name.size(), 2);
-    put(out, 0, 2);
-    out.insert(out.end(), name.begin(), name.end());
-    out.insert(out.end(), payload.begin(), payload.end());
-    put(central, kCentralSig, 4);
-    put(central, 20, 2);  // made by: MS-DOS attributes, version 2.0
-    put(central, 20, 2);
-    put(central, 0, 2);
-    put(central, method, 2);
-    put(central, 0, 2);
-    put(central, 0x0021, 2);
-    put(central, crc, 4);
-    put(central, payload.size(), 4);
-    put(central, npy.size(), 4);
-    put(central, name.size(), 2);
-    put(central, 0, 2);  // extra
-    put(central, 0, 2);  // comment
-    put(central, 0, 2);  // disk
-    put(central, 0, 2);  // internal attributes
-    put(central, 0, 4);  // external attributes
-    put(central, offset, 4);
-    central.insert(central.end(), name.begin(), name.end());
+    zip_fileinfo info{};
+    info.dosDate = kDosDate1980;
+    const int method = compress ? Z_DEFLATED : 0;
+    const int level = compress ? 6 : 0;
+    if (zipOpenNewFileInZip4_64(zf, name.c_str(), &info, nullptr, 0, nullptr, 0, nullptr, method,
+                                level, 0, -MAX_WBITS, 8, Z_DEFAULT_STRATEGY, nullptr, 0,
+                                kMadeByDos20, 0, 0) != ZIP_OK ||
+        zipWriteInFileInZip(zf, npy.data(), static_cast<unsigned>(npy.size())) != ZIP_OK ||
+        zipCloseFileInZip(zf) != ZIP_OK) {
+      close_or_fail("minizip could not write member '" + name + "'");
+    }
+    if (memory.bytes.size() >= 0xFFFFFFFFu) {
+      close_or_fail("array '" + key + "' makes the archive larger than 4 GiB");
+    }
   }
-  if (arrays.size() >= 0xFFFF || out.size() >= 0xFFFFFFFFu) {
-    throw ModelError("npz_bytes: too many arrays or larger than 4 GiB");
+  if (zipClose(zf, nullptr) != ZIP_OK) throw ModelError("npz_bytes: minizip could not finish");
+  if (memory.bytes.size() >= 0xFFFFFFFFu) {
+    throw ModelError("npz_bytes: the archive is larger than 4 GiB");
   }
-  const std::uint64_t cd_offset = out.size();
-  out.insert(out.end(), central.begin(), central.end());
-  put(out, kEndSig, 4);
-  put(out, 0, 2);
-  put(out, 0, 2);
-  put(out, arrays.size(), 2);
-  put(out, arrays.size(), 2);
-  put(out, central.size(), 4);
-  put(out, cd_offset, 4);
-  put(out, 0, 2);
-  return out;
+  return std::move(memory.bytes);
 }
 
 NpzArchive read_npz(const std::string& path) {

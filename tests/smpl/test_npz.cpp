@@ -91,6 +91,68 @@ TEST(Npz, OutputIsDeterministic) {
   EXPECT_EQ(smpl::npz_bytes(z, true), smpl::npz_bytes(z, true));
 }
 
+// The container fields the committed models carry (docs/file-formats.md, libsmpl/src/zip.cpp's
+// header), field by field, stored and deflated: minizip writes them, so this catches a minizip
+// (or a call) that writes anything else, also for stored members, which the models' cmp in CI
+// does not cover.
+TEST(Npz, WritesTheModelsContainerFields) {
+  NpzArchive z;
+  z["a"] = smpl::make_npy(std::vector<double>{1.0, 2.0, 3.0}, {3});
+  z["bb"] = smpl::make_npy(std::vector<std::int32_t>{7}, {1});
+  auto le = [](const std::vector<std::uint8_t>& b, std::size_t pos, int n) {
+    std::uint64_t v = 0;
+    for (int i = n - 1; i >= 0; --i) v = (v << 8) | b.at(pos + i);
+    return v;
+  };
+  for (bool compress : {false, true}) {
+    SCOPED_TRACE(compress ? "deflated" : "stored");
+    const std::vector<std::uint8_t> b = smpl::npz_bytes(z, compress);
+    const std::uint64_t method = compress ? 8 : 0;
+    // End of central directory: the last 22 bytes (no comment, no zip64 records).
+    ASSERT_GE(b.size(), 22u);
+    const std::size_t eocd = b.size() - 22;
+    EXPECT_EQ(le(b, eocd, 4), 0x06054b50u);
+    EXPECT_EQ(le(b, eocd + 4, 4), 0u);  // disk numbers
+    EXPECT_EQ(le(b, eocd + 8, 2), 2u);
+    EXPECT_EQ(le(b, eocd + 10, 2), 2u);
+    EXPECT_EQ(le(b, eocd + 20, 2), 0u);  // comment length
+    const std::size_t cd_offset = le(b, eocd + 16, 4);
+    EXPECT_EQ(cd_offset + le(b, eocd + 12, 4), eocd);
+    std::size_t local = 0, central = cd_offset;
+    for (const std::string name : {"a.npy", "bb.npy"}) {
+      SCOPED_TRACE(name);
+      const std::vector<std::uint8_t> npy = smpl::npy_bytes(z.at(name.substr(0, name.size() - 4)));
+      // Local header: version 2.0, no flags, method, DOS time 0 and date 1980-01-01, no extra.
+      EXPECT_EQ(le(b, local, 4), 0x04034b50u);
+      EXPECT_EQ(le(b, local + 4, 2), 20u);
+      EXPECT_EQ(le(b, local + 6, 2), 0u);
+      EXPECT_EQ(le(b, local + 8, 2), method);
+      EXPECT_EQ(le(b, local + 10, 2), 0u);
+      EXPECT_EQ(le(b, local + 12, 2), 0x0021u);
+      EXPECT_EQ(le(b, local + 22, 4), npy.size());
+      EXPECT_EQ(le(b, local + 26, 2), name.size());
+      EXPECT_EQ(le(b, local + 28, 2), 0u);
+      EXPECT_EQ(std::string(b.begin() + local + 30, b.begin() + local + 30 + name.size()), name);
+      const std::uint64_t payload = le(b, local + 18, 4);
+      if (!compress) {
+        EXPECT_EQ(payload, npy.size());
+      }
+      // Central entry: made by 2.0 MS-DOS, the local header's fields, no extra, comment or
+      // attributes, the local header's offset.
+      EXPECT_EQ(le(b, central, 4), 0x02014b50u);
+      EXPECT_EQ(le(b, central + 4, 2), 20u);
+      for (int f = 0; f < 26; ++f) EXPECT_EQ(b.at(central + 6 + f), b.at(local + 4 + f)) << f;
+      EXPECT_EQ(le(b, central + 32, 2), 0u);  // comment length
+      EXPECT_EQ(le(b, central + 34, 8), 0u);  // disk, internal and external attributes
+      EXPECT_EQ(le(b, central + 42, 4), local);
+      local += 30 + name.size() + payload;
+      central += 46 + name.size();
+    }
+    EXPECT_EQ(local, cd_offset);  // no data descriptors
+    EXPECT_EQ(central, eocd);
+  }
+}
+
 TEST(Npy, FortranOrderIsConvertedToCOrder) {
   // A 2 x 3 x 2 array a[i][j][k] = 100 i + 10 j + k stored in Fortran order (i fastest).
   std::vector<double> fortran;
