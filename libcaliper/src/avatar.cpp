@@ -36,7 +36,8 @@ void finish(const smpl::BodyModel& model, const Eigen::VectorXd& betas,
   a.vertices = shaped_vertices(model, a.betas);
   MeasureOptions mo;
   mo.circumferences = options.circumferences;
-  a.achieved = measure_all(model, a.vertices, mo);
+  a.achieved = options.model_info ? measure_all(model, a.vertices, *options.model_info, mo)
+                                  : measure_all(model, a.vertices, mo);
 }
 
 }  // namespace

@@ -205,16 +205,33 @@ MeasurementMap measure(const smpl::Vertices& vertices, const LandmarkTable& land
   return out;
 }
 
-MeasurementMap measure_all(const smpl::BodyModel& model, const smpl::Vertices& vertices,
-                           const MeasureOptions& options) {
+ModelMeasureInfo::ModelMeasureInfo(const smpl::BodyModel& model)
+    : landmarks(landmarks_for(model)), closed(open_edge_count(model.faces) == 0) {}
+
+namespace {
+
+void check_vertex_count(const smpl::BodyModel& model, const smpl::Vertices& vertices) {
   if (vertices.rows() != model.num_vertices()) {
     throw InvalidInputError("measure_all: " + std::to_string(vertices.rows()) +
                             " vertices given, the model '" + model.meta.name + "' has " +
                             std::to_string(model.num_vertices()));
   }
-  const LandmarkTable landmarks = landmarks_for(model);
+}
+
+}  // namespace
+
+MeasurementMap measure_all(const smpl::BodyModel& model, const smpl::Vertices& vertices,
+                           const MeasureOptions& options) {
+  check_vertex_count(model, vertices);
+  return measure_all(model, vertices, ModelMeasureInfo(model), options);
+}
+
+MeasurementMap measure_all(const smpl::BodyModel& model, const smpl::Vertices& vertices,
+                           const ModelMeasureInfo& info, const MeasureOptions& options) {
+  check_vertex_count(model, vertices);
+  const LandmarkTable& landmarks = info.landmarks;
   MeasurementMap out = measure(vertices, landmarks);
-  if (open_edge_count(model.faces) == 0) {  // a volume needs a closed surface
+  if (info.closed) {  // a volume needs a closed surface
     const double volume = mesh_volume(vertices, model.faces);
     out["volume"] = volume;
     out["weight"] = weight_from_volume(volume, weight_formula_for(model.meta.gender));

@@ -180,6 +180,26 @@ TEST(MeasureAll, VolumeWeightAndCircumferences) {
   EXPECT_THROW(shaped_vertices(model, nan), InvalidInputError);
 }
 
+TEST(MeasureAll, ModelInfoMadeOnceGivesTheSameValues) {
+  const smpl::BodyModel model = test::make_random_model(10, 24, false, 5);
+  const ModelMeasureInfo info(model);
+  EXPECT_TRUE(info.closed);
+  EXPECT_EQ(info.landmarks, landmarks_for(model));
+  for (double b : {-1.5, 0.0, 2.0}) {
+    const smpl::Vertices v = shaped_vertices(model, Eigen::VectorXd::Constant(4, b));
+    EXPECT_EQ(measure_all(model, v, info), measure_all(model, v));  // bit for bit
+  }
+  EXPECT_THROW(measure_all(model, smpl::Vertices(10, 3), info), InvalidInputError);
+  // An open surface (one face removed): no volume or weight, with or without the info.
+  smpl::BodyModel open = model;
+  open.faces = model.faces.topRows(model.faces.rows() - 1);
+  const ModelMeasureInfo open_info(open);
+  EXPECT_FALSE(open_info.closed);
+  const MeasurementMap m = measure_all(open, open.v_template, open_info);
+  EXPECT_EQ(m.count("volume") + m.count("weight"), 0u);
+  EXPECT_EQ(m, measure_all(open, open.v_template));
+}
+
 // ---------------------------------------------------------------------------------------------
 // Circumferences
 

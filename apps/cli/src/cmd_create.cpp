@@ -130,6 +130,7 @@ Avatar make_avatar(const ModelBundle& bundle, const std::string& regressor,
   o.mapping = mapping;
   o.circumferences = circumferences;
   o.refuse_invalid = false;  // validation and --force are handled by check_inputs()
+  if (bundle.measure_info) o.model_info = &*bundle.measure_info;
   if (regressor == "noise-aware") {
     if (!bundle.regressors.noise_aware) {
       throw RuntimeError(

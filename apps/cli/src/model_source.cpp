@@ -47,6 +47,11 @@ std::shared_ptr<const ModelBundle> load_bundle(const std::string& model_path,
   const auto t0 = std::chrono::steady_clock::now();
   bundle->model = smpl::load_model(model_path);
   bundle->path = model_path;
+  try {
+    bundle->measure_info.emplace(bundle->model);
+  } catch (const LandmarkError&) {
+    // left empty: measure_all() throws the same error for each avatar, where it is reported
+  }
   const auto t1 = std::chrono::steady_clock::now();
   bundle->load_seconds = std::chrono::duration<double>(t1 - t0).count();
   if (regressors_file) {

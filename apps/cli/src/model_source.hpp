@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 
+#include "caliper/measurements.hpp"
 #include "caliper/regressor.hpp"
 #include "smpl/body_model.hpp"
 
@@ -20,6 +21,9 @@ struct ModelBundle {
   smpl::BodyModel model;
   std::string path;  ///< file it was loaded from
   RegressorSet regressors;
+  /// The model's landmarks and closedness for measure_all(), made once at load; empty when the
+  /// model's landmarks are broken (each avatar then reports the LandmarkError itself).
+  std::optional<ModelMeasureInfo> measure_info;
   double load_seconds = 0.0;
   double train_seconds = 0.0;
 };

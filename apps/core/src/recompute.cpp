@@ -15,7 +15,8 @@ ModelEntry make_model_entry(std::shared_ptr<const smpl::BodyModel> model, const 
   smpl::validate(*model, label);
   ModelEntry e;
   e.label = label;
-  e.landmarks = landmarks_for(*model);
+  e.measure_info = std::make_shared<const ModelMeasureInfo>(*model);
+  e.landmarks = e.measure_info->landmarks;
   e.regressors = std::make_shared<const RegressorSet>(train_regressors(*model, options));
   e.model = std::move(model);
   return e;
@@ -117,7 +118,8 @@ AvatarView recompute(const Document& doc, const ModelEntry& entry, bool complete
   if (complete) {
     MeasureOptions mo;
     mo.circumferences = true;
-    a.achieved = measure_all(m, a.vertices, mo);
+    a.achieved = entry.measure_info ? measure_all(m, a.vertices, *entry.measure_info, mo)
+                                    : measure_all(m, a.vertices, mo);
     a.achieved_complete = true;
   } else {
     a.achieved = measure(a.vertices, entry.landmarks);

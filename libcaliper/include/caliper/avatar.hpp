@@ -43,6 +43,9 @@ struct AvatarOptions {
   /// that makes many avatars with one model and regressor checks once (`regressor.signature()
   /// .check(model)`) and sets this to false for every avatar.
   bool check_model = true;
+  /// The model's landmarks and closedness made once (ModelMeasureInfo(model), from this same
+  /// model) by a caller that makes many avatars of one model; null: worked out per avatar.
+  const ModelMeasureInfo* model_info = nullptr;
 };
 
 /// Gauss-Newton refinement of `betas` (k <= model.num_betas() values) so that the rest-pose

@@ -108,6 +108,17 @@ struct MeasureOptions {
   bool convex_hull = true;     ///< circumference as convex-hull perimeter (tape) or loop length
 };
 
+/// What measure_all() needs to know of the model itself, worked out once: its landmark table
+/// (landmarks_for()) and whether its faces close the surface (open_edge_count() == 0, a pass
+/// over every edge through a hash table: milliseconds for a 25,000-face mesh, more than the
+/// rest of a body's measurements). A caller that measures many bodies of one model makes it
+/// once and passes it to every call. Throws what landmarks_for() throws.
+struct ModelMeasureInfo {
+  explicit ModelMeasureInfo(const smpl::BodyModel& model);
+  LandmarkTable landmarks;
+  bool closed = false;  ///< the faces close the surface: volume and weight can be measured
+};
+
 /// Everything `caliper measure` reports for a rest-pose body of `model` with vertices
 /// `vertices` (#V x 3 = model.num_vertices()): the available paper measurements, "volume"
 /// (m^3), "weight" (kg, by weight_formula_for(model.meta.gender)) and, if asked, the
@@ -116,6 +127,11 @@ struct MeasureOptions {
 /// left out. Throws InvalidInputError for a vertex count mismatch.
 MeasurementMap measure_all(const smpl::BodyModel& model, const smpl::Vertices& vertices,
                            const MeasureOptions& options = {});
+
+/// measure_all() with the model's `info` made beforehand (ModelMeasureInfo(model): it must
+/// have been made from this same model); the same values.
+MeasurementMap measure_all(const smpl::BodyModel& model, const smpl::Vertices& vertices,
+                           const ModelMeasureInfo& info, const MeasureOptions& options = {});
 
 /// Rest-pose vertices of `model` for `betas`: v_template + shapedirs * betas (betas may be
 /// shorter than model.num_betas(); missing ones are 0). Throws InvalidInputError if longer or

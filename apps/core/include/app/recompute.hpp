@@ -25,6 +25,9 @@ struct ModelEntry {
   std::shared_ptr<const smpl::BodyModel> model;
   std::shared_ptr<const RegressorSet> regressors;
   LandmarkTable landmarks;  ///< landmarks_for(*model)
+  /// The model's landmarks and closedness for measure_all(), made once by make_model_entry();
+  /// null: worked out at each complete measurement.
+  std::shared_ptr<const ModelMeasureInfo> measure_info;
 };
 
 /// Builds a ModelEntry: validates the model, computes its landmark table and fits the
