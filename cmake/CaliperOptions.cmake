@@ -82,3 +82,20 @@ function(caliper_add_program name)
     install(TARGETS ${name} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
   endif()
 endfunction()
+
+# Text files embedded in the program as C++ string constants, regenerated when they change:
+#   caliper_embed_files(<output.cpp> NAMESPACE <ns> FILES <files...> NAMES <identifiers...>
+#                       COMMENT <text>)
+# File i becomes `extern const char* const <ns>::<NAMES[i]>` (its text byte for byte); add
+# <output.cpp> to a target's sources and declare the constants where they are used.
+set(CALIPER_EMBED_SCRIPT ${CMAKE_CURRENT_LIST_DIR}/embed_files.cmake)
+function(caliper_embed_files output)
+  cmake_parse_arguments(PARSE_ARGV 1 arg "" "NAMESPACE;COMMENT" "FILES;NAMES")
+  add_custom_command(
+    OUTPUT ${output}
+    COMMAND ${CMAKE_COMMAND} -DOUTPUT=${output} -DNAMESPACE=${arg_NAMESPACE}
+            "-DINPUTS=${arg_FILES}" "-DNAMES=${arg_NAMES}" -P ${CALIPER_EMBED_SCRIPT}
+    DEPENDS ${arg_FILES} ${CALIPER_EMBED_SCRIPT}
+    COMMENT "${arg_COMMENT}"
+    VERBATIM)
+endfunction()
