@@ -374,33 +374,23 @@ inline __attribute__((always_inline)) void pose_batch_rows(
   }
 }
 
-// Double: 4 bodies x 1 vector of rows per step (4 accumulators, 4 column vectors, broadcasts).
-SMPL_KERNEL_BODY
-void pose_batch_f64_body(const double* P, Eigen::Index ld, Eigen::Index r0, Eigen::Index r1,
-                         const double* F, Eigen::Index fstride, const Eigen::Index* runs, int nruns,
-                         Eigen::Index nbodies, double* v, Eigen::Index vstride) {
-  pose_batch_rows<kVecBytes, double, 4, 1>(P, ld, r0, r1, F, fstride, runs, nruns, nbodies, v,
-                                           vstride);
-}
-SMPL_KERNEL_VARIANTS(pose_batch_f64,
-                     (const double* P, Eigen::Index ld, Eigen::Index r0, Eigen::Index r1,
-                      const double* F, Eigen::Index fstride, const Eigen::Index* runs, int nruns,
-                      Eigen::Index nbodies, double* v, Eigen::Index vstride),
-                     (P, ld, r0, r1, F, fstride, runs, nruns, nbodies, v, vstride))
-
-// Float: 4 bodies x 2 vectors of rows per step.
-SMPL_KERNEL_BODY
-void pose_batch_f32_body(const float* P, Eigen::Index ld, Eigen::Index r0, Eigen::Index r1,
-                         const float* F, Eigen::Index fstride, const Eigen::Index* runs, int nruns,
-                         Eigen::Index nbodies, double* v, Eigen::Index vstride) {
-  pose_batch_rows<kVecBytes, float, 4, 2>(P, ld, r0, r1, F, fstride, runs, nruns, nbodies, v,
-                                          vstride);
-}
-SMPL_KERNEL_VARIANTS(pose_batch_f32,
-                     (const float* P, Eigen::Index ld, Eigen::Index r0, Eigen::Index r1,
-                      const float* F, Eigen::Index fstride, const Eigen::Index* runs, int nruns,
-                      Eigen::Index nbodies, double* v, Eigen::Index vstride),
-                     (P, ld, r0, r1, F, fstride, runs, nruns, nbodies, v, vstride))
+// The batch kernels per scalar type of P and F: 4 bodies x kRowVecs vectors of rows per step.
+#define SMPL_POSE_BATCH_KERNEL(name, S, kRowVecs)                                                  \
+  SMPL_KERNEL_BODY                                                                                 \
+  void name##_body(const S* P, Eigen::Index ld, Eigen::Index r0, Eigen::Index r1, const S* F,      \
+                   Eigen::Index fstride, const Eigen::Index* runs, int nruns,                      \
+                   Eigen::Index nbodies, double* v, Eigen::Index vstride) {                        \
+    pose_batch_rows<kVecBytes, S, 4, kRowVecs>(P, ld, r0, r1, F, fstride, runs, nruns, nbodies, v, \
+                                               vstride);                                           \
+  }                                                                                                \
+  SMPL_KERNEL_VARIANTS(name,                                                                       \
+                       (const S* P, Eigen::Index ld, Eigen::Index r0, Eigen::Index r1, const S* F, \
+                        Eigen::Index fstride, const Eigen::Index* runs, int nruns,                 \
+                        Eigen::Index nbodies, double* v, Eigen::Index vstride),                    \
+                       (P, ld, r0, r1, F, fstride, runs, nruns, nbodies, v, vstride))
+SMPL_POSE_BATCH_KERNEL(pose_batch_f64, double, 1)  // double: 1 vector of rows per step
+SMPL_POSE_BATCH_KERNEL(pose_batch_f32, float, 2)   // float: 2 vectors of rows per step
+#undef SMPL_POSE_BATCH_KERNEL
 
 void check_betas(const BodyModel& model, Eigen::Index n) {
   if (n > model.num_betas()) {
