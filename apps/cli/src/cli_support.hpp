@@ -87,6 +87,12 @@ std::string count_noun(long long n, const std::string& singular, const std::stri
 ParsedArgs parse_args(const std::vector<std::string>& args, const std::vector<OptionSpec>& specs,
                       const app::HelpText& help = {});
 
+/// Every command's start: parse_args, and with `--help` the help text written to `out` and
+/// nullopt returned (the command then has nothing more to do and exits with kExitOk).
+std::optional<ParsedArgs> parse_args_or_help(const std::vector<std::string>& args,
+                                             const std::vector<OptionSpec>& specs,
+                                             const app::HelpText& help, std::ostream& out);
+
 /// Parses an integer option value in [lo, hi]; throws UsageError naming the option.
 int parse_int(const std::string& text, const std::string& option, int lo, int hi);
 /// Parses a finite floating-point number; throws UsageError naming the option.

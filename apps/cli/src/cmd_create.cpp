@@ -385,11 +385,10 @@ int write_create_report(const CreateOptions& opt, const CreateResult& r, Io& io)
 }  // namespace
 
 int cmd_create(const std::vector<std::string>& args, Io& io) {
-  const ParsedArgs a = parse_args(args, create_options(), kHelp);
-  if (a.flags.count("help")) {
-    io.out << a.help;
-    return kExitOk;
-  }
+  const std::optional<ParsedArgs> parsed =
+      parse_args_or_help(args, create_options(), kHelp, io.out);
+  if (!parsed) return kExitOk;
+  const ParsedArgs& a = *parsed;
   const CreateOptions opt = create_options_from(a);
   const CreateResult result = run_create(opt, io.err);
   return write_create_report(opt, result, io);

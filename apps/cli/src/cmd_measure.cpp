@@ -206,11 +206,10 @@ int write_measure_report(const MeasureCommand& c, const MeasureResult& r, Io& io
 }  // namespace
 
 int cmd_measure(const std::vector<std::string>& args, Io& io) {
-  const ParsedArgs a = parse_args(args, measure_options(), kHelp);
-  if (a.flags.count("help")) {
-    io.out << a.help;
-    return kExitOk;
-  }
+  const std::optional<ParsedArgs> parsed =
+      parse_args_or_help(args, measure_options(), kHelp, io.out);
+  if (!parsed) return kExitOk;
+  const ParsedArgs& a = *parsed;
   const MeasureCommand command = measure_command_from(a);
   const MeasureResult result = run_measure(command);
   return write_measure_report(command, result, io);
