@@ -72,8 +72,7 @@ JournalContents parse_journal(const std::string& text, const std::string& name) 
     try {
       j = parse_json(line);
       if (!c.has_header) {
-        if (!j.is_object() || !j.contains("format") || !j.at("format").is_string() ||
-            j.at("format").as_string() != kJournalFormat)
+        if (!has_format(j, kJournalFormat))
           throw JournalError(name + ":1: not a session journal (expected {\"format\": \"" +
                              std::string(kJournalFormat) + "\", ...})");
         const Json* version = j.find("version");

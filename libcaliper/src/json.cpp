@@ -381,6 +381,11 @@ Json read_json_file(const std::string& path) {
   }
 }
 
+bool has_format(const Json& j, const std::string& format) {
+  return j.is_object() && j.contains("format") && j.at("format").is_string() &&
+         j.at("format").as_string() == format;
+}
+
 void write_json_file(const std::string& path, const Json& value) {
   smpl::write_file_atomic(path, value.dump(2) + "\n");
 }
