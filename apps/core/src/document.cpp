@@ -82,12 +82,7 @@ void start_from_avatar(Document& doc, const std::vector<std::string>& ids,
 }
 
 std::string measurement_label(const std::string& id) {
-  if (id == "weight") return "Weight";
-  if (id == "volume") return "Volume";
-  for (const MeasurementDef& d : paper_measurements()) {
-    if (d.id == id) return d.label;
-  }
-  return id;
+  return measurement_name(id);
 }
 
 std::string describe_regressor(RegressorChoice choice) {
