@@ -206,13 +206,8 @@ int write_measure_report(const MeasureCommand& c, const MeasureResult& r, Io& io
 }  // namespace
 
 int cmd_measure(const std::vector<std::string>& args, Io& io) {
-  const std::optional<ParsedArgs> parsed =
-      parse_args_or_help(args, measure_options(), kHelp, io.out);
-  if (!parsed) return kExitOk;
-  const ParsedArgs& a = *parsed;
-  const MeasureCommand command = measure_command_from(a);
-  const MeasureResult result = run_measure(command);
-  return write_measure_report(command, result, io);
+  return run_command(args, measure_options(), kHelp, io, measure_command_from, run_measure,
+                     write_measure_report);
 }
 
 }  // namespace caliper::cli

@@ -228,12 +228,8 @@ int write_train_report(const TrainCommand& c, const TrainResult& r, Io& io) {
 }  // namespace
 
 int cmd_train(const std::vector<std::string>& args, Io& io) {
-  const std::optional<ParsedArgs> parsed = parse_args_or_help(args, train_options(), kHelp, io.out);
-  if (!parsed) return kExitOk;
-  const ParsedArgs& a = *parsed;
-  const TrainCommand command = train_command_from(a);
-  const TrainResult result = run_train(command);
-  return write_train_report(command, result, io);
+  return run_command(args, train_options(), kHelp, io, train_command_from, run_train,
+                     write_train_report);
 }
 
 }  // namespace caliper::cli
