@@ -127,9 +127,7 @@ JournalWriter JournalWriter::create(const std::string& path, Json header) {
   if (!f.is_open())
     throw JournalError(path + ": cannot create the session journal (is the folder writable?)");
   JournalWriter w(path, std::move(f));
-  Json h = Json::object();
-  h.set("format", kJournalFormat);
-  h.set("version", 1);
+  Json h = format_header(kJournalFormat);
   if (header.is_object())
     for (const auto& kv : header.as_object()) h.set(kv.first, kv.second);
   w.write_line(h.dump());

@@ -182,9 +182,7 @@ MeasurementMap MeasurementMapping::apply(const MeasurementMap& real) const {
 }
 
 Json MeasurementMapping::to_json() const {
-  Json j = Json::object();
-  j.set("format", "caliper-mapping");
-  j.set("version", 1);
+  Json j = format_header("caliper-mapping");
   Json maps = Json::object();
   for (const auto& [id, m] : maps_) {
     Json e = Json::object();

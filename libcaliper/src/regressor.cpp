@@ -498,9 +498,7 @@ const LinearRegressor* RegressorSet::find(const std::string& name) const {
 }
 
 Json RegressorSet::to_json() const {
-  Json j = Json::object();
-  j.set("format", "caliper-regressors");
-  j.set("version", 1);
+  Json j = format_header("caliper-regressors");
   Json lin = Json::array();
   for (const auto& r : linear) lin.push_back(r.to_json());
   j.set("linear", lin);

@@ -148,6 +148,10 @@ auto read_json_file_as(const std::string& path, FromJson from_json) {
   }
 }
 
+/// The start of one of the project's versioned JSON files: {"format": `format`, "version": 1}
+/// (what check_format_version accepts); the caller adds the file's other members.
+Json format_header(const std::string& format);
+
 /// True when `j` is an object whose "format" member is the string `format`: how the project's
 /// JSON files say what they are ("caliper-regressors", "caliper-mapping", ...).
 bool has_format(const Json& j, const std::string& format);
