@@ -777,39 +777,31 @@ void batch_pose_blend(const BodyModel& model, const RowMatrixXd& feature,
   if (nruns > 0) {
     const Eigen::Index rows = 3 * V;
     const Eigen::Index t = std::max<Eigen::Index>(1, std::min<Eigen::Index>(threads, rows / 64));
+    // Every block of rows with the kernels of the pose blend shapes' scalar type: body by body
+    // below kMinPackedBatch bodies, else the packed batch kernel.
+    const auto blend_blocks = [&](const auto* posedirs, const auto& f, auto blend, auto batch) {
+      parallel_for(static_cast<int>(t), rows / 64 + 1, [&](Eigen::Index b0, Eigen::Index b1) {
+        const Eigen::Index r0 = std::min(rows, 64 * b0), r1 = std::min(rows, 64 * b1);
+        if (N < kMinPackedBatch) {
+          for (Eigen::Index n = 0; n < N; ++n) {
+            for (int run = 0; run < nruns; ++run) {
+              blend(posedirs + r0, rows, r1 - r0, f.row(n).data(), runs[2 * run], runs[2 * run + 1],
+                    out.vertices.row(n).data() + r0);
+            }
+          }
+          return;
+        }
+        batch(posedirs, rows, r0, r1, f.data(), P, runs.data(), nruns, N, out.vertices.data(),
+              3 * V);
+      });
+    };
     if (ws.single_precision_pose_blend_shapes) {
       ensure_float_posedirs(model, ws);
-      Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> ff =
+      const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> ff =
           feature.cast<float>();
-      parallel_for(static_cast<int>(t), rows / 64 + 1, [&](Eigen::Index b0, Eigen::Index b1) {
-        const Eigen::Index r0 = std::min(rows, 64 * b0), r1 = std::min(rows, 64 * b1);
-        if (N < kMinPackedBatch) {
-          for (Eigen::Index n = 0; n < N; ++n) {
-            for (int run = 0; run < nruns; ++run) {
-              pose_blend_f32(ws.posedirs_f.data() + r0, rows, r1 - r0, ff.row(n).data(),
-                             runs[2 * run], runs[2 * run + 1], out.vertices.row(n).data() + r0);
-            }
-          }
-          return;
-        }
-        pose_batch_f32(ws.posedirs_f.data(), rows, r0, r1, ff.data(), P, runs.data(), nruns, N,
-                       out.vertices.data(), 3 * V);
-      });
+      blend_blocks(ws.posedirs_f.data(), ff, pose_blend_f32, pose_batch_f32);
     } else {
-      parallel_for(static_cast<int>(t), rows / 64 + 1, [&](Eigen::Index b0, Eigen::Index b1) {
-        const Eigen::Index r0 = std::min(rows, 64 * b0), r1 = std::min(rows, 64 * b1);
-        if (N < kMinPackedBatch) {
-          for (Eigen::Index n = 0; n < N; ++n) {
-            for (int run = 0; run < nruns; ++run) {
-              pose_blend_f64(model.posedirs.data() + r0, rows, r1 - r0, feature.row(n).data(),
-                             runs[2 * run], runs[2 * run + 1], out.vertices.row(n).data() + r0);
-            }
-          }
-          return;
-        }
-        pose_batch_f64(model.posedirs.data(), rows, r0, r1, feature.data(), P, runs.data(), nruns,
-                       N, out.vertices.data(), 3 * V);
-      });
+      blend_blocks(model.posedirs.data(), feature, pose_blend_f64, pose_batch_f64);
     }
   }
 }
