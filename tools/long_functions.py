@@ -174,35 +174,34 @@ def tokenize(code):
     return tokens
 
 
-def matching(tokens, i, open_tok, close_tok):
-    """Index of the token closing the bracket opened at tokens[i] (len(tokens) if unbalanced)."""
+def match_bracket(seq, i, open_tok, close_tok, step=1, text=lambda t: t):
+    """Walking from seq[i] by `step` (1: forwards, -1: backwards, then open_tok is the closing
+    bracket), the index where the bracket depth returns to 0; len(seq) or -1 if it never does.
+    `text` gives an item's token text."""
     depth = 0
-    for k in range(i, len(tokens)):
-        t = tokens[k][0]
+    k = i
+    while 0 <= k < len(seq):
+        t = text(seq[k])
         if t == open_tok:
             depth += 1
         elif t == close_tok:
             depth -= 1
             if depth == 0:
                 return k
-    return len(tokens)
+        k += step
+    return k
+
+
+def matching(tokens, i, open_tok, close_tok):
+    """Index of the token closing the bracket opened at tokens[i] (len(tokens) if unbalanced)."""
+    return match_bracket(tokens, i, open_tok, close_tok, text=lambda t: t[0])
 
 
 def strip_template_prefix(header):
     """Drops leading `template <...>` clauses (and attributes) from a list of tokens."""
     while header:
         if header[0] == "template" and len(header) > 1 and header[1] == "<":
-            depth = 0
-            k = 1
-            while k < len(header):
-                if header[k] == "<":
-                    depth += 1
-                elif header[k] == ">":
-                    depth -= 1
-                    if depth == 0:
-                        break
-                k += 1
-            header = header[k + 1:]
+            header = header[match_bracket(header, 1, "<", ">") + 1:]
         elif header[:2] == ["[", "["]:
             k = 2
             while k + 1 < len(header) and header[k:k + 2] != ["]", "]"]:
@@ -288,29 +287,13 @@ def tail_is_function_tail(tail):
 
 
 def paren_span(tokens):
-    depth = 0
-    for k, t in enumerate(tokens):
-        if t == "(":
-            depth += 1
-        elif t == ")":
-            depth -= 1
-            if depth == 0:
-                return k + 1
-    return len(tokens)
+    """How many tokens the parenthesised group at tokens[0] spans (all of them if unbalanced)."""
+    return min(match_bracket(tokens, 0, "(", ")") + 1, len(tokens))
 
 
 def function_name(header, close):
     """The (qualified) name before the parameter list that ends at header[close]."""
-    depth = 0
-    k = close
-    while k >= 0:
-        if header[k] == ")":
-            depth += 1
-        elif header[k] == "(":
-            depth -= 1
-            if depth == 0:
-                break
-        k -= 1
+    k = match_bracket(header, close, ")", "(", step=-1)
     k -= 1  # the last token of the name
     if k >= 0 and header[k] == "]":
         return "<lambda>"
@@ -342,16 +325,8 @@ def skip_template_args(header, k):
     """If header[k] closes template arguments (`>`), the index of the token before their `<`."""
     if k < 0 or header[k] != ">":
         return k
-    depth = 0
-    while k >= 0:
-        if header[k] == ">":
-            depth += 1
-        elif header[k] == "<":
-            depth -= 1
-            if depth == 0:
-                return k - 1
-        k -= 1
-    return k
+    k = match_bracket(header, k, ">", "<", step=-1)
+    return k - 1 if k >= 0 else k
 
 
 def find_functions(code):

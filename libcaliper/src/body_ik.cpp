@@ -350,15 +350,7 @@ void BodyIk::solve_arm(int side, const IkInput& in) {
   previous = swing;
   const TwoBoneSolution sol = solve_two_bone(S, a, b, goal, swing);
   pose_.reachable[static_cast<size_t>(side)] = sol.reachable && (target - S).norm() >= dmin - kTiny;
-  const Eigen::Vector3d hinge_rest = elbow_hinge(left);
-  const Eigen::Quaterniond g_sh =
-      align_two_directions(r[el] - r[sh], hinge_rest, sol.middle - S, sol.hinge);
-  const Eigen::Quaterniond l_el = align_two_directions(
-      r[wr] - r[el], hinge_rest, g_sh.conjugate() * (sol.end - sol.middle), hinge_rest);
-  pose_.global[sh] = g_sh;
-  pose_.global[el] = (g_sh * l_el).normalized();
-  place(el);
-  place(wr);
+  pose_two_bones(sh, el, wr, elbow_hinge(left), sol);
   Eigen::Quaterniond wrist_local =
       clamp_rotation(pose_.global[el].conjugate() * hand_rotation, options_.limits.max_wrist);
   // Rate-limited too: a hand turned past the wrist's range must not flip the hand over.
@@ -372,6 +364,19 @@ void BodyIk::solve_arm(int side, const IkInput& in) {
   pose_.global[wr] = (pose_.global[el] * wrist_local).normalized();
   pose_.global[hand] = pose_.global[wr];
   place(hand);
+}
+
+void BodyIk::pose_two_bones(int root, int mid, int end, const Eigen::Vector3d& hinge,
+                            const TwoBoneSolution& sol) {
+  const std::vector<Eigen::Vector3d>& r = rig_.rest;
+  const Eigen::Quaterniond g_root =
+      align_two_directions(r[mid] - r[root], hinge, sol.middle - pose_.joints[root], sol.hinge);
+  const Eigen::Quaterniond l_mid = align_two_directions(
+      r[end] - r[mid], hinge, g_root.conjugate() * (sol.end - sol.middle), hinge);
+  pose_.global[root] = g_root;
+  pose_.global[mid] = (g_root * l_mid).normalized();
+  place(mid);
+  place(end);
 }
 
 void BodyIk::solve_leg(int side, const Eigen::Vector3d& ankle, double foot_yaw) {
@@ -389,14 +394,7 @@ void BodyIk::solve_leg(int side, const Eigen::Vector3d& ankle, double foot_yaw) 
   const Eigen::Quaterniond foot_rotation = yaw_rotation(foot_yaw);
   const Eigen::Vector3d pole = foot_rotation * Eigen::Vector3d(0.0, 0.0, 1.0);
   const TwoBoneSolution sol = solve_two_bone(H, a, b, goal, pole);
-  const Eigen::Quaterniond g_hip =
-      align_two_directions(r[knee] - r[hip], kKneeHinge, sol.middle - H, sol.hinge);
-  const Eigen::Quaterniond l_knee = align_two_directions(
-      r[ank] - r[knee], kKneeHinge, g_hip.conjugate() * (sol.end - sol.middle), kKneeHinge);
-  pose_.global[hip] = g_hip;
-  pose_.global[knee] = (g_hip * l_knee).normalized();
-  place(knee);
-  place(ank);
+  pose_two_bones(hip, knee, ank, kKneeHinge, sol);
   // The foot flat on the floor, turned with the step, as far as the ankle allows.
   const Eigen::Quaterniond ankle_local =
       clamp_rotation(pose_.global[knee].conjugate() * foot_rotation, options_.limits.max_ankle);

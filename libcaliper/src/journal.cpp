@@ -72,8 +72,7 @@ JournalContents parse_journal(const std::string& text, const std::string& name) 
     try {
       j = parse_json(line);
       if (!c.has_header) {
-        if (!j.is_object() || !j.contains("format") || !j.at("format").is_string() ||
-            j.at("format").as_string() != kJournalFormat)
+        if (!has_format(j, kJournalFormat))
           throw JournalError(name + ":1: not a session journal (expected {\"format\": \"" +
                              std::string(kJournalFormat) + "\", ...})");
         const Json* version = j.find("version");
@@ -128,9 +127,7 @@ JournalWriter JournalWriter::create(const std::string& path, Json header) {
   if (!f.is_open())
     throw JournalError(path + ": cannot create the session journal (is the folder writable?)");
   JournalWriter w(path, std::move(f));
-  Json h = Json::object();
-  h.set("format", kJournalFormat);
-  h.set("version", 1);
+  Json h = format_header(kJournalFormat);
   if (header.is_object())
     for (const auto& kv : header.as_object()) h.set(kv.first, kv.second);
   w.write_line(h.dump());

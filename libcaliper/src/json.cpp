@@ -381,6 +381,18 @@ Json read_json_file(const std::string& path) {
   }
 }
 
+Json format_header(const std::string& format) {
+  Json j = Json::object();
+  j.set("format", format);
+  j.set("version", 1);
+  return j;
+}
+
+bool has_format(const Json& j, const std::string& format) {
+  return j.is_object() && j.contains("format") && j.at("format").is_string() &&
+         j.at("format").as_string() == format;
+}
+
 void write_json_file(const std::string& path, const Json& value) {
   smpl::write_file_atomic(path, value.dump(2) + "\n");
 }

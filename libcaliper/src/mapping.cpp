@@ -182,9 +182,7 @@ MeasurementMap MeasurementMapping::apply(const MeasurementMap& real) const {
 }
 
 Json MeasurementMapping::to_json() const {
-  Json j = Json::object();
-  j.set("format", "caliper-mapping");
-  j.set("version", 1);
+  Json j = format_header("caliper-mapping");
   Json maps = Json::object();
   for (const auto& [id, m] : maps_) {
     Json e = Json::object();
@@ -202,14 +200,7 @@ Json MeasurementMapping::to_json() const {
 }
 
 MeasurementMapping MeasurementMapping::from_json(const Json& j) {
-  if (!j.is_object() || !j.contains("format") || !j.at("format").is_string() ||
-      j.at("format").as_string() != "caliper-mapping") {
-    throw InvalidInputError("not a mapping file: expected \"format\": \"caliper-mapping\"");
-  }
-  if (j.at("version").as_int() != 1) {
-    throw InvalidInputError("mapping file version " + std::to_string(j.at("version").as_int()) +
-                            " is not supported (this build reads version 1)");
-  }
+  check_format_version<InvalidInputError>(j, "caliper-mapping", "mapping file");
   MeasurementMapping m;
   for (const auto& [id, e] : j.at("maps").as_object()) {
     LinearMap lm;
@@ -230,14 +221,7 @@ void MeasurementMapping::save(const std::string& path) const {
 }
 
 MeasurementMapping MeasurementMapping::load(const std::string& path) {
-  const Json j = read_json_file(path);
-  try {
-    return from_json(j);
-  } catch (const CaliperError& e) {
-    throw InvalidInputError(path + ": " + e.what());
-  } catch (const JsonError& e) {
-    throw InvalidInputError(path + ": " + e.what());
-  }
+  return read_json_file_as<InvalidInputError, CaliperError>(path, from_json);
 }
 
 }  // namespace caliper

@@ -20,56 +20,42 @@ constexpr double kLn2a = 0.6931471803691238;
 constexpr double kLn2b = 1.9082149292705877e-10;
 constexpr double kSqrtHalf = 0.70710678118654752440;
 
-// sin(r) and cos(r) for |r| <= pi/4: Taylor series to r^19 and r^20 (the next terms are below
-// 1e-19 relative), Horner's rule from the highest power.
-double sin_kernel(double r) {
-  // sin r = r + r^3 (-1/3! + r^2/5! - r^4/7! + ... - r^16/19!)
-  constexpr double c[] = {-1.0 / 121645100408832000.0,
-                          1.0 / 355687428096000.0,
-                          -1.0 / 1307674368000.0,
-                          1.0 / 6227020800.0,
-                          -1.0 / 39916800.0,
-                          1.0 / 362880.0,
-                          -1.0 / 5040.0,
-                          1.0 / 120.0,
-                          -1.0 / 6.0};
-  const double r2 = r * r;
-  double s = 0.0;
-  for (double k : c) s = s * r2 + k;
-  return r + r * r2 * s;
-}
-
-double cos_kernel(double r) {
-  // cos r = 1 + r^2 (-1/2! + r^2/4! - r^4/6! + ... + r^18/20!)
-  constexpr double c[] = {1.0 / 2432902008176640000.0,
-                          -1.0 / 6402373705728000.0,
-                          1.0 / 20922789888000.0,
-                          -1.0 / 87178291200.0,
-                          1.0 / 479001600.0,
-                          -1.0 / 3628800.0,
-                          1.0 / 40320.0,
-                          -1.0 / 720.0,
-                          1.0 / 24.0,
-                          -1.0 / 2.0};
-  const double r2 = r * r;
-  double s = 0.0;
-  for (double k : c) s = s * r2 + k;
-  return 1.0 + r2 * s;
-}
-
-// 1/n! for n = 0..17, exact quotients of exactly representable numbers rounded once, at compile
+// 1/n! for n = 0..20, exact quotients of exactly representable numbers rounded once, at compile
 // time (IEEE division, so the same on every machine).
 struct InverseFactorials {
-  double c[18];
+  double c[21];
   constexpr InverseFactorials() : c() {
     double f = 1.0;
-    for (int n = 0; n < 18; ++n) {
-      if (n > 0) f *= n;  // n! is exact in double up to 18!
+    for (int n = 0; n < 21; ++n) {
+      if (n > 0) f *= n;  // n! is exact in double up to 22!
       c[n] = 1.0 / f;
     }
   }
 };
 constexpr InverseFactorials kInvFact;
+
+// The Taylor coefficient of r^n in sin r or cos r: (-1)^(n/2) / n!.
+constexpr double trig_coefficient(int n) {
+  return (n / 2) % 2 == 1 ? -kInvFact.c[n] : kInvFact.c[n];
+}
+
+// sin(r) and cos(r) for |r| <= pi/4: Taylor series to r^19 and r^20 (the next terms are below
+// 1e-19 relative), Horner's rule from the highest power.
+double sin_kernel(double r) {
+  // sin r = r + r^3 (-1/3! + r^2/5! - r^4/7! + ... - r^16/19!)
+  const double r2 = r * r;
+  double s = 0.0;
+  for (int n = 19; n >= 3; n -= 2) s = s * r2 + trig_coefficient(n);
+  return r + r * r2 * s;
+}
+
+double cos_kernel(double r) {
+  // cos r = 1 + r^2 (-1/2! + r^2/4! - r^4/6! + ... + r^18/20!)
+  const double r2 = r * r;
+  double s = 0.0;
+  for (int n = 20; n >= 2; n -= 2) s = s * r2 + trig_coefficient(n);
+  return 1.0 + r2 * s;
+}
 
 // 1/(2k + 3) for k = 0..10 (log's atanh series, f^3/3 ... f^23/23).
 struct InverseOdds {
@@ -91,12 +77,9 @@ int reduce(double x, double& r) {
   return static_cast<int>((q + 4) % 4);
 }
 
-}  // namespace
-
-double sin(double x) {
-  if (!std::isfinite(x)) return std::numeric_limits<double>::quiet_NaN();
-  double r = 0.0;
-  switch (reduce(x, r)) {
+// sin(q pi/2 + r) for |r| <= pi/4 (cos x is sin of the next quadrant).
+double sin_quadrant(int q, double r) {
+  switch (q & 3) {
     case 0:
       return sin_kernel(r);
     case 1:
@@ -108,19 +91,20 @@ double sin(double x) {
   }
 }
 
+}  // namespace
+
+double sin(double x) {
+  if (!std::isfinite(x)) return std::numeric_limits<double>::quiet_NaN();
+  double r = 0.0;
+  const int q = reduce(x, r);
+  return sin_quadrant(q, r);
+}
+
 double cos(double x) {
   if (!std::isfinite(x)) return std::numeric_limits<double>::quiet_NaN();
   double r = 0.0;
-  switch (reduce(x, r)) {
-    case 0:
-      return cos_kernel(r);
-    case 1:
-      return -sin_kernel(r);
-    case 2:
-      return -cos_kernel(r);
-    default:
-      return sin_kernel(r);
-  }
+  const int q = reduce(x, r);
+  return sin_quadrant(q + 1, r);
 }
 
 double log(double x) {

@@ -121,8 +121,7 @@ DevicePose parse_device(const Json& j, Device device, const std::string& name, i
 }
 
 PoseLogHeader parse_header(const Json& j, const std::string& name) {
-  if (!j.is_object() || !j.contains("format") || !j.at("format").is_string() ||
-      j.at("format").as_string() != kFormatName)
+  if (!has_format(j, kFormatName))
     fail(name, 1,
          std::string("the first line is not a pose log header (expected {\"format\": \"") +
              kFormatName + "\", ...})");

@@ -498,9 +498,7 @@ const LinearRegressor* RegressorSet::find(const std::string& name) const {
 }
 
 Json RegressorSet::to_json() const {
-  Json j = Json::object();
-  j.set("format", "caliper-regressors");
-  j.set("version", 1);
+  Json j = format_header("caliper-regressors");
   Json lin = Json::array();
   for (const auto& r : linear) lin.push_back(r.to_json());
   j.set("linear", lin);
@@ -509,14 +507,7 @@ Json RegressorSet::to_json() const {
 }
 
 RegressorSet RegressorSet::from_json(const Json& j) {
-  if (!j.is_object() || !j.contains("format") || !j.at("format").is_string() ||
-      j.at("format").as_string() != "caliper-regressors") {
-    throw ModelMismatchError("not a regressor file: expected \"format\": \"caliper-regressors\"");
-  }
-  if (j.at("version").as_int() != 1) {
-    throw ModelMismatchError("regressor file version " + std::to_string(j.at("version").as_int()) +
-                             " is not supported (this build reads version 1)");
-  }
+  check_format_version<ModelMismatchError>(j, "caliper-regressors", "regressor file");
   RegressorSet s;
   for (const auto& r : j.at("linear").as_array()) s.linear.push_back(LinearRegressor::from_json(r));
   const Json* na = j.find("noise_aware");
@@ -529,14 +520,7 @@ void RegressorSet::save(const std::string& path) const {
 }
 
 RegressorSet RegressorSet::load(const std::string& path) {
-  const Json j = read_json_file(path);
-  try {
-    return from_json(j);
-  } catch (const JsonError& e) {
-    throw ModelMismatchError(path + ": " + e.what());
-  } catch (const ModelMismatchError& e) {
-    throw ModelMismatchError(path + ": " + e.what());
-  }
+  return read_json_file_as<ModelMismatchError, ModelMismatchError>(path, from_json);
 }
 
 void RegressorSet::check(const smpl::BodyModel& model) const {

@@ -27,6 +27,18 @@ SessionEvent make_event(EventType type, std::string step, std::string message, d
   return e;
 }
 
+// An operator's action on a step ("skip", "redo"): the event and the journal record it carries.
+SessionEvent action_event(EventType type, const std::string& step, std::string message,
+                          const char* action, double time) {
+  JournalRecord r;
+  r.type = action;
+  r.time = time;
+  r.step = step;
+  SessionEvent e = make_event(type, step, std::move(message));
+  e.record = r;
+  return e;
+}
+
 void append(std::vector<SessionEvent>& to, std::vector<SessionEvent> from) {
   for (SessionEvent& e : from) to.push_back(std::move(e));
 }
@@ -495,15 +507,10 @@ std::vector<SessionEvent> MeasuringSession::set_typed(const std::string& measure
 
 std::vector<SessionEvent> MeasuringSession::skip(double time) {
   std::vector<SessionEvent> events;
-  JournalRecord r;
-  r.type = "skip";
-  r.time = time;
   if (view_.phase == Phase::Floor) {
-    r.step = "floor";
-    SessionEvent e = make_event(EventType::StepSkipped, "floor",
-                                "Floor calibration skipped: heights use the runtime's floor.");
-    e.record = r;
-    events.push_back(e);
+    events.push_back(action_event(EventType::StepSkipped, "floor",
+                                  "Floor calibration skipped: heights use the runtime's floor.",
+                                  "skip", time));
     floor_ = FloorResult{};
     append(events, enter_step(0, time));
     return events;
@@ -513,10 +520,8 @@ std::vector<SessionEvent> MeasuringSession::skip(double time) {
     st = StepState{};
     st.done = true;
     st.skipped = true;
-    r.step = s->id;
-    SessionEvent e = make_event(EventType::StepSkipped, s->id, s->title + " skipped.");
-    e.record = r;
-    events.push_back(e);
+    events.push_back(
+        action_event(EventType::StepSkipped, s->id, s->title + " skipped.", "skip", time));
     append(events, enter_step(view_.step + 1, time));
   }
   return events;
@@ -524,22 +529,16 @@ std::vector<SessionEvent> MeasuringSession::skip(double time) {
 
 std::vector<SessionEvent> MeasuringSession::redo(double time) {
   std::vector<SessionEvent> events;
-  JournalRecord r;
-  r.type = "redo";
-  r.time = time;
   hold_state_ = HoldState::WaitRelease;
   view_.holding = false;
   if (view_.phase == Phase::Floor ||
       (view_.phase == Phase::Steps && view_.step == 0 && steps_[0].takes.empty())) {
-    r.step = "floor";
     floor_ = FloorResult{};
     view_.phase = Phase::Floor;
     view_.floor_target = 0;
     view_.step = -1;
     view_.message = "Floor calibration again. " + protocol_.floor.instruction;
-    SessionEvent e = make_event(EventType::StepRedo, "floor", view_.message);
-    e.record = r;
-    events.push_back(e);
+    events.push_back(action_event(EventType::StepRedo, "floor", view_.message, "redo", time));
     return events;
   }
   int index =
@@ -551,10 +550,7 @@ std::vector<SessionEvent> MeasuringSession::redo(double time) {
   steps_[static_cast<size_t>(index)] = StepState{};
   if (s.kind == StepKind::TypedNumber || s.kind == StepKind::TypedChoice)
     typed_.erase(s.measurement);
-  r.step = s.id;
-  SessionEvent e = make_event(EventType::StepRedo, s.id, s.title + ": again.");
-  e.record = r;
-  events.push_back(e);
+  events.push_back(action_event(EventType::StepRedo, s.id, s.title + ": again.", "redo", time));
   view_.phase = Phase::Steps;
   view_.step = index;
   view_.message = s.instruction;

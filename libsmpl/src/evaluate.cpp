@@ -374,33 +374,23 @@ inline __attribute__((always_inline)) void pose_batch_rows(
   }
 }
 
-// Double: 4 bodies x 1 vector of rows per step (4 accumulators, 4 column vectors, broadcasts).
-SMPL_KERNEL_BODY
-void pose_batch_f64_body(const double* P, Eigen::Index ld, Eigen::Index r0, Eigen::Index r1,
-                         const double* F, Eigen::Index fstride, const Eigen::Index* runs, int nruns,
-                         Eigen::Index nbodies, double* v, Eigen::Index vstride) {
-  pose_batch_rows<kVecBytes, double, 4, 1>(P, ld, r0, r1, F, fstride, runs, nruns, nbodies, v,
-                                           vstride);
-}
-SMPL_KERNEL_VARIANTS(pose_batch_f64,
-                     (const double* P, Eigen::Index ld, Eigen::Index r0, Eigen::Index r1,
-                      const double* F, Eigen::Index fstride, const Eigen::Index* runs, int nruns,
-                      Eigen::Index nbodies, double* v, Eigen::Index vstride),
-                     (P, ld, r0, r1, F, fstride, runs, nruns, nbodies, v, vstride))
-
-// Float: 4 bodies x 2 vectors of rows per step.
-SMPL_KERNEL_BODY
-void pose_batch_f32_body(const float* P, Eigen::Index ld, Eigen::Index r0, Eigen::Index r1,
-                         const float* F, Eigen::Index fstride, const Eigen::Index* runs, int nruns,
-                         Eigen::Index nbodies, double* v, Eigen::Index vstride) {
-  pose_batch_rows<kVecBytes, float, 4, 2>(P, ld, r0, r1, F, fstride, runs, nruns, nbodies, v,
-                                          vstride);
-}
-SMPL_KERNEL_VARIANTS(pose_batch_f32,
-                     (const float* P, Eigen::Index ld, Eigen::Index r0, Eigen::Index r1,
-                      const float* F, Eigen::Index fstride, const Eigen::Index* runs, int nruns,
-                      Eigen::Index nbodies, double* v, Eigen::Index vstride),
-                     (P, ld, r0, r1, F, fstride, runs, nruns, nbodies, v, vstride))
+// The batch kernels per scalar type of P and F: 4 bodies x kRowVecs vectors of rows per step.
+#define SMPL_POSE_BATCH_KERNEL(name, S, kRowVecs)                                                  \
+  SMPL_KERNEL_BODY                                                                                 \
+  void name##_body(const S* P, Eigen::Index ld, Eigen::Index r0, Eigen::Index r1, const S* F,      \
+                   Eigen::Index fstride, const Eigen::Index* runs, int nruns,                      \
+                   Eigen::Index nbodies, double* v, Eigen::Index vstride) {                        \
+    pose_batch_rows<kVecBytes, S, 4, kRowVecs>(P, ld, r0, r1, F, fstride, runs, nruns, nbodies, v, \
+                                               vstride);                                           \
+  }                                                                                                \
+  SMPL_KERNEL_VARIANTS(name,                                                                       \
+                       (const S* P, Eigen::Index ld, Eigen::Index r0, Eigen::Index r1, const S* F, \
+                        Eigen::Index fstride, const Eigen::Index* runs, int nruns,                 \
+                        Eigen::Index nbodies, double* v, Eigen::Index vstride),                    \
+                       (P, ld, r0, r1, F, fstride, runs, nruns, nbodies, v, vstride))
+SMPL_POSE_BATCH_KERNEL(pose_batch_f64, double, 1)  // double: 1 vector of rows per step
+SMPL_POSE_BATCH_KERNEL(pose_batch_f32, float, 2)   // float: 2 vectors of rows per step
+#undef SMPL_POSE_BATCH_KERNEL
 
 void check_betas(const BodyModel& model, Eigen::Index n) {
   if (n > model.num_betas()) {
@@ -787,39 +777,31 @@ void batch_pose_blend(const BodyModel& model, const RowMatrixXd& feature,
   if (nruns > 0) {
     const Eigen::Index rows = 3 * V;
     const Eigen::Index t = std::max<Eigen::Index>(1, std::min<Eigen::Index>(threads, rows / 64));
+    // Every block of rows with the kernels of the pose blend shapes' scalar type: body by body
+    // below kMinPackedBatch bodies, else the packed batch kernel.
+    const auto blend_blocks = [&](const auto* posedirs, const auto& f, auto blend, auto batch) {
+      parallel_for(static_cast<int>(t), rows / 64 + 1, [&](Eigen::Index b0, Eigen::Index b1) {
+        const Eigen::Index r0 = std::min(rows, 64 * b0), r1 = std::min(rows, 64 * b1);
+        if (N < kMinPackedBatch) {
+          for (Eigen::Index n = 0; n < N; ++n) {
+            for (int run = 0; run < nruns; ++run) {
+              blend(posedirs + r0, rows, r1 - r0, f.row(n).data(), runs[2 * run], runs[2 * run + 1],
+                    out.vertices.row(n).data() + r0);
+            }
+          }
+          return;
+        }
+        batch(posedirs, rows, r0, r1, f.data(), P, runs.data(), nruns, N, out.vertices.data(),
+              3 * V);
+      });
+    };
     if (ws.single_precision_pose_blend_shapes) {
       ensure_float_posedirs(model, ws);
-      Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> ff =
+      const Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> ff =
           feature.cast<float>();
-      parallel_for(static_cast<int>(t), rows / 64 + 1, [&](Eigen::Index b0, Eigen::Index b1) {
-        const Eigen::Index r0 = std::min(rows, 64 * b0), r1 = std::min(rows, 64 * b1);
-        if (N < kMinPackedBatch) {
-          for (Eigen::Index n = 0; n < N; ++n) {
-            for (int run = 0; run < nruns; ++run) {
-              pose_blend_f32(ws.posedirs_f.data() + r0, rows, r1 - r0, ff.row(n).data(),
-                             runs[2 * run], runs[2 * run + 1], out.vertices.row(n).data() + r0);
-            }
-          }
-          return;
-        }
-        pose_batch_f32(ws.posedirs_f.data(), rows, r0, r1, ff.data(), P, runs.data(), nruns, N,
-                       out.vertices.data(), 3 * V);
-      });
+      blend_blocks(ws.posedirs_f.data(), ff, pose_blend_f32, pose_batch_f32);
     } else {
-      parallel_for(static_cast<int>(t), rows / 64 + 1, [&](Eigen::Index b0, Eigen::Index b1) {
-        const Eigen::Index r0 = std::min(rows, 64 * b0), r1 = std::min(rows, 64 * b1);
-        if (N < kMinPackedBatch) {
-          for (Eigen::Index n = 0; n < N; ++n) {
-            for (int run = 0; run < nruns; ++run) {
-              pose_blend_f64(model.posedirs.data() + r0, rows, r1 - r0, feature.row(n).data(),
-                             runs[2 * run], runs[2 * run + 1], out.vertices.row(n).data() + r0);
-            }
-          }
-          return;
-        }
-        pose_batch_f64(model.posedirs.data(), rows, r0, r1, feature.data(), P, runs.data(), nruns,
-                       N, out.vertices.data(), 3 * V);
-      });
+      blend_blocks(model.posedirs.data(), feature, pose_blend_f64, pose_batch_f64);
     }
   }
 }

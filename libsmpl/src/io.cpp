@@ -256,16 +256,26 @@ std::vector<int> read_parents(const Source& src, const NpyArray& kt, Eigen::Inde
   return parents;
 }
 
+// A (N, kCols) array of points (vertices, texture coordinates), N >= 1 and N * kCols within int
+// range; `expected` names the shape for the error, e.g. "(V, 3)".
+template <int kCols>
+Eigen::Matrix<double, Eigen::Dynamic, kCols, Eigen::RowMajor> point_rows(const Source& src,
+                                                                         const std::string& key,
+                                                                         const char* expected) {
+  const NpyArray& a = src.array(key);
+  if (a.shape.size() != 2 || a.shape[1] != static_cast<std::size_t>(kCols) || a.shape[0] == 0 ||
+      a.shape[0] > static_cast<std::size_t>(std::numeric_limits<int>::max() / kCols)) {
+    src.bad_shape(key, a, expected);
+  }
+  const std::vector<double> d = src.doubles(key, a);
+  return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, kCols, Eigen::RowMajor>>(
+      d.data(), static_cast<Eigen::Index>(a.shape[0]), kCols);
+}
+
 // The texture coordinates vt (T, 2) and their faces ft (F, 3), both or neither.
 void read_uvs(const Source& src, BodyModel& m) {
-  const NpyArray& a = src.array("vt");
-  if (a.shape.size() != 2 || a.shape[1] != 2 || a.shape[0] == 0 ||
-      a.shape[0] > static_cast<std::size_t>(std::numeric_limits<int>::max() / 2)) {
-    src.bad_shape("vt", a, "(T, 2)");
-  }
-  const auto T = static_cast<Eigen::Index>(a.shape[0]);
-  const std::vector<double> uv = src.doubles("vt", a);
-  m.uvs = Eigen::Map<const TexCoords>(uv.data(), T, 2);
+  m.uvs = point_rows<2>(src, "vt", "(T, 2)");
+  const Eigen::Index T = m.uvs.rows();
   const NpyArray& ft = src.array("ft");
   if (ft.shape.size() != 2 || ft.shape[1] != 3 ||
       ft.shape[0] != static_cast<std::size_t>(m.faces.rows())) {
@@ -330,14 +340,8 @@ BodyModel build_model(const Source& src, const LoadOptions& options) {
   BodyModel m;
   const std::string& ctx = src.context();
   // v_template (V, 3).
-  const NpyArray& vt = src.array("v_template");
-  if (vt.shape.size() != 2 || vt.shape[1] != 3 || vt.shape[0] == 0 ||
-      vt.shape[0] > static_cast<std::size_t>(std::numeric_limits<int>::max() / 3)) {
-    src.bad_shape("v_template", vt, "(V, 3)");
-  }
-  const auto V = static_cast<Eigen::Index>(vt.shape[0]);
-  const std::vector<double> vtd = src.doubles("v_template", vt);
-  m.v_template = Eigen::Map<const Vertices>(vtd.data(), V, 3);
+  m.v_template = point_rows<3>(src, "v_template", "(V, 3)");
+  const Eigen::Index V = m.v_template.rows();
   // f (F, 3).
   const NpyArray& f = src.array("f");
   if (f.shape.size() != 2 || f.shape[1] != 3) src.bad_shape("f", f, "(F, 3)");

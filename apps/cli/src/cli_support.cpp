@@ -80,6 +80,17 @@ ParsedArgs parse_args(const std::vector<std::string>& args, const std::vector<Op
   return out;
 }
 
+std::optional<ParsedArgs> parse_args_or_help(const std::vector<std::string>& args,
+                                             const std::vector<OptionSpec>& specs,
+                                             const app::HelpText& help, std::ostream& out) {
+  ParsedArgs a = parse_args(args, specs, help);
+  if (a.flags.count("help")) {
+    out << a.help;
+    return std::nullopt;
+  }
+  return a;
+}
+
 int parse_int(const std::string& text, const std::string& option, int lo, int hi) {
   errno = 0;
   char* end = nullptr;

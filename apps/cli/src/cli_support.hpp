@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "app/help_text.hpp"
+#include "commands.hpp"
 
 namespace caliper::cli {
 
@@ -86,6 +87,25 @@ std::string count_noun(long long n, const std::string& singular, const std::stri
 /// it sets the "help" flag and `help` to the text CLI11 writes from `specs` and `help`.
 ParsedArgs parse_args(const std::vector<std::string>& args, const std::vector<OptionSpec>& specs,
                       const app::HelpText& help = {});
+
+/// Every command's start: parse_args, and with `--help` the help text written to `out` and
+/// nullopt returned (the command then has nothing more to do and exits with kExitOk).
+std::optional<ParsedArgs> parse_args_or_help(const std::vector<std::string>& args,
+                                             const std::vector<OptionSpec>& specs,
+                                             const app::HelpText& help, std::ostream& out);
+
+/// The flow of a command that parses its options, runs a pure step and writes a report:
+/// parse_args_or_help (with --help: kExitOk), `options_from(parsed)`, `run(options)`, then the
+/// exit code of `report(options, result, io)`.
+template <class OptionsFrom, class Run, class Report>
+int run_command(const std::vector<std::string>& args, const std::vector<OptionSpec>& specs,
+                const app::HelpText& help, Io& io, OptionsFrom options_from, Run run,
+                Report report) {
+  const std::optional<ParsedArgs> parsed = parse_args_or_help(args, specs, help, io.out);
+  if (!parsed) return kExitOk;
+  const auto options = options_from(*parsed);
+  return report(options, run(options), io);
+}
 
 /// Parses an integer option value in [lo, hi]; throws UsageError naming the option.
 int parse_int(const std::string& text, const std::string& option, int lo, int hi);

@@ -494,11 +494,9 @@ int write_batch_report(const BatchOptions& opt, const std::vector<Person>& peopl
 }  // namespace
 
 int cmd_batch(const std::vector<std::string>& args, Io& io) {
-  const ParsedArgs a = parse_args(args, batch_options(), kHelp);
-  if (a.flags.count("help")) {
-    io.out << a.help;
-    return kExitOk;
-  }
+  const std::optional<ParsedArgs> parsed = parse_args_or_help(args, batch_options(), kHelp, io.out);
+  if (!parsed) return kExitOk;
+  const ParsedArgs& a = *parsed;
   const BatchOptions opt = batch_options_from(a);
   std::vector<Person> people = read_batch_people(opt);
   check_batch_outputs(opt);

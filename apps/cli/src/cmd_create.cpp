@@ -386,14 +386,9 @@ int write_create_report(const CreateOptions& opt, const CreateResult& r, Io& io)
 }  // namespace
 
 int cmd_create(const std::vector<std::string>& args, Io& io) {
-  const ParsedArgs a = parse_args(args, create_options(), kHelp);
-  if (a.flags.count("help")) {
-    io.out << a.help;
-    return kExitOk;
-  }
-  const CreateOptions opt = create_options_from(a);
-  const CreateResult result = run_create(opt, io.err);
-  return write_create_report(opt, result, io);
+  return run_command(
+      args, create_options(), kHelp, io, create_options_from,
+      [&io](const CreateOptions& opt) { return run_create(opt, io.err); }, write_create_report);
 }
 
 }  // namespace caliper::cli

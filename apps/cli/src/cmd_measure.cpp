@@ -206,14 +206,8 @@ int write_measure_report(const MeasureCommand& c, const MeasureResult& r, Io& io
 }  // namespace
 
 int cmd_measure(const std::vector<std::string>& args, Io& io) {
-  const ParsedArgs a = parse_args(args, measure_options(), kHelp);
-  if (a.flags.count("help")) {
-    io.out << a.help;
-    return kExitOk;
-  }
-  const MeasureCommand command = measure_command_from(a);
-  const MeasureResult result = run_measure(command);
-  return write_measure_report(command, result, io);
+  return run_command(args, measure_options(), kHelp, io, measure_command_from, run_measure,
+                     write_measure_report);
 }
 
 }  // namespace caliper::cli

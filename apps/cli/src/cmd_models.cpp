@@ -56,11 +56,9 @@ int cmd_models(const std::vector<std::string>& args, Io& io) {
   const std::vector<OptionSpec> specs = {
       {"json", "", "", "print JSON", false},
   };
-  const ParsedArgs a = parse_args(args, specs, kHelp);
-  if (a.flags.count("help")) {
-    io.out << a.help;
-    return kExitOk;
-  }
+  const std::optional<ParsedArgs> parsed = parse_args_or_help(args, specs, kHelp, io.out);
+  if (!parsed) return kExitOk;
+  const ParsedArgs& a = *parsed;
   std::vector<std::string> paths;
   const auto assets = find_assets_dir();
   std::string note;

@@ -33,11 +33,9 @@ int cmd_render(const std::vector<std::string>& args, Io& io) {
       {"size", "", "WxH", "image size in pixels (default 600x800)", false},
       {"out", "o", "PREFIX", "output prefix: PREFIX_front.png, ... (default: avatar)", false},
   };
-  const ParsedArgs a = parse_args(args, specs, kHelp);
-  if (a.flags.count("help")) {
-    io.out << a.help;
-    return kExitOk;
-  }
+  const std::optional<ParsedArgs> parsed = parse_args_or_help(args, specs, kHelp, io.out);
+  if (!parsed) return kExitOk;
+  const ParsedArgs& a = *parsed;
   if (a.positional.size() > 1) throw UsageError("give one avatar file");
   if (!a.positional.empty() && (a.get("betas") || a.get("model")))
     throw UsageError("give either an avatar file or --model/--betas, not both");

@@ -134,6 +134,21 @@ Json training_set_stats(const TrainResult& r, std::ostream& text) {
   return stats;
 }
 
+/// Residuals per input (metres): "  <input> <millimetres>" each into `text`, {input: metres}
+/// returned.
+Json residuals_per_input(const std::vector<std::string>& inputs, const Eigen::VectorXd& rms,
+                         std::ostream& text) {
+  Json res = Json::object();
+  for (size_t i = 0; i < inputs.size(); ++i) {
+    const double metres = rms[static_cast<Eigen::Index>(i)];
+    char buf[80];
+    std::snprintf(buf, sizeof buf, "  %s %.3f", inputs[i].c_str(), metres * 1000.0);
+    text << buf;
+    res.set(inputs[i], metres);
+  }
+  return res;
+}
+
 /// The linear regressors' fit residuals: text lines into `text`, JSON returned.
 Json linear_residuals(const RegressorSet& regs, std::ostream& text) {
   Json regs_json = Json::array();
@@ -141,16 +156,8 @@ Json linear_residuals(const RegressorSet& regs, std::ostream& text) {
     text << "  " << std::left << std::setw(4) << r.name() << std::right;
     Json rj = Json::object();
     rj.set("name", r.name());
-    Json res = Json::object();
-    for (size_t i = 0; i < r.inputs().size(); ++i) {
-      char buf[80];
-      std::snprintf(buf, sizeof buf, "  %s %.3f", r.inputs()[i].c_str(),
-                    r.training_rms()[static_cast<Eigen::Index>(i)] * 1000.0);
-      text << buf;
-      res.set(r.inputs()[i], r.training_rms()[static_cast<Eigen::Index>(i)]);
-    }
+    rj.set("training_rms", residuals_per_input(r.inputs(), r.training_rms(), text));
     text << "\n";
-    rj.set("training_rms", res);
     regs_json.push_back(rj);
   }
   return regs_json;
@@ -161,14 +168,8 @@ Json linear_residuals(const RegressorSet& regs, std::ostream& text) {
 Json noise_aware_report(const NoiseAwareRegressor& n, std::ostream& text) {
   Json na = Json::object();
   text << "  noise-aware: linearisation RMS (mm)";
-  Json lin = Json::object(), noise = Json::object();
-  for (size_t i = 0; i < n.inputs().size(); ++i) {
-    char buf[80];
-    std::snprintf(buf, sizeof buf, "  %s %.3f", n.inputs()[i].c_str(),
-                  n.linearisation_rms()[static_cast<Eigen::Index>(i)] * 1000.0);
-    text << buf;
-    lin.set(n.inputs()[i], n.linearisation_rms()[static_cast<Eigen::Index>(i)]);
-  }
+  const Json lin = residuals_per_input(n.inputs(), n.linearisation_rms(), text);
+  Json noise = Json::object();
   text << "\n  noise-aware: measurement noise SD";
   for (const auto& [id, sd] : n.noise()) {
     char buf[80];
@@ -227,14 +228,8 @@ int write_train_report(const TrainCommand& c, const TrainResult& r, Io& io) {
 }  // namespace
 
 int cmd_train(const std::vector<std::string>& args, Io& io) {
-  const ParsedArgs a = parse_args(args, train_options(), kHelp);
-  if (a.flags.count("help")) {
-    io.out << a.help;
-    return kExitOk;
-  }
-  const TrainCommand command = train_command_from(a);
-  const TrainResult result = run_train(command);
-  return write_train_report(command, result, io);
+  return run_command(args, train_options(), kHelp, io, train_command_from, run_train,
+                     write_train_report);
 }
 
 }  // namespace caliper::cli

@@ -10,45 +10,46 @@
 
 namespace caliper::app {
 
-std::string to_string(RegressorChoice choice) {
+namespace {
+constexpr RegressorChoice kLinearChoices[] = {RegressorChoice::R2, RegressorChoice::R4,
+                                              RegressorChoice::R5, RegressorChoice::R6};
+
+/// The linear regressor a choice names (caliper::RegressorKind); nullopt for the noise-aware one.
+std::optional<RegressorKind> linear_kind(RegressorChoice choice) {
   switch (choice) {
     case RegressorChoice::R2:
-      return "R2";
+      return RegressorKind::R2;
     case RegressorChoice::R4:
-      return "R4";
+      return RegressorKind::R4;
     case RegressorChoice::R5:
-      return "R5";
+      return RegressorKind::R5;
     case RegressorChoice::R6:
-      return "R6";
+      return RegressorKind::R6;
     case RegressorChoice::NoiseAware:
-      return "noise-aware";
+      break;
   }
-  return "R2";
+  return std::nullopt;
+}
+}  // namespace
+
+std::string to_string(RegressorChoice choice) {
+  const std::optional<RegressorKind> kind = linear_kind(choice);
+  return kind ? caliper::to_string(*kind) : "noise-aware";
 }
 
 std::optional<RegressorChoice> parse_regressor_choice(const std::string& text) {
   const std::string t = smpl::to_lower(text);
-  if (t == "r2") return RegressorChoice::R2;
-  if (t == "r4") return RegressorChoice::R4;
-  if (t == "r5") return RegressorChoice::R5;
-  if (t == "r6") return RegressorChoice::R6;
   if (t == "noise-aware" || t == "noise_aware" || t == "na") return RegressorChoice::NoiseAware;
+  const std::optional<RegressorKind> kind = parse_regressor_kind(text);  // R2..R6, any case
+  for (RegressorChoice choice : kLinearChoices) {
+    if (kind && linear_kind(choice) == kind) return choice;
+  }
   return std::nullopt;
 }
 
 const std::vector<std::string>& choice_inputs(RegressorChoice choice) {
-  switch (choice) {
-    case RegressorChoice::R2:
-      return regressor_inputs(RegressorKind::R2);
-    case RegressorChoice::R4:
-      return regressor_inputs(RegressorKind::R4);
-    case RegressorChoice::R5:
-      return regressor_inputs(RegressorKind::R5);
-    case RegressorChoice::R6:
-    case RegressorChoice::NoiseAware:
-      break;
-  }
-  return regressor_inputs(RegressorKind::R6);
+  // The noise-aware regressor takes R6's inputs.
+  return regressor_inputs(linear_kind(choice).value_or(RegressorKind::R6));
 }
 
 namespace {
@@ -82,12 +83,7 @@ void start_from_avatar(Document& doc, const std::vector<std::string>& ids,
 }
 
 std::string measurement_label(const std::string& id) {
-  if (id == "weight") return "Weight";
-  if (id == "volume") return "Volume";
-  for (const MeasurementDef& d : paper_measurements()) {
-    if (d.id == id) return d.label;
-  }
-  return id;
+  return measurement_name(id);
 }
 
 std::string describe_regressor(RegressorChoice choice) {

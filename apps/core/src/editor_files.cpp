@@ -14,9 +14,7 @@ namespace caliper::app {
 // Measurement profiles
 Json profile_json(const Document& doc, UnitSystem units, const ModelEntry* model,
                   const Eigen::VectorXd& betas) {
-  Json j = Json::object();
-  j.set("format", "caliper-profile");
-  j.set("version", 1);
+  Json j = format_header("caliper-profile");
   j.set("units", to_string(units));
   if (model != nullptr) {
     j.set("model", model->label);

@@ -260,42 +260,43 @@ Cage body_cage(const Eigen::VectorXd& dims, bool female, double weight_factor,
 
 // ------------------------------------------------------------------------------------ measurements
 
+namespace {
+
+// The validation measurements in table order, each with its survey dimension (-1: arm_length,
+// which is kAcromionRadiale + kRadialeStylion).
+struct ValidationMeasure {
+  const char* id;
+  int dim;
+};
+constexpr ValidationMeasure kValidationMeasures[] = {{"stature", kStature},
+                                                     {"weight", kWeight},
+                                                     {"span", kSpan},
+                                                     {"crotch_height", kCrotchHeight},
+                                                     {"hip_breadth", kHipBreadth},
+                                                     {"arm_length", -1},
+                                                     {"biacromial", kBiacromial},
+                                                     {"chest_circ", kChestCirc},
+                                                     {"waist_circ", kWaistCirc},
+                                                     {"buttock_circ", kButtockCirc}};
+
+}  // namespace
+
 const std::vector<std::string>& validation_ids() {
-  static const std::vector<std::string> kIds = {
-      "stature",    "weight",     "span",       "crotch_height", "hip_breadth",
-      "arm_length", "biacromial", "chest_circ", "waist_circ",    "buttock_circ"};
+  static const std::vector<std::string> kIds = [] {
+    std::vector<std::string> ids;
+    for (const ValidationMeasure& m : kValidationMeasures) ids.emplace_back(m.id);
+    return ids;
+  }();
   return kIds;
 }
 
 int validation_dim(const std::string& id) {
-  if (id == "stature") {
-    return kStature;
+  for (const ValidationMeasure& m : kValidationMeasures) {
+    if (id == m.id) {
+      return m.dim;
+    }
   }
-  if (id == "weight") {
-    return kWeight;
-  }
-  if (id == "span") {
-    return kSpan;
-  }
-  if (id == "crotch_height") {
-    return kCrotchHeight;
-  }
-  if (id == "hip_breadth") {
-    return kHipBreadth;
-  }
-  if (id == "biacromial") {
-    return kBiacromial;
-  }
-  if (id == "chest_circ") {
-    return kChestCirc;
-  }
-  if (id == "waist_circ") {
-    return kWaistCirc;
-  }
-  if (id == "buttock_circ") {
-    return kButtockCirc;
-  }
-  return -1;  // arm_length
+  return -1;
 }
 
 HangingArms hanging_arms(const smpl::BodyModel& model, const smpl::Vertices& vertices) {

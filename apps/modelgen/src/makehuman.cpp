@@ -73,6 +73,23 @@ std::ifstream open(const std::string& path, const char* what) {
   return in;
 }
 
+/// Calls `on_line(tokens, line_no)` for every line of the MakeHuman text file `path` (a `what`:
+/// "base mesh", "target") that is neither blank nor a '#' comment; line_no is 1-based.
+template <class OnLine>
+void for_each_line(const std::string& path, const char* what, OnLine on_line) {
+  std::ifstream in = open(path, what);
+  std::string line;
+  int line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    const std::vector<std::string_view> t = tokens(line);
+    if (t.empty() || t[0][0] == '#') {
+      continue;
+    }
+    on_line(t, line_no);
+  }
+}
+
 nlohmann::json read_json(const std::string& path, const char* what) {
   std::ifstream in = open(path, what);
   try {
@@ -98,20 +115,12 @@ const nlohmann::json& key(const nlohmann::json& j, const std::string& k, const s
 // ------------------------------------------------------------------------------------------------
 
 BaseMesh read_base_mesh(const std::string& path) {
-  std::ifstream in = open(path, "base mesh");
   std::vector<Eigen::Vector3d> v;
   std::vector<Eigen::Vector2d> vt;
   BaseMesh mesh;
   std::map<std::string, int> group_ids;
   int group = -1;
-  std::string line;
-  int line_no = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    const std::vector<std::string_view> t = tokens(line);
-    if (t.empty() || t[0][0] == '#') {
-      continue;
-    }
+  for_each_line(path, "base mesh", [&](const std::vector<std::string_view>& t, int line_no) {
     if (t[0] == "v") {
       if (t.size() < 4) {
         throw AssetError(where(path, line_no) + ": a vertex needs 3 coordinates");
@@ -168,7 +177,7 @@ BaseMesh read_base_mesh(const std::string& path) {
       }
       mesh.faces.push_back(f);
     }
-  }
+  });
   if (v.empty() || mesh.faces.empty()) {
     throw AssetError("'" + path + "' has no vertices or no faces: not a MakeHuman base mesh");
   }
@@ -188,16 +197,8 @@ BaseMesh read_base_mesh(const std::string& path) {
 // ------------------------------------------------------------------------------------------------
 
 Target read_target(const std::string& path, int num_vertices) {
-  std::ifstream in = open(path, "target");
   Target target;
-  std::string line;
-  int line_no = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
-    const std::vector<std::string_view> t = tokens(line);
-    if (t.empty() || t[0][0] == '#') {
-      continue;
-    }
+  for_each_line(path, "target", [&](const std::vector<std::string_view>& t, int line_no) {
     if (t.size() != 4) {
       throw AssetError(where(path, line_no) + ": expected 'index dx dy dz', found " +
                        std::to_string(t.size()) + " fields");
@@ -210,7 +211,7 @@ Target read_target(const std::string& path, int num_vertices) {
     target.index.push_back(i);
     target.delta.emplace_back(number(t[1], path, line_no), number(t[2], path, line_no),
                               number(t[3], path, line_no));
-  }
+  });
   return target;
 }
 

@@ -27,18 +27,27 @@ void GlFunctions::check(const char* what) const {
 
 namespace {
 
+// When `status` (GL_COMPILE_STATUS, GL_LINK_STATUS) of shader or program `id` is false: deletes
+// it and throws RenderError(`failure` + its info log). Shaders and programs differ only in the
+// entry points (get_iv, get_log, destroy).
+template <class GetIv, class GetLog, class Destroy>
+void check_status(GLuint id, GLenum status, GetIv get_iv, GetLog get_log, Destroy destroy,
+                  const std::string& failure) {
+  GLint ok = 0;
+  get_iv(id, status, &ok);
+  if (ok) return;
+  char log[2048] = {0};
+  get_log(id, sizeof log, nullptr, log);
+  destroy(id);
+  throw RenderError(failure + log);
+}
+
 GLuint compile_shader(const GlFunctions& gl, GLenum type, const char* source, const char* name) {
   GLuint s = gl.CreateShader(type);
   gl.ShaderSource(s, 1, &source, nullptr);
   gl.CompileShader(s);
-  GLint ok = 0;
-  gl.GetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[2048] = {0};
-    gl.GetShaderInfoLog(s, sizeof log, nullptr, log);
-    gl.DeleteShader(s);
-    throw RenderError(std::string("shader ") + name + " failed to compile: " + log);
-  }
+  check_status(s, GL_COMPILE_STATUS, gl.GetShaderiv, gl.GetShaderInfoLog, gl.DeleteShader,
+               std::string("shader ") + name + " failed to compile: ");
   return s;
 }
 
@@ -59,14 +68,8 @@ GLuint link_program(const GlFunctions& gl, const char* vs, const char* fs, const
   gl.LinkProgram(p);
   gl.DeleteShader(v);
   gl.DeleteShader(f);
-  GLint ok = 0;
-  gl.GetProgramiv(p, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    char log[2048] = {0};
-    gl.GetProgramInfoLog(p, sizeof log, nullptr, log);
-    gl.DeleteProgram(p);
-    throw RenderError(std::string("shader program ") + name + " failed to link: " + log);
-  }
+  check_status(p, GL_LINK_STATUS, gl.GetProgramiv, gl.GetProgramInfoLog, gl.DeleteProgram,
+               std::string("shader program ") + name + " failed to link: ");
   return p;
 }
 

@@ -74,9 +74,7 @@ ControllerConfig read_controller_config(const std::string& path) {
 }
 
 void write_controller_config(const std::string& path, const ControllerConfig& c) {
-  Json j = Json::object();
-  j.set("format", "caliper-controllers");
-  j.set("version", 1);
+  Json j = format_header("caliper-controllers");
   j.set("comment",
         "Controller tip offsets in the grip frame (metres) per OpenXR interaction profile; "
         "measure yours with caliper-vr --calibrate-tip.");

@@ -413,9 +413,7 @@ std::optional<InstructionVideo> VrSession::instruction_video() const {
 
 Json VrSession::session_json() const {
   const SessionResult r = session_.result();
-  Json j = Json::object();
-  j.set("format", "caliper-session");
-  j.set("version", 1);
+  Json j = format_header("caliper-session");
   j.set("protocol", options_.protocol.name);
   j.set("role", options_.session.role);
   j.set("complete", session_.done());

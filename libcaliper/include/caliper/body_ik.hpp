@@ -250,6 +250,11 @@ class BodyIk {
   /// right) moved or turned away from it, a stepping foot moves on; then the legs are solved.
   void move_feet(const IkInput& input, const std::array<Eigen::Vector3d, 2>& goal);
   void place(int joint);  ///< joints[joint] from its parent and the parent's global rotation
+  /// Turns the bones root -> mid -> end (shoulder, elbow, wrist or hip, knee, ankle) onto `sol`,
+  /// solved from joints[root]: bone 1 towards sol.middle with its rest hinge axis `hinge` onto
+  /// sol.hinge, bone 2 towards sol.end about the same hinge; then places mid and end.
+  void pose_two_bones(int root, int mid, int end, const Eigen::Vector3d& hinge,
+                      const TwoBoneSolution& sol);
 
   IkRig rig_;
   BodyIkOptions options_;

@@ -133,6 +133,44 @@ Json parse_json(const std::string& text);
 /// Reads and parses a whole file; errors name the file (and line, column).
 Json read_json_file(const std::string& path);
 
+/// Reads the JSON file `path` and converts it with `from_json` (a callable taking `const Json&`).
+/// A JsonError or a `Caught` error is rethrown as an `Error` that names the file
+/// ("<path>: <what>"); a file that cannot be read or parsed throws JsonError (read_json_file).
+template <class Error, class Caught, class FromJson>
+auto read_json_file_as(const std::string& path, FromJson from_json) {
+  const Json j = read_json_file(path);
+  try {
+    return from_json(j);
+  } catch (const JsonError& e) {
+    throw Error(path + ": " + e.what());
+  } catch (const Caught& e) {
+    throw Error(path + ": " + e.what());
+  }
+}
+
+/// The start of one of the project's versioned JSON files: {"format": `format`, "version": 1}
+/// (what check_format_version accepts); the caller adds the file's other members.
+Json format_header(const std::string& format);
+
+/// True when `j` is an object whose "format" member is the string `format`: how the project's
+/// JSON files say what they are ("caliper-regressors", "caliper-mapping", ...).
+bool has_format(const Json& j, const std::string& format);
+
+/// Checks the start of one of the project's versioned JSON files: its format is `format` and its
+/// "version" is 1. Otherwise throws `Error`: "not a <kind>: expected "format": "<format>"" or
+/// "<kind> version <v> is not supported (this build reads version 1)" (JsonError when "version"
+/// is missing or not an integer).
+template <class Error>
+void check_format_version(const Json& j, const std::string& format, const std::string& kind) {
+  if (!has_format(j, format))
+    throw Error("not a " + kind + ": expected \"format\": \"" + format + "\"");
+  const int version = j.at("version").as_int();
+  if (version != 1) {
+    throw Error(kind + " version " + std::to_string(version) +
+                " is not supported (this build reads version 1)");
+  }
+}
+
 /// Writes `value.dump(2)` to `path` atomically (smpl::write_file_atomic: temporary file in the
 /// same folder, fsync, rename). Throws JsonError for NaN or infinity (nothing is written) and
 /// smpl::WriteError when writing fails (the previous file is then unchanged).

@@ -87,7 +87,7 @@ Protocol parse_protocol(const std::string& text, const std::string& name);
 Protocol default_protocol();
 
 /// The text of assets/protocol/virtual-caliper.json, byte for byte, embedded at build time
-/// (libcaliper/cmake/embed_protocol.cmake): the one source of default_protocol().
+/// (caliper_embed_files in cmake/CaliperOptions.cmake): the one source of default_protocol().
 const char* default_protocol_json();
 
 }  // namespace caliper

@@ -53,7 +53,8 @@ const std::vector<std::string>& editable_inputs(const Document& doc);
 void start_from_avatar(Document& doc, const std::vector<std::string>& ids,
                        const std::vector<std::string>& kept, const MeasurementMap& achieved);
 
-/// The human name of a measurement for the UI ("Arm span (fingertips)"; "Weight", "Volume").
+/// The human name of a measurement for the UI ("Arm span (fingertips)"; "Weight", "Volume"):
+/// measurement_name (app/units.hpp), under the name the editor uses.
 std::string measurement_label(const std::string& id);
 /// One line describing a regressor choice, e.g. "R4: height, weight, inseam, arm span".
 std::string describe_regressor(RegressorChoice choice);

@@ -1,6 +1,6 @@
 /// \file shader_sources.hpp
 /// GLSL sources from shaders/*.glsl, embedded at build time
-/// (apps/render/cmake/embed_shaders.cmake).
+/// (caliper_embed_files in cmake/CaliperOptions.cmake).
 #pragma once
 
 namespace caliper::render::shaders {
