@@ -950,6 +950,10 @@ void EditorApp::start_file_action(FileAction action) {
     pending_ = action == FileAction::OpenProfile ? Pending::OpenProfile : Pending::OpenSession;
     return;
   }
+  open_dialog(action);
+}
+
+void EditorApp::open_dialog(FileAction action) {
   dialog_.open(action, file_action_info(action, app::EditorCore::export_extensions()),
                last_folder_);
 }
@@ -987,11 +991,8 @@ void EditorApp::continue_pending() {
   const Pending p = pending_;
   pending_ = Pending::None;
   if (p == Pending::Quit) quit_ = true;
-  const auto open = [&](FileAction a) {
-    dialog_.open(a, file_action_info(a, app::EditorCore::export_extensions()), last_folder_);
-  };
-  if (p == Pending::OpenProfile) open(FileAction::OpenProfile);
-  if (p == Pending::OpenSession) open(FileAction::OpenSession);
+  if (p == Pending::OpenProfile) open_dialog(FileAction::OpenProfile);
+  if (p == Pending::OpenSession) open_dialog(FileAction::OpenSession);
 }
 
 void EditorApp::draw_dialogs() {

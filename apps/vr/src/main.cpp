@@ -248,6 +248,21 @@ std::string assets_dir(const Args& a) {
   return CALIPER_VR_SOURCE_ASSETS;
 }
 
+/// The measuring protocol's file: --protocol, else ASSETS/protocol/virtual-caliper.json.
+std::string protocol_path(const Args& a, const std::string& assets) {
+  return a.get("--protocol", assets + "/protocol/virtual-caliper.json");
+}
+
+/// The controllers' tip-offset file: --controllers, else ASSETS/protocol/controllers.json.
+std::string controllers_path(const Args& a, const std::string& assets) {
+  return a.get("--controllers", assets + "/protocol/controllers.json");
+}
+
+/// The folder of the body models: --models-dir, else ASSETS/models.
+std::string models_dir(const Args& a, const std::string& assets) {
+  return a.get("--models-dir", assets + "/models");
+}
+
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
@@ -266,10 +281,10 @@ VrAppOptions app_options(const Args& a, const std::string& role, const std::stri
                          const PoseLogHeader* recorded = nullptr) {
   const std::string assets = assets_dir(a);
   VrAppOptions o;
-  const std::string protocol_path = a.get("--protocol", assets + "/protocol/virtual-caliper.json");
-  o.protocol = read_protocol(protocol_path);
-  o.protocol_dir = std::filesystem::path(protocol_path).parent_path().string();
-  const std::string controllers = a.get("--controllers", assets + "/protocol/controllers.json");
+  const std::string protocol = protocol_path(a, assets);
+  o.protocol = read_protocol(protocol);
+  o.protocol_dir = std::filesystem::path(protocol).parent_path().string();
+  const std::string controllers = controllers_path(a, assets);
   o.tips = read_controller_config(controllers).offsets(profile);
   o.session.role = role;
   if (a.has("--weight")) o.session.weight = typed_weight(a, 0.0);
@@ -277,7 +292,7 @@ VrAppOptions app_options(const Args& a, const std::string& role, const std::stri
   if (recorded && !o.session.weight) o.session.weight = recorded->weight;
   if (recorded && o.session.sex.empty()) o.session.sex = recorded->sex;
   o.avatar.model_path = a.get("--model");
-  o.avatar.models_dir = a.get("--models-dir", assets + "/models");
+  o.avatar.models_dir = models_dir(a, assets);
   o.avatar.regressor = a.get("--regressor", "R5");
   o.avatar.regressors_path = a.get("--regressors");
   o.avatar.mapping_path = a.get("--mapping");
@@ -644,8 +659,7 @@ int run_replay(const Args& a) {
   std::string profile = log.header.interaction_profile;
   const PoseLogHeader recorded = log.header;
   VrAppOptions o = app_options(a, role, profile, &recorded);
-  const ControllerConfig controllers =
-      read_controller_config(a.get("--controllers", assets_dir(a) + "/protocol/controllers.json"));
+  const ControllerConfig controllers = read_controller_config(controllers_path(a, assets_dir(a)));
   const ReplaySettings s = replay_settings(a);
   ReplayDisplay display = open_replay_display(a.has("--operator-window"), s.eye_w, s.eye_h);
   render::Renderer renderer(display.ctx->gl());
@@ -696,8 +710,7 @@ int run_pivot_replay(const Args& a) {
   const std::string hand = a.get("--calibrate-tip");
   if (hand != "left" && hand != "right")
     throw std::invalid_argument("--calibrate-tip needs left or right");
-  const std::string controllers =
-      a.get("--controllers", assets_dir(a) + "/protocol/controllers.json");
+  const std::string controllers = controllers_path(a, assets_dir(a));
   PivotCollector pivot(hand == "left" ? Tip::Left : Tip::Right);
   for (const PoseFrame& f : log.frames) {
     const std::optional<PivotCalibration> r = pivot.feed(f);
@@ -724,11 +737,9 @@ int run_pivot_replay(const Args& a) {
 
 int run_simulate(const Args& a) {
   const std::string assets = assets_dir(a);
-  const Protocol protocol =
-      read_protocol(a.get("--protocol", assets + "/protocol/virtual-caliper.json"));
+  const Protocol protocol = read_protocol(protocol_path(a, assets));
   const std::string sex = a.get("--sex", "female");
-  const std::string model_path =
-      a.get("--model", default_model_path(a.get("--models-dir", assets + "/models"), sex));
+  const std::string model_path = a.get("--model", default_model_path(models_dir(a, assets), sex));
   const smpl::BodyModel model = smpl::load_model(model_path);
   Eigen::VectorXd betas = Eigen::VectorXd::Zero(model.num_betas());
   {
@@ -754,8 +765,7 @@ int run_simulate(const Args& a) {
   o.typed_in_log = a.get("--typed-in-log", "yes") != "no";
   o.motions = a.has("--motions");
   if (a.has("--profile")) o.interaction_profile = a.get("--profile");
-  const ControllerConfig cc =
-      read_controller_config(a.get("--controllers", assets + "/protocol/controllers.json"));
+  const ControllerConfig cc = read_controller_config(controllers_path(a, assets));
   o.tip_offsets = cc.offsets(o.interaction_profile);
   const SimulatedSession sim = simulate_session(protocol, person, o);
   write_pose_log(a.get("--simulate"), sim.log);
@@ -787,7 +797,7 @@ int run_live(const Args& a) {
   live.operator_window = a.has("--operator-window");
   live.record_path = a.get("--record");
   live.calibrate_tip = a.get("--calibrate-tip");
-  live.controllers_path = a.get("--controllers", assets + "/protocol/controllers.json");
+  live.controllers_path = controllers_path(a, assets);
   live.make_app_options = [&a, role = live.role](const std::string& profile) {
     return app_options(a, role, profile);
   };
