@@ -610,16 +610,18 @@ void print_replay_summary(const ReplayTimes& t, const ReplaySettings& s, const E
 /// The --embodiment-report: how well the avatar followed the tracking, overall and per frame,
 /// and the names of the snapshots saved.
 Json embodiment_report(const EmbodimentStats& e, const std::map<std::string, bool>& saved) {
+  const Json::Object totals = {
+      {"frames", e.frames},
+      {"reachable_wrists", e.reachable_wrists},
+      {"max_wrist_error_m", e.max_wrist_error},
+      {"hands_in_torso_frames", e.hands_in_torso},
+      {"limit_violations", e.limit_violations},
+      {"max_joint_step_m", e.max_joint_step},
+      {"max_joint_step_dt_s", e.max_step_dt},
+      {"ik_cpu_ms_per_frame",
+       e.frames > 0 ? 1e3 * e.ik_cpu_seconds / static_cast<double>(e.frames) : 0.0}};
   Json j = Json::object();
-  j.set("frames", e.frames);
-  j.set("reachable_wrists", e.reachable_wrists);
-  j.set("max_wrist_error_m", e.max_wrist_error);
-  j.set("hands_in_torso_frames", e.hands_in_torso);
-  j.set("limit_violations", e.limit_violations);
-  j.set("max_joint_step_m", e.max_joint_step);
-  j.set("max_joint_step_dt_s", e.max_step_dt);
-  j.set("ik_cpu_ms_per_frame",
-        e.frames > 0 ? 1e3 * e.ik_cpu_seconds / static_cast<double>(e.frames) : 0.0);
+  for (const auto& [key, value] : totals) j.set(key, value);
   Json t = Json::array(), we = Json::array(), in = Json::array(), st = Json::array(),
        lv = Json::array();
   for (const EmbodimentStats::Frame& f : e.per_frame) {
