@@ -12,7 +12,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 #include <sstream>
+#include <utility>
 
 #include "render/camera.hpp"
 #include "render/colour_map.hpp"
@@ -333,24 +335,153 @@ void place_labels(std::vector<render::Label>& labels, const render::View& view) 
   labels.insert(labels.end(), out.begin(), out.end());
 }
 
+/// A label in screen pixels at (12, y) from the scene's top left corner.
+render::Label corner_label(const std::string& text, float y) {
+  render::Label l;
+  l.text = text;
+  l.screen = true;
+  l.anchor = {12, y, 0};
+  return l;
+}
+
+/// Adds a height ruler standing on the floor grid behind the avatar's right side: a tick every
+/// 10 cm (imperial: every 4 in), a label every 50 cm (every foot), and a line level with the top
+/// of the head (`vertices`: the avatar's, floor at y = 0).
+void add_height_ruler(render::Scene& s, const smpl::Vertices& vertices, app::UnitSystem units) {
+  const bool imperial = units == app::UnitSystem::Imperial;
+  const double step = imperial ? 0.1016 : 0.1;  // 4 in or 10 cm
+  const int label_every = imperial ? 3 : 5;
+  const float rx = -0.75f, rz = -0.35f;
+  render::Line post;
+  post.a = {rx, 0, rz};
+  post.b = {rx, 2.1f, rz};
+  post.colour = {0.35f, 0.35f, 0.4f, 1};
+  s.lines.push_back(post);
+  for (int i = 1; i * step <= 2.1; ++i) {
+    const float y = static_cast<float>(i * step);
+    const bool major = i % label_every == 0;
+    render::Line tick;
+    tick.a = {rx, y, rz};
+    tick.b = {rx + (major ? 0.08f : 0.04f), y, rz};
+    tick.colour = post.colour;
+    s.lines.push_back(tick);
+    if (major) {
+      render::Label l;
+      char buf[32];
+      if (imperial)
+        std::snprintf(buf, sizeof buf, "%d ft", i / label_every);
+      else
+        std::snprintf(buf, sizeof buf, "%.1f m", y);
+      l.text = buf;
+      l.anchor = {rx - 0.22f, y, rz};
+      l.scale = 1.3f;
+      l.colour = {0.3f, 0.3f, 0.35f, 1};
+      s.labels.push_back(l);
+    }
+  }
+  // The avatar's height, level with the top of the head.
+  const float top = static_cast<float>(vertices.col(1).maxCoeff());
+  render::Line head;
+  head.a = {rx, top, rz};
+  head.b = {0, top, rz};
+  head.colour = {0.85f, 0.35f, 0.1f, 1};
+  s.lines.push_back(head);
+}
+
+/// The two ends of the overlay line of measurement `def` (input `id`) on `av`, or nothing when
+/// a landmark is missing or cannot be evaluated. Heights are a vertical line to the floor:
+/// straight down from the crotch for the inseam, beside the legs (the subject's right) for the
+/// other heights.
+std::optional<std::pair<Eigen::Vector3d, Eigen::Vector3d>> overlay_ends(const LandmarkTable& lm,
+                                                                        const app::AvatarView& av,
+                                                                        const MeasurementDef& def,
+                                                                        const std::string& id) {
+  auto point = [&](const std::string& name, Eigen::Vector3d& p) {
+    auto it = lm.find(name);
+    if (it == lm.end()) return false;
+    try {
+      p = landmark_point(av.vertices, it->second);
+    } catch (const std::exception&) {
+      return false;
+    }
+    return true;
+  };
+  Eigen::Vector3d a, b;
+  if (!point(def.from, a)) return std::nullopt;
+  if (def.kind == MeasurementKind::Height) {
+    double x = a.x();
+    if (id != "inseam_height") {
+      const double knee = 0.3 * av.vertices.col(1).maxCoeff();
+      double leg_min = 0;
+      for (Eigen::Index v = 0; v < av.vertices.rows(); ++v) {
+        if (av.vertices(v, 1) < knee) leg_min = std::min(leg_min, av.vertices(v, 0));
+      }
+      x = leg_min - 0.3;
+    }
+    b = Eigen::Vector3d(x, 0, a.z());
+    a = Eigen::Vector3d(x, a.y(), a.z());
+  } else if (!point(def.to, b)) {
+    return std::nullopt;
+  }
+  return std::make_pair(a, b);
+}
+
+/// Adds the measurement overlay: a line with end dots for each input of the current regressor /
+/// level, labelled with its human name and the avatar's value, and the weight (with the typed
+/// one when they differ) in the corner at `weight_y`.
+void add_measurement_overlay(render::Scene& s, const app::EditorCore& core, float weight_y) {
+  const app::AvatarView& av = core.avatar();
+  const render::Rgba line_colour{0.1f, 0.3f, 0.85f, 1};
+  const render::Rgba dot_colour{0.85f, 0.15f, 0.1f, 1};
+  for (const std::string& id : core.editable_inputs()) {
+    if (id == "weight") continue;
+    const MeasurementDef* def = nullptr;
+    for (const MeasurementDef& d : paper_measurements()) {
+      if (d.id == id) def = &d;
+    }
+    if (def == nullptr) continue;
+    const auto ends = overlay_ends(core.model().landmarks, av, *def, id);
+    if (!ends) continue;
+    render::Line l;
+    l.a = ends->first.cast<float>();
+    l.b = ends->second.cast<float>();
+    l.colour = line_colour;
+    s.lines.push_back(l);
+    s.points.push_back({l.a, dot_colour, 7});
+    s.points.push_back({l.b, dot_colour, 7});
+    auto it = av.achieved.find(id);
+    if (it != av.achieved.end()) {
+      render::Label label;
+      label.text = app::measurement_label(id) + " " + display(core, id, it->second);
+      label.anchor = ((l.a + l.b) / 2);
+      label.colour = {0.05f, 0.1f, 0.4f, 1};
+      label.scale = kLabelScale;
+      s.labels.push_back(label);
+    }
+  }
+  if (auto w = av.achieved.find("weight"); w != av.achieved.end()) {
+    std::string text = "Weight " + display(core, "weight", w->second);
+    if (auto typed = core.state().values.find("weight");
+        typed != core.state().values.end() && std::abs(typed->second - w->second) >= 0.05) {
+      text += " (typed " + display(core, "weight", typed->second) + ")";
+    }
+    s.labels.push_back(corner_label(text, weight_y));
+  }
+}
+
 }  // namespace
 
 render::Scene EditorApp::build_scene(bool comparison_side, const render::View& view) const {
   render::Scene s;
   s.grid.extent = 1.5f;
   if (!core_.has_model()) return s;
-  const app::AvatarView& av = core_.avatar();
   const app::ViewSettings& vs = core_.view();
   render::MeshInstance inst;
   if (comparison_side) {
     inst.mesh = pinned_mesh_;
     inst.colour = {0.62f, 0.70f, 0.82f, 1};
     s.meshes.push_back(inst);
-    render::Label l;
-    l.text = core_.comparison() ? core_.comparison()->label : "";
-    l.screen = true;
-    l.anchor = {12, 12, 0};
-    s.labels.push_back(l);
+    s.labels.push_back(corner_label(core_.comparison() ? core_.comparison()->label : "", 12));
     return s;
   }
   inst.mesh = avatar_mesh_;
@@ -367,126 +498,10 @@ render::Scene EditorApp::build_scene(bool comparison_side, const render::View& v
   } else if (vs.colour == app::ColourMode::Uncertainty) {
     s.legend = {true, "posterior SD (cm)", 0, kUncertaintyRange * 100, render::kColourMapHeat};
   }
-  if (vs.compare == app::CompareMode::SideBySide) {
-    render::Label l;
-    l.text = "current";
-    l.screen = true;
-    l.anchor = {12, 12, 0};
-    s.labels.push_back(l);
-  }
-  const render::Rgba line_colour{0.1f, 0.3f, 0.85f, 1};
-  const render::Rgba dot_colour{0.85f, 0.15f, 0.1f, 1};
-  if (vs.fixed_scale) {
-    // A height ruler standing on the floor grid behind the avatar's right side: a tick every
-    // 10 cm (1 in the imperial view: every 4 in), a label every 50 cm (every foot).
-    const bool imperial = vs.units == app::UnitSystem::Imperial;
-    const double step = imperial ? 0.1016 : 0.1;  // 4 in or 10 cm
-    const int label_every = imperial ? 3 : 5;
-    const float rx = -0.75f, rz = -0.35f;
-    render::Line post;
-    post.a = {rx, 0, rz};
-    post.b = {rx, 2.1f, rz};
-    post.colour = {0.35f, 0.35f, 0.4f, 1};
-    s.lines.push_back(post);
-    for (int i = 1; i * step <= 2.1; ++i) {
-      const float y = static_cast<float>(i * step);
-      const bool major = i % label_every == 0;
-      render::Line tick;
-      tick.a = {rx, y, rz};
-      tick.b = {rx + (major ? 0.08f : 0.04f), y, rz};
-      tick.colour = post.colour;
-      s.lines.push_back(tick);
-      if (major) {
-        render::Label l;
-        char buf[32];
-        if (imperial)
-          std::snprintf(buf, sizeof buf, "%d ft", i / label_every);
-        else
-          std::snprintf(buf, sizeof buf, "%.1f m", y);
-        l.text = buf;
-        l.anchor = {rx - 0.22f, y, rz};
-        l.scale = 1.3f;
-        l.colour = {0.3f, 0.3f, 0.35f, 1};
-        s.labels.push_back(l);
-      }
-    }
-    // The avatar's height, level with the top of the head.
-    const float top = static_cast<float>(av.vertices.col(1).maxCoeff());
-    render::Line head;
-    head.a = {rx, top, rz};
-    head.b = {0, top, rz};
-    head.colour = {0.85f, 0.35f, 0.1f, 1};
-    s.lines.push_back(head);
-  }
-  if (vs.overlay) {
-    // Measurement overlay: the inputs of the current regressor / level, with their human names
-    // and the avatar's values.
-    const LandmarkTable& lm = core_.model().landmarks;
-    auto point = [&](const std::string& name, Eigen::Vector3d& p) {
-      auto it = lm.find(name);
-      if (it == lm.end()) return false;
-      try {
-        p = landmark_point(av.vertices, it->second);
-      } catch (const std::exception&) {
-        return false;
-      }
-      return true;
-    };
-    for (const std::string& id : core_.editable_inputs()) {
-      if (id == "weight") continue;
-      const MeasurementDef* def = nullptr;
-      for (const MeasurementDef& d : paper_measurements()) {
-        if (d.id == id) def = &d;
-      }
-      if (def == nullptr) continue;
-      Eigen::Vector3d a, b;
-      if (!point(def->from, a)) continue;
-      if (def->kind == MeasurementKind::Height) {
-        // A vertical line from the landmark's height to the floor: straight down from the
-        // crotch for the inseam, beside the legs (the subject's right) for the other heights.
-        double x = a.x();
-        if (id != "inseam_height") {
-          const double knee = 0.3 * av.vertices.col(1).maxCoeff();
-          double leg_min = 0;
-          for (Eigen::Index v = 0; v < av.vertices.rows(); ++v) {
-            if (av.vertices(v, 1) < knee) leg_min = std::min(leg_min, av.vertices(v, 0));
-          }
-          x = leg_min - 0.3;
-        }
-        b = Eigen::Vector3d(x, 0, a.z());
-        a = Eigen::Vector3d(x, a.y(), a.z());
-      } else if (!point(def->to, b)) {
-        continue;
-      }
-      render::Line l;
-      l.a = a.cast<float>();
-      l.b = b.cast<float>();
-      l.colour = line_colour;
-      s.lines.push_back(l);
-      s.points.push_back({l.a, dot_colour, 7});
-      s.points.push_back({l.b, dot_colour, 7});
-      auto it = av.achieved.find(id);
-      if (it != av.achieved.end()) {
-        render::Label label;
-        label.text = app::measurement_label(id) + " " + display(core_, id, it->second);
-        label.anchor = ((l.a + l.b) / 2);
-        label.colour = {0.05f, 0.1f, 0.4f, 1};
-        label.scale = kLabelScale;
-        s.labels.push_back(label);
-      }
-    }
-    if (auto w = av.achieved.find("weight"); w != av.achieved.end()) {
-      render::Label label;
-      label.text = "Weight " + display(core_, "weight", w->second);
-      if (auto typed = core_.state().values.find("weight");
-          typed != core_.state().values.end() && std::abs(typed->second - w->second) >= 0.05) {
-        label.text += " (typed " + display(core_, "weight", typed->second) + ")";
-      }
-      label.screen = true;
-      label.anchor = {12, vs.compare == app::CompareMode::SideBySide ? 34.0f : 12.0f, 0};
-      s.labels.push_back(label);
-    }
-  }
+  const bool side_by_side = vs.compare == app::CompareMode::SideBySide;
+  if (side_by_side) s.labels.push_back(corner_label("current", 12));
+  if (vs.fixed_scale) add_height_ruler(s, core_.avatar().vertices, vs.units);
+  if (vs.overlay) add_measurement_overlay(s, core_, side_by_side ? 34.0f : 12.0f);
   place_labels(s.labels, view);
   return s;
 }
@@ -935,6 +950,10 @@ void EditorApp::start_file_action(FileAction action) {
     pending_ = action == FileAction::OpenProfile ? Pending::OpenProfile : Pending::OpenSession;
     return;
   }
+  open_dialog(action);
+}
+
+void EditorApp::open_dialog(FileAction action) {
   dialog_.open(action, file_action_info(action, app::EditorCore::export_extensions()),
                last_folder_);
 }
@@ -972,11 +991,8 @@ void EditorApp::continue_pending() {
   const Pending p = pending_;
   pending_ = Pending::None;
   if (p == Pending::Quit) quit_ = true;
-  const auto open = [&](FileAction a) {
-    dialog_.open(a, file_action_info(a, app::EditorCore::export_extensions()), last_folder_);
-  };
-  if (p == Pending::OpenProfile) open(FileAction::OpenProfile);
-  if (p == Pending::OpenSession) open(FileAction::OpenSession);
+  if (p == Pending::OpenProfile) open_dialog(FileAction::OpenProfile);
+  if (p == Pending::OpenSession) open_dialog(FileAction::OpenSession);
 }
 
 void EditorApp::draw_dialogs() {

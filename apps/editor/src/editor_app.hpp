@@ -84,6 +84,8 @@ class EditorApp {
   /// Opens the dialog of `action`; opening a profile or session asks first when work is
   /// unsaved.
   void start_file_action(FileAction action);
+  /// Opens the file dialog of `action` in the last folder a file was chosen in.
+  void open_dialog(FileAction action);
   void finish_file_action(FileAction action, const std::string& path);
   void continue_pending();
   bool button(const char* label, bool enabled = true);

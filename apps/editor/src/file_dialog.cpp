@@ -159,113 +159,133 @@ std::optional<fs::path> FileDialog::draw(UiProbe& probe) {
       ImGuiCond_Appearing);
   ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x / 2, io.DisplaySize.y / 2), ImGuiCond_Appearing,
                           ImVec2(0.5f, 0.5f));
-  std::optional<fs::path> chosen;
   if (!ImGui::BeginPopupModal(id.c_str(), nullptr, ImGuiWindowFlags_NoSavedSettings)) {
     open_ = false;  // closed by ImGui (e.g. the popup stack was cleared)
     return std::nullopt;
   }
-  if (confirm_overwrite_) {
-    ImGui::TextWrapped("%s already exists. Replace it?", confirm_overwrite_->string().c_str());
-    const bool replace = ImGui::Button("Replace");
-    probe.track("Replace");
-    if (replace) chosen = accept(name_);
-    ImGui::SameLine();
-    const bool keep = ImGui::Button("Keep the file");
-    probe.track("Keep the file");
-    if (keep || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape)))
-      confirm_overwrite_.reset();
-  } else {
-    // Folder: editable path, Up, and the list of folders and matching files.
-    if (ImGui::Button("Up")) {
-      if (folder_.has_parent_path() && folder_.parent_path() != folder_) {
-        folder_ = folder_.parent_path();
-        list_folder();
-      }
-    }
-    probe.track("Up");
-    ImGui::SameLine();
-    ImGui::SetNextItemWidth(-1);
-    if (ImGui::InputText("##folder", folder_text_, sizeof folder_text_,
-                         ImGuiInputTextFlags_EnterReturnsTrue)) {
-      std::error_code ec;
-      if (fs::is_directory(folder_text_, ec)) {
-        folder_ = folder_text_;
-        error_.clear();
-        list_folder();
-      } else {
-        error_ = std::string(folder_text_) + " is not a folder";
-      }
-    }
-    probe.track("##folder");
-    const float footer = ImGui::GetFrameHeightWithSpacing() * 3 + ImGui::GetTextLineHeight() * 2;
-    ImGui::BeginChild("##entries", ImVec2(0, -footer), true);
-    std::optional<std::string> enter;
-    for (const std::string& f : folders_) {
-      const std::string label = "[folder] " + f;
-      if (ImGui::Selectable(label.c_str(), false, ImGuiSelectableFlags_AllowDoubleClick) &&
-          ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left))
-        enter = f;
-      probe.track(label.c_str());
-    }
-    for (const std::string& f : files_) {
-      const bool selected = f == name_;
-      if (ImGui::Selectable(f.c_str(), selected, ImGuiSelectableFlags_AllowDoubleClick)) {
-        copy_text(name_, sizeof name_, f);
-        if (ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left)) chosen = accept(name_);
-      }
-      probe.track(f.c_str());
-    }
-    if (folders_.empty() && files_.empty())
-      ImGui::TextDisabled("no folders or %s files here", join(info_.extensions).c_str());
-    ImGui::EndChild();
-    if (enter) {
-      folder_ /= *enter;
-      list_folder();
-    }
-    // Name, type, buttons.
-    ImGui::SetNextItemWidth(info_.extensions.size() > 1 && info_.save ? -130.0f : -1.0f);
-    if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
-    const bool typed_enter =
-        ImGui::InputText("##name", name_, sizeof name_, ImGuiInputTextFlags_EnterReturnsTrue);
-    probe.track("##name");
-    if (info_.extensions.size() > 1 && info_.save) {
-      ImGui::SameLine();
-      ImGui::SetNextItemWidth(-1);
-      const std::string current = info_.extensions[static_cast<size_t>(extension_)];
-      if (ImGui::BeginCombo("##type", current.c_str())) {
-        for (size_t i = 0; i < info_.extensions.size(); ++i) {
-          if (ImGui::Selectable(info_.extensions[i].c_str(), static_cast<int>(i) == extension_)) {
-            extension_ = static_cast<int>(i);
-            // The name follows the chosen type.
-            fs::path n(name_);
-            if (!n.extension().empty()) {
-              n.replace_extension(info_.extensions[i]);
-              copy_text(name_, sizeof name_, n.string());
-            }
-          }
-        }
-        ImGui::EndCombo();
-      }
-      probe.track("##type");
-    }
-    ImGui::TextDisabled("%s files; a name without a folder goes to the folder above",
-                        join(info_.extensions).c_str());
-    if (!error_.empty()) ImGui::TextColored(ImVec4(0.8f, 0.1f, 0.1f, 1), "%s", error_.c_str());
-    const bool ok = ImGui::Button(info_.button.c_str());
-    probe.track(info_.button.c_str());
-    if (ok || typed_enter) {
-      error_.clear();
-      chosen = accept(name_);
-    }
-    ImGui::SameLine();
-    const bool cancel = ImGui::Button("Cancel");
-    probe.track("Cancel");
-    if (cancel || (!io.WantTextInput && ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))))
-      open_ = false;
-  }
+  const std::optional<fs::path> chosen =
+      confirm_overwrite_ ? draw_overwrite_question(probe) : draw_browser(probe);
   if (!open_) ImGui::CloseCurrentPopup();
   ImGui::EndPopup();
   return chosen;
+}
+
+std::optional<fs::path> FileDialog::draw_overwrite_question(UiProbe& probe) {
+  std::optional<fs::path> chosen;
+  ImGui::TextWrapped("%s already exists. Replace it?", confirm_overwrite_->string().c_str());
+  const bool replace = ImGui::Button("Replace");
+  probe.track("Replace");
+  if (replace) chosen = accept(name_);
+  ImGui::SameLine();
+  const bool keep = ImGui::Button("Keep the file");
+  probe.track("Keep the file");
+  if (keep || ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) confirm_overwrite_.reset();
+  return chosen;
+}
+
+std::optional<fs::path> FileDialog::draw_browser(UiProbe& probe) {
+  draw_folder_bar(probe);
+  std::optional<fs::path> chosen = draw_entries(probe);
+  const bool typed_enter = draw_name_and_type(probe);
+  ImGui::TextDisabled("%s files; a name without a folder goes to the folder above",
+                      join(info_.extensions).c_str());
+  if (!error_.empty()) ImGui::TextColored(ImVec4(0.8f, 0.1f, 0.1f, 1), "%s", error_.c_str());
+  const bool ok = ImGui::Button(info_.button.c_str());
+  probe.track(info_.button.c_str());
+  if (ok || typed_enter) {
+    error_.clear();
+    chosen = accept(name_);
+  }
+  ImGui::SameLine();
+  const bool cancel = ImGui::Button("Cancel");
+  probe.track("Cancel");
+  if (cancel ||
+      (!ImGui::GetIO().WantTextInput && ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))))
+    open_ = false;
+  return chosen;
+}
+
+void FileDialog::draw_folder_bar(UiProbe& probe) {
+  if (ImGui::Button("Up")) {
+    if (folder_.has_parent_path() && folder_.parent_path() != folder_) {
+      folder_ = folder_.parent_path();
+      list_folder();
+    }
+  }
+  probe.track("Up");
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(-1);
+  if (ImGui::InputText("##folder", folder_text_, sizeof folder_text_,
+                       ImGuiInputTextFlags_EnterReturnsTrue)) {
+    std::error_code ec;
+    if (fs::is_directory(folder_text_, ec)) {
+      folder_ = folder_text_;
+      error_.clear();
+      list_folder();
+    } else {
+      error_ = std::string(folder_text_) + " is not a folder";
+    }
+  }
+  probe.track("##folder");
+}
+
+std::optional<fs::path> FileDialog::draw_entries(UiProbe& probe) {
+  std::optional<fs::path> chosen;
+  const float footer = ImGui::GetFrameHeightWithSpacing() * 3 + ImGui::GetTextLineHeight() * 2;
+  ImGui::BeginChild("##entries", ImVec2(0, -footer), true);
+  std::optional<std::string> enter;
+  for (const std::string& f : folders_) {
+    const std::string label = "[folder] " + f;
+    if (ImGui::Selectable(label.c_str(), false, ImGuiSelectableFlags_AllowDoubleClick) &&
+        ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left))
+      enter = f;
+    probe.track(label.c_str());
+  }
+  for (const std::string& f : files_) {
+    const bool selected = f == name_;
+    if (ImGui::Selectable(f.c_str(), selected, ImGuiSelectableFlags_AllowDoubleClick)) {
+      copy_text(name_, sizeof name_, f);
+      if (ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left)) chosen = accept(name_);
+    }
+    probe.track(f.c_str());
+  }
+  if (folders_.empty() && files_.empty())
+    ImGui::TextDisabled("no folders or %s files here", join(info_.extensions).c_str());
+  ImGui::EndChild();
+  if (enter) {
+    folder_ /= *enter;
+    list_folder();
+  }
+  return chosen;
+}
+
+bool FileDialog::draw_name_and_type(UiProbe& probe) {
+  const bool choose_type = info_.extensions.size() > 1 && info_.save;
+  ImGui::SetNextItemWidth(choose_type ? -130.0f : -1.0f);
+  if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
+  const bool typed_enter =
+      ImGui::InputText("##name", name_, sizeof name_, ImGuiInputTextFlags_EnterReturnsTrue);
+  probe.track("##name");
+  if (!choose_type) return typed_enter;
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(-1);
+  const std::string current = info_.extensions[static_cast<size_t>(extension_)];
+  if (ImGui::BeginCombo("##type", current.c_str())) {
+    for (size_t i = 0; i < info_.extensions.size(); ++i) {
+      if (ImGui::Selectable(info_.extensions[i].c_str(), static_cast<int>(i) == extension_)) {
+        extension_ = static_cast<int>(i);
+        // The name follows the chosen type.
+        fs::path n(name_);
+        if (!n.extension().empty()) {
+          n.replace_extension(info_.extensions[i]);
+          copy_text(name_, sizeof name_, n.string());
+        }
+      }
+    }
+    ImGui::EndCombo();
+  }
+  probe.track("##type");
+  return typed_enter;
 }
 
 }  // namespace caliper::editor

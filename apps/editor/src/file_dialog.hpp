@@ -53,6 +53,18 @@ class FileDialog {
  private:
   void list_folder();
   std::optional<std::filesystem::path> accept(const std::string& name);
+  /// The "already exists. Replace it?" question; returns the path when Replace is pressed.
+  std::optional<std::filesystem::path> draw_overwrite_question(UiProbe& probe);
+  /// Folder bar, entries, name, type and buttons; returns the path once the user accepts one.
+  std::optional<std::filesystem::path> draw_browser(UiProbe& probe);
+  /// Up and the editable folder path (Enter goes to a typed folder, else an error is shown).
+  void draw_folder_bar(UiProbe& probe);
+  /// The folders (double click enters one) and matching files (click names it, double click
+  /// accepts it) of the current folder; returns the path of an accepted file.
+  std::optional<std::filesystem::path> draw_entries(UiProbe& probe);
+  /// The name field and, when saving with several types, the type list (the name's extension
+  /// follows it); returns true when Enter was pressed in the name field.
+  bool draw_name_and_type(UiProbe& probe);
 
   bool open_ = false, just_opened_ = false;
   FileAction action_ = FileAction::OpenProfile;

@@ -148,6 +148,17 @@ std::vector<std::string> read_script(const std::string& path) {
   return lines;
 }
 
+/// Runs line `frame` of `script` (nothing when the script is shorter); when the command fails,
+/// prints the core's message on stderr and returns false.
+bool run_script_line(caliper::editor::EditorApp& app, const EditorCore& core,
+                     const std::vector<std::string>& script, int frame) {
+  if (frame >= static_cast<int>(script.size()) ||
+      app.run_command(script[static_cast<size_t>(frame)]))
+    return true;
+  std::fprintf(stderr, "caliper-editor: %s\n", core.messages().back().text.c_str());
+  return false;
+}
+
 int run_headless(EditorCore& core, const Options& o, const std::vector<std::string>& script) {
   const int w = o.width > 0 ? o.width : 1600, h = o.height > 0 ? o.height : 1000;
   caliper::render::OffscreenRenderer off(w, h, 4);
@@ -162,10 +173,7 @@ int run_headless(EditorCore& core, const Options& o, const std::vector<std::stri
     caliper::editor::EditorApp app(core, off.context().gl());
     const int frames = static_cast<int>(script.size()) + (o.frames >= 0 ? o.frames : 2);
     for (int f = 0; f < frames; ++f) {
-      if (f < static_cast<int>(script.size()) && !app.run_command(script[static_cast<size_t>(f)])) {
-        ++failures;
-        std::fprintf(stderr, "caliper-editor: %s\n", core.messages().back().text.c_str());
-      }
+      if (!run_script_line(app, core, script, f)) ++failures;
       off.bind();
       app.frame(w, h);
       off.resolve();
@@ -231,32 +239,24 @@ constexpr int kFramesAfterInput = 4;
 /// waits again without drawing.
 constexpr double kIdleWakeSeconds = 0.5;
 
-int run_window(EditorCore& core, const Options& o, const std::vector<std::string>& script) {
-  const std::string cfg_path = o.no_config ? "" : caliper::editor::config_path();
-  caliper::editor::EditorConfig cfg = caliper::editor::load_config(cfg_path);
-  if (auto u = caliper::app::parse_unit_system(cfg.units)) core.view().units = *u;
-  const int w = o.width > 0 ? o.width : cfg.window_width;
-  const int h = o.height > 0 ? o.height : cfg.window_height;
-  caliper::render::GlfwWindowContext window(w, h, "The Virtual Caliper - editor");
-  GLFWwindow* win = window.window();
-  // A remembered or default size larger than the screen (1600x1000 on a 1366x768 laptop) would
-  // put the panel's bottom and the status bar off-screen: shrink the window to the work area.
-  if (o.width <= 0) {
-    if (GLFWmonitor* monitor = glfwGetPrimaryMonitor()) {
-      int x = 0, y = 0, area_w = 0, area_h = 0;
-      glfwGetMonitorWorkarea(monitor, &x, &y, &area_w, &area_h);
-      // Room for the window manager's title bar and borders.
-      constexpr int kDecoration = 40;
-      if (area_w > 0 && area_h > kDecoration && (w > area_w || h > area_h - kDecoration)) {
-        glfwSetWindowSize(win, std::min(w, area_w), std::min(h, area_h - kDecoration));
-        glfwSetWindowPos(win, x, y + kDecoration / 2);
-      }
-    }
+/// A remembered or default size larger than the screen (1600x1000 on a 1366x768 laptop) would
+/// put the panel's bottom and the status bar off-screen: shrinks the window to the primary
+/// monitor's work area (w x h: its current size).
+void fit_to_work_area(GLFWwindow* win, int w, int h) {
+  GLFWmonitor* monitor = glfwGetPrimaryMonitor();
+  if (!monitor) return;
+  int x = 0, y = 0, area_w = 0, area_h = 0;
+  glfwGetMonitorWorkarea(monitor, &x, &y, &area_w, &area_h);
+  // Room for the window manager's title bar and borders.
+  constexpr int kDecoration = 40;
+  if (area_w > 0 && area_h > kDecoration && (w > area_w || h > area_h - kDecoration)) {
+    glfwSetWindowSize(win, std::min(w, area_w), std::min(h, area_h - kDecoration));
+    glfwSetWindowPos(win, x, y + kDecoration / 2);
   }
-  ImGui::CreateContext();
-  ImGuiIO& io = ImGui::GetIO();
-  io.IniFilename = nullptr;
-  ImGui_ImplGlfw_InitForOpenGL(win, true);
+}
+
+/// Puts the input glue (g_input) between GLFW and ImGui's callbacks, which must be installed.
+void install_input_glue(GLFWwindow* win) {
   g_input.imgui_key = glfwSetKeyCallback(win, on_key);
   g_input.imgui_char = glfwSetCharCallback(win, on_char);
   g_input.imgui_button = glfwSetMouseButtonCallback(win, on_button);
@@ -264,80 +264,113 @@ int run_window(EditorCore& core, const Options& o, const std::vector<std::string
   g_input.prev_cursor = glfwSetCursorPosCallback(win, on_cursor);
   glfwSetWindowRefreshCallback(win, on_window);
   glfwSetFramebufferSizeCallback(win, on_size);
+}
+
+/// Mouse input that ImGui's windows did not take: a left drag orbits, the wheel zooms.
+void mouse_to_camera(caliper::editor::EditorApp& app, const ImGuiIO& io) {
+  if (!io.WantCaptureMouse && ImGui::IsMouseDragging(ImGuiMouseButton_Left)) {
+    app.orbit(io.MouseDelta.x, io.MouseDelta.y);
+  }
+  if (!io.WantCaptureMouse && io.MouseWheel != 0) {
+    app.camera().zoom *= io.MouseWheel > 0 ? 1.1f : 1 / 1.1f;
+  }
+}
+
+/// Writes the screenshot the app asked for (if any) from the window and posts the outcome to the
+/// core; returns true when there was a request.
+bool save_requested_screenshot(caliper::render::GlfwWindowContext& window,
+                               caliper::editor::EditorApp& app, EditorCore& core) {
+  if (app.screenshot_request().empty()) return false;
+  try {
+    caliper::render::write_png(window.read_pixels(), app.screenshot_request());
+    core.post(caliper::app::Message::Level::Info, "saved screenshot " + app.screenshot_request());
+  } catch (const std::exception& e) {
+    core.post(caliper::app::Message::Level::Error,
+              "could not save the screenshot " + app.screenshot_request() + ": " + e.what());
+  }
+  app.screenshot_request().clear();
+  return true;
+}
+
+/// Draws the window's frames until it is closed, quit, --exit-after has passed since `started`,
+/// or the script and --frames are done; returns the number of failed script lines.
+int window_loop(caliper::render::GlfwWindowContext& window, caliper::editor::EditorApp& app,
+                EditorCore& core, const Options& o, const std::vector<std::string>& script,
+                std::chrono::steady_clock::time_point started) {
+  GLFWwindow* win = window.window();
+  ImGuiIO& io = ImGui::GetIO();
+  int failures = 0;
+  int frame = 0;
+  int busy = kFramesAfterInput;
+  std::uint64_t seen_revision = core.revision();
+  size_t seen_messages = core.messages().size();
+  while (true) {
+    const bool scripted = frame < static_cast<int>(script.size()) || o.frames >= 0;
+    if (busy > 0 || scripted || o.no_idle_wait || app.animating()) {
+      glfwPollEvents();
+    } else {
+      glfwWaitEventsTimeout(kIdleWakeSeconds);
+    }
+    if (g_input.event) {
+      busy = kFramesAfterInput;
+      g_input.event = false;
+    }
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    if (o.exit_after >= 0 && elapsed >= o.exit_after) break;
+    if (window.should_close()) {  // the close button: ask first when work is unsaved
+      glfwSetWindowShouldClose(win, GLFW_FALSE);
+      app.request_quit();
+      busy = kFramesAfterInput;
+    }
+    if (app.quit_requested()) break;
+    if (busy <= 0 && !scripted && !o.no_idle_wait && !app.animating()) continue;
+    ImGui_ImplGlfw_NewFrame();
+    io.DeltaTime = std::min(io.DeltaTime, 1.0f / 20.0f);  // no jump after an idle wait
+    if (!run_script_line(app, core, script, frame)) ++failures;
+    mouse_to_camera(app, io);
+    app.frame(window.width(), window.height());
+    ++frame;
+    --busy;
+    // Releases held back for a quick tap reach ImGui now, after it saw the key down.
+    for (const caliper::editor::KeyTaps::Key& k : g_input.taps.frame_done()) {
+      if (g_input.imgui_key) g_input.imgui_key(win, k.key, k.scancode, GLFW_RELEASE, k.mods);
+      busy = std::max(busy, 2);
+    }
+    if (core.revision() != seen_revision || core.messages().size() != seen_messages) {
+      seen_revision = core.revision();
+      seen_messages = core.messages().size();
+      busy = std::max(busy, 2);
+    }
+    const bool last = o.frames >= 0 && frame >= static_cast<int>(script.size()) + o.frames;
+    if (save_requested_screenshot(window, app, core)) busy = std::max(busy, 2);
+    if (last && !o.screenshot.empty())
+      caliper::render::write_png(window.read_pixels(), o.screenshot);
+    window.swap_buffers();
+    if (last) break;
+  }
+  return failures;
+}
+
+/// The editor in a window (GLFW, ImGui), with the saved configuration (units, window size)
+/// read at the start and written at the end. Returns the exit status.
+int run_window(EditorCore& core, const Options& o, const std::vector<std::string>& script) {
+  const std::string cfg_path = o.no_config ? "" : caliper::editor::config_path();
+  caliper::editor::EditorConfig cfg = caliper::editor::load_config(cfg_path);
+  if (auto u = caliper::app::parse_unit_system(cfg.units)) core.view().units = *u;
+  const int w = o.width > 0 ? o.width : cfg.window_width;
+  const int h = o.height > 0 ? o.height : cfg.window_height;
+  caliper::render::GlfwWindowContext window(w, h, "The Virtual Caliper - editor");
+  if (o.width <= 0) fit_to_work_area(window.window(), w, h);
+  ImGui::CreateContext();
+  ImGui::GetIO().IniFilename = nullptr;
+  ImGui_ImplGlfw_InitForOpenGL(window.window(), true);
+  install_input_glue(window.window());
   const auto started = std::chrono::steady_clock::now();
-  auto elapsed = [&] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  };
   int failures = 0;
   {
     caliper::editor::EditorApp app(core, window.gl());
-    int frame = 0;
-    int busy = kFramesAfterInput;
-    std::uint64_t seen_revision = core.revision();
-    size_t seen_messages = core.messages().size();
-    while (true) {
-      const bool scripted = frame < static_cast<int>(script.size()) || o.frames >= 0;
-      if (busy > 0 || scripted || o.no_idle_wait || app.animating()) {
-        glfwPollEvents();
-      } else {
-        glfwWaitEventsTimeout(kIdleWakeSeconds);
-      }
-      if (g_input.event) {
-        busy = kFramesAfterInput;
-        g_input.event = false;
-      }
-      if (o.exit_after >= 0 && elapsed() >= o.exit_after) break;
-      if (window.should_close()) {  // the close button: ask first when work is unsaved
-        glfwSetWindowShouldClose(win, GLFW_FALSE);
-        app.request_quit();
-        busy = kFramesAfterInput;
-      }
-      if (app.quit_requested()) break;
-      if (busy <= 0 && !scripted && !o.no_idle_wait && !app.animating()) continue;
-      ImGui_ImplGlfw_NewFrame();
-      io.DeltaTime = std::min(io.DeltaTime, 1.0f / 20.0f);  // no jump after an idle wait
-      if (frame < static_cast<int>(script.size()) &&
-          !app.run_command(script[static_cast<size_t>(frame)])) {
-        ++failures;
-        std::fprintf(stderr, "caliper-editor: %s\n", core.messages().back().text.c_str());
-      }
-      if (!io.WantCaptureMouse && ImGui::IsMouseDragging(ImGuiMouseButton_Left)) {
-        app.orbit(io.MouseDelta.x, io.MouseDelta.y);
-      }
-      if (!io.WantCaptureMouse && io.MouseWheel != 0) {
-        app.camera().zoom *= io.MouseWheel > 0 ? 1.1f : 1 / 1.1f;
-      }
-      app.frame(window.width(), window.height());
-      ++frame;
-      --busy;
-      // Releases held back for a quick tap reach ImGui now, after it saw the key down.
-      for (const caliper::editor::KeyTaps::Key& k : g_input.taps.frame_done()) {
-        if (g_input.imgui_key) g_input.imgui_key(win, k.key, k.scancode, GLFW_RELEASE, k.mods);
-        busy = std::max(busy, 2);
-      }
-      if (core.revision() != seen_revision || core.messages().size() != seen_messages) {
-        seen_revision = core.revision();
-        seen_messages = core.messages().size();
-        busy = std::max(busy, 2);
-      }
-      const bool last = o.frames >= 0 && frame >= static_cast<int>(script.size()) + o.frames;
-      if (!app.screenshot_request().empty()) {
-        try {
-          caliper::render::write_png(window.read_pixels(), app.screenshot_request());
-          core.post(caliper::app::Message::Level::Info,
-                    "saved screenshot " + app.screenshot_request());
-        } catch (const std::exception& e) {
-          core.post(caliper::app::Message::Level::Error,
-                    "could not save the screenshot " + app.screenshot_request() + ": " + e.what());
-        }
-        app.screenshot_request().clear();
-        busy = std::max(busy, 2);
-      }
-      if (last && !o.screenshot.empty())
-        caliper::render::write_png(window.read_pixels(), o.screenshot);
-      window.swap_buffers();
-      if (last) break;
-    }
+    failures = window_loop(window, app, core, o, script, started);
     window.window_size(cfg.window_width, cfg.window_height);
     cfg.units = caliper::app::to_string(core.view().units);
     if (!cfg_path.empty()) caliper::editor::save_config(cfg_path, cfg);

@@ -248,6 +248,21 @@ std::string assets_dir(const Args& a) {
   return CALIPER_VR_SOURCE_ASSETS;
 }
 
+/// The measuring protocol's file: --protocol, else ASSETS/protocol/virtual-caliper.json.
+std::string protocol_path(const Args& a, const std::string& assets) {
+  return a.get("--protocol", assets + "/protocol/virtual-caliper.json");
+}
+
+/// The controllers' tip-offset file: --controllers, else ASSETS/protocol/controllers.json.
+std::string controllers_path(const Args& a, const std::string& assets) {
+  return a.get("--controllers", assets + "/protocol/controllers.json");
+}
+
+/// The folder of the body models: --models-dir, else ASSETS/models.
+std::string models_dir(const Args& a, const std::string& assets) {
+  return a.get("--models-dir", assets + "/models");
+}
+
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
@@ -266,10 +281,10 @@ VrAppOptions app_options(const Args& a, const std::string& role, const std::stri
                          const PoseLogHeader* recorded = nullptr) {
   const std::string assets = assets_dir(a);
   VrAppOptions o;
-  const std::string protocol_path = a.get("--protocol", assets + "/protocol/virtual-caliper.json");
-  o.protocol = read_protocol(protocol_path);
-  o.protocol_dir = std::filesystem::path(protocol_path).parent_path().string();
-  const std::string controllers = a.get("--controllers", assets + "/protocol/controllers.json");
+  const std::string protocol = protocol_path(a, assets);
+  o.protocol = read_protocol(protocol);
+  o.protocol_dir = std::filesystem::path(protocol).parent_path().string();
+  const std::string controllers = controllers_path(a, assets);
   o.tips = read_controller_config(controllers).offsets(profile);
   o.session.role = role;
   if (a.has("--weight")) o.session.weight = typed_weight(a, 0.0);
@@ -277,7 +292,7 @@ VrAppOptions app_options(const Args& a, const std::string& role, const std::stri
   if (recorded && !o.session.weight) o.session.weight = recorded->weight;
   if (recorded && o.session.sex.empty()) o.session.sex = recorded->sex;
   o.avatar.model_path = a.get("--model");
-  o.avatar.models_dir = a.get("--models-dir", assets + "/models");
+  o.avatar.models_dir = models_dir(a, assets);
   o.avatar.regressor = a.get("--regressor", "R5");
   o.avatar.regressors_path = a.get("--regressors");
   o.avatar.mapping_path = a.get("--mapping");
@@ -416,144 +431,172 @@ int finish(VrApp& app, Audio& audio, const std::string& journal_path, const Args
   return 0;
 }
 
-int run_replay(const Args& a) {
-  const std::string log_path = a.get("--replay");
-  check_record_path(a);
-  PoseLog log = read_pose_log(log_path);
-  const std::string role = a.get("--role", log.header.role.empty() ? "self" : log.header.role);
-  std::string profile = log.header.interaction_profile;
-  const PoseLogHeader recorded = log.header;
-  VrAppOptions o = app_options(a, role, profile, &recorded);
-  const ControllerConfig controllers =
-      read_controller_config(a.get("--controllers", assets_dir(a) + "/protocol/controllers.json"));
-  int eye_w = 320, eye_h = 356;
-  if (a.has("--eye-size")) parse_eye_size(a.get("--eye-size"), eye_w, eye_h);
-  const int draw_every = static_cast<int>(integer(a, "--draw-every", 1, 0, 1000000));
-  const long max_frames = integer(a, "--max-frames", -1, -1, 1000000000000L);
-  const std::string frames_dir = a.get("--frames-dir");
-  if (!frames_dir.empty()) std::filesystem::create_directories(frames_dir);
+/// The replay's image size and pacing: --eye-size, --draw-every, --max-frames, --frames-dir.
+struct ReplaySettings {
+  int eye_w = 320;         ///< each eye's image width in pixels
+  int eye_h = 356;         ///< each eye's image height in pixels
+  int draw_every = 1;      ///< rasterise every N-th frame (0: only snapshots)
+  long max_frames = -1;    ///< stop after this many frames (-1: at the log's end)
+  std::string frames_dir;  ///< where the key-frame snapshots go ("" for none)
+};
 
-  // Headless: both eyes side by side in an OSMesa framebuffer. With --operator-window: the
-  // operator's desktop window instead (needs a display; CI uses Xvfb).
-  const bool operator_window = a.has("--operator-window");
-  std::unique_ptr<render::GlContext> ctx;
-  render::GlfwWindowContext* window_ctx = nullptr;
+/// Reads the replay settings from the command line and creates the snapshot folder.
+ReplaySettings replay_settings(const Args& a) {
+  ReplaySettings s;
+  if (a.has("--eye-size")) parse_eye_size(a.get("--eye-size"), s.eye_w, s.eye_h);
+  s.draw_every = static_cast<int>(integer(a, "--draw-every", 1, 0, 1000000));
+  s.max_frames = integer(a, "--max-frames", -1, -1, 1000000000000L);
+  s.frames_dir = a.get("--frames-dir");
+  if (!s.frames_dir.empty()) std::filesystem::create_directories(s.frames_dir);
+  return s;
+}
+
+/// Where a replay draws: both eyes side by side in an OSMesa framebuffer, or the operator's
+/// desktop window (--operator-window; needs a display, CI uses Xvfb).
+struct ReplayDisplay {
+  std::unique_ptr<render::GlContext> ctx;       ///< the current GL context
+  render::GlfwWindowContext* window = nullptr;  ///< the operator's window, or null (headless)
+};
+
+/// Opens the replay's display, 2 * eye_w by eye_h pixels, and makes its context current.
+ReplayDisplay open_replay_display(bool operator_window, int eye_w, int eye_h) {
+  ReplayDisplay d;
   if (operator_window) {
     auto w = std::make_unique<render::GlfwWindowContext>(2 * eye_w, eye_h,
                                                          "The Virtual Caliper - operator", true);
-    window_ctx = w.get();
-    ctx = std::move(w);
+    d.window = w.get();
+    d.ctx = std::move(w);
   } else {
-    ctx = render::make_osmesa_context(2 * eye_w, eye_h);
+    d.ctx = render::make_osmesa_context(2 * eye_w, eye_h);
   }
-  ctx->make_current();
-  render::Renderer renderer(ctx->gl());
-  std::unique_ptr<Audio> audio = open_audio(a);
-  const std::string journal_path = o.journal_path;
-  VrApp app(std::move(o), *audio, &renderer);
+  d.ctx->make_current();
+  return d;
+}
 
-  std::optional<OperatorWindow> op;
-  if (window_ctx) op.emplace(*window_ctx);
+/// The replayed log as a pose source; with --record, wrapped in a recorder of every frame.
+std::unique_ptr<PoseSource> replay_source(const Args& a, PoseLog log, const std::string& role,
+                                          const VrApp& app) {
   std::unique_ptr<PoseSource> source = std::make_unique<ReplayPoseSource>(std::move(log));
-  if (a.has("--record")) {
-    PoseLogHeader h;
-    h.role = role;
-    h.source = "caliper-vr --replay " + log_path;
-    h.weight = app.session().options().weight;
-    h.sex = app.session().options().sex;
-    source = std::make_unique<RecordingPoseSource>(std::move(source), a.get("--record"), h);
+  if (!a.has("--record")) return source;
+  PoseLogHeader h;
+  h.role = role;
+  h.source = "caliper-vr --replay " + a.get("--replay");
+  h.weight = app.session().options().weight;
+  h.sex = app.session().options().sex;
+  return std::make_unique<RecordingPoseSource>(std::move(source), a.get("--record"), h);
+}
+
+/// The next frame of `source`, or nothing at its end or when it is lost (said on stderr).
+std::optional<PoseFrame> next_replay_frame(PoseSource& source) {
+  try {
+    return source.next_frame();
+  } catch (const PoseSourceLost& e) {
+    std::cerr << "caliper-vr: " << e.what() << "\n";
+    return std::nullopt;
   }
-  render::Scene scene;
-  std::vector<double> app_cpu, draw_wall;
-  std::map<std::string, bool> saved;
-  std::string held_posture;
-  double held_since = 0.0;
-  double finished_at = -1.0;
-  long n = 0;
-  const auto save = [&](const std::string& name, const std::vector<render::View>& views) {
+}
+
+/// What a replay draws with: the GL context, its renderer, the operator's window (when open)
+/// and the scene the app builds each frame.
+struct ReplayCanvas {
+  render::GlContext& ctx;             ///< the current GL context
+  render::Renderer& renderer;         ///< draws `scene` into the context
+  std::optional<OperatorWindow>& op;  ///< the operator's window, when open
+  std::string frames_dir;             ///< where snapshots go
+  render::Scene scene;                ///< this frame's scene
+
+  /// Draws this frame (the operator's window, whose commands go to `app`, or both eyes' `views`)
+  /// and presents it.
+  void draw(VrApp& app, const std::vector<render::View>& views) {
+    if (op) {
+      for (const OperatorCommand& c : op->frame(app, renderer, scene)) app.command(c);
+    } else {
+      renderer.draw(scene, views);
+    }
+    ctx.swap_buffers();
+  }
+
+  /// Draws `views` (or the operator's window) and writes the image as frames_dir/NAME.png
+  /// (vr-operator-* for the operator's window).
+  void save(VrApp& app, const std::string& name, const std::vector<render::View>& views) {
     if (op) {
       op->frame(app, renderer, scene);
     } else {
       renderer.draw(scene, views);
     }
-    ctx->gl().Finish();
+    ctx.gl().Finish();
     const std::string file = op ? "vr-operator-" + name.substr(3) : name;
-    render::write_png(ctx->read_pixels(),
+    render::write_png(ctx.read_pixels(),
                       (std::filesystem::path(frames_dir) / (file + ".png")).string());
-    saved[name] = true;
-  };
-  while (max_frames < 0 || n < max_frames) {
-    const double c0 = thread_cpu_seconds();
-    std::optional<PoseFrame> f;
-    try {
-      f = source->next_frame();
-    } catch (const PoseSourceLost& e) {
-      std::cerr << "caliper-vr: " << e.what() << "\n";
-      break;
-    }
-    if (!f) break;
-    if (source->interaction_profile() != profile) {  // as live: the runtime named the controllers
-      profile = source->interaction_profile();
-      app.set_tips(controllers.offsets(profile));
-    }
-    app.advance(*f, source.get());
-    app.build_scene(scene);
-    const std::vector<render::View> views = app.stereo_views(eye_w, eye_h);
-    const double c1 = thread_cpu_seconds();
-    app_cpu.push_back(c1 - c0);
-    if (draw_every > 0 && n % draw_every == 0) {
-      const auto w0 = std::chrono::steady_clock::now();
-      if (op) {
-        for (const OperatorCommand& c : op->frame(app, renderer, scene)) app.command(c);
-      } else {
-        renderer.draw(scene, views);
-      }
-      ctx->swap_buffers();
-      draw_wall.push_back(
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count());
-    }
-    if (!frames_dir.empty()) {
-      const SessionView& v = app.session().view();
-      const ProtocolStep* s = app.session().current_step();
-      if (!saved.count("vr-floor-targets") && v.phase == Phase::Floor && v.floor_target == 2 &&
-          v.holding && v.hold_progress >= 0.5)
-        save("vr-floor-targets", views);
-      if (!saved.count("vr-instruction-panel") && s && s->id == "arm_span_fingertips" &&
-          app.step_time() >= 0.9)
-        save("vr-instruction-panel", views);
-      if (app.finished() && finished_at < 0.0) finished_at = app.time();
-      if (!saved.count("vr-mirror") && finished_at >= 0.0 && app.time() - finished_at >= 0.2 &&
-          app.avatar()) {
-        save("vr-mirror", views);
-        if (!op) save("vr-first-person", {app.first_person_view(2 * eye_w, eye_h)});
-      }
-      // The driven body in three postures, each once it has been held for half a second.
-      if (const BodyIk* ik = app.body_ik(); ik && app.embodiment().frames > 0) {
-        const std::string posture = embodiment_posture(*ik);
-        if (posture != held_posture) {
-          held_posture = posture;
-          held_since = app.time();
-        }
-        const std::string name = "vr-mirror-" + posture;
-        if (!posture.empty() && !saved.count(name) && app.time() - held_since >= 0.5) {
-          save(name, views);
-          if (!op && posture == "crossed")
-            save("vr-first-person-crossed", {app.first_person_view(2 * eye_w, eye_h)});
-        }
-      }
-    }
-    ++n;
-    if (app.finished()) write_outputs_once(app);
-    if (app.end_requested()) break;  // the user pressed the end button
   }
+};
+
+/// The documentation snapshots of a replay (--frames-dir): floor targets, instruction panel,
+/// mirror, first person and the driven body's postures, each saved once when its moment comes.
+class ReplaySnapshots {
+ public:
+  /// Saves every snapshot whose moment the app has reached in this frame.
+  void take(VrApp& app, ReplayCanvas& canvas, const std::vector<render::View>& views, int eye_w,
+            int eye_h) {
+    const auto save = [&](const std::string& name, const std::vector<render::View>& v) {
+      canvas.save(app, name, v);
+      saved_[name] = true;
+    };
+    const SessionView& v = app.session().view();
+    const ProtocolStep* s = app.session().current_step();
+    if (!saved_.count("vr-floor-targets") && v.phase == Phase::Floor && v.floor_target == 2 &&
+        v.holding && v.hold_progress >= 0.5)
+      save("vr-floor-targets", views);
+    if (!saved_.count("vr-instruction-panel") && s && s->id == "arm_span_fingertips" &&
+        app.step_time() >= 0.9)
+      save("vr-instruction-panel", views);
+    if (app.finished() && finished_at_ < 0.0) finished_at_ = app.time();
+    if (!saved_.count("vr-mirror") && finished_at_ >= 0.0 && app.time() - finished_at_ >= 0.2 &&
+        app.avatar()) {
+      save("vr-mirror", views);
+      if (!canvas.op) save("vr-first-person", {app.first_person_view(2 * eye_w, eye_h)});
+    }
+    // The driven body in three postures, each once it has been held for half a second.
+    if (const BodyIk* ik = app.body_ik(); ik && app.embodiment().frames > 0) {
+      const std::string posture = embodiment_posture(*ik);
+      if (posture != held_posture_) {
+        held_posture_ = posture;
+        held_since_ = app.time();
+      }
+      const std::string name = "vr-mirror-" + posture;
+      if (!posture.empty() && !saved_.count(name) && app.time() - held_since_ >= 0.5) {
+        save(name, views);
+        if (!canvas.op && posture == "crossed")
+          save("vr-first-person-crossed", {app.first_person_view(2 * eye_w, eye_h)});
+      }
+    }
+  }
+  /// The names of the snapshots saved so far, sorted.
+  const std::map<std::string, bool>& saved() const { return saved_; }
+
+ private:
+  std::map<std::string, bool> saved_;
+  std::string held_posture_;
+  double held_since_ = 0.0;
+  double finished_at_ = -1.0;
+};
+
+/// Per-frame costs of a replay: the app's CPU time and the drawing's wall time, in seconds.
+struct ReplayTimes {
+  long frames = 0;                ///< frames replayed
+  std::vector<double> app_cpu;    ///< thread CPU time of the frame logic and scene building
+  std::vector<double> draw_wall;  ///< wall time of rasterising and presenting
+};
+
+/// Prints the replay's frame count and costs, and the embodiment figures when a body was driven.
+void print_replay_summary(const ReplayTimes& t, const ReplaySettings& s, const EmbodimentStats& e) {
   std::printf(
       "replayed %ld frames: app CPU per frame median %.3f ms, p95 %.3f ms (thread CPU time of the "
       "frame logic and scene building, without rasterisation); draw %.1f ms median (OSMesa, "
       "%dx%d)\n",
-      n, 1e3 * median(app_cpu), 1e3 * percentile(app_cpu, 0.95), 1e3 * median(draw_wall), 2 * eye_w,
-      eye_h);
-  if (app.embodiment().frames > 0) {
-    const EmbodimentStats& e = app.embodiment();
+      t.frames, 1e3 * median(t.app_cpu), 1e3 * percentile(t.app_cpu, 0.95),
+      1e3 * median(t.draw_wall), 2 * s.eye_w, s.eye_h);
+  if (e.frames > 0) {
     std::printf(
         "embodiment: %ld frames; wrist to controller-derived wrist max %.2f mm over %ld reachable "
         "wrists; hands inside the torso in %ld frames; %ld joint-limit violations; largest joint "
@@ -562,45 +605,103 @@ int run_replay(const Args& a) {
         1e3 * e.max_joint_step, e.max_step_dt,
         1e3 * e.ik_cpu_seconds / static_cast<double>(e.frames));
   }
-  if (a.has("--embodiment-report")) {
-    const EmbodimentStats& e = app.embodiment();
-    Json j = Json::object();
-    j.set("frames", e.frames);
-    j.set("reachable_wrists", e.reachable_wrists);
-    j.set("max_wrist_error_m", e.max_wrist_error);
-    j.set("hands_in_torso_frames", e.hands_in_torso);
-    j.set("limit_violations", e.limit_violations);
-    j.set("max_joint_step_m", e.max_joint_step);
-    j.set("max_joint_step_dt_s", e.max_step_dt);
-    j.set("ik_cpu_ms_per_frame",
-          e.frames > 0 ? 1e3 * e.ik_cpu_seconds / static_cast<double>(e.frames) : 0.0);
-    Json t = Json::array(), we = Json::array(), in = Json::array(), st = Json::array(),
-         lv = Json::array();
-    for (const EmbodimentStats::Frame& f : e.per_frame) {
-      t.push_back(f.time);
-      we.push_back(f.wrist_error);
-      in.push_back(f.hand_in_torso);
-      st.push_back(f.joint_step);
-      lv.push_back(f.limit_violations);
+}
+
+/// The --embodiment-report: how well the avatar followed the tracking, overall and per frame,
+/// and the names of the snapshots saved.
+Json embodiment_report(const EmbodimentStats& e, const std::map<std::string, bool>& saved) {
+  const Json::Object totals = {
+      {"frames", e.frames},
+      {"reachable_wrists", e.reachable_wrists},
+      {"max_wrist_error_m", e.max_wrist_error},
+      {"hands_in_torso_frames", e.hands_in_torso},
+      {"limit_violations", e.limit_violations},
+      {"max_joint_step_m", e.max_joint_step},
+      {"max_joint_step_dt_s", e.max_step_dt},
+      {"ik_cpu_ms_per_frame",
+       e.frames > 0 ? 1e3 * e.ik_cpu_seconds / static_cast<double>(e.frames) : 0.0}};
+  Json j = Json::object();
+  for (const auto& [key, value] : totals) j.set(key, value);
+  Json t = Json::array(), we = Json::array(), in = Json::array(), st = Json::array(),
+       lv = Json::array();
+  for (const EmbodimentStats::Frame& f : e.per_frame) {
+    t.push_back(f.time);
+    we.push_back(f.wrist_error);
+    in.push_back(f.hand_in_torso);
+    st.push_back(f.joint_step);
+    lv.push_back(f.limit_violations);
+  }
+  Json per = Json::object();
+  per.set("time", t);
+  per.set("wrist_error_m", we);
+  per.set("hand_in_torso", in);
+  per.set("joint_step_m", st);
+  per.set("limit_violations", lv);
+  j.set("per_frame", per);
+  Json shots = Json::array();
+  for (const auto& kv : saved) shots.push_back(kv.first);
+  j.set("snapshots", shots);
+  return j;
+}
+
+/// Writes the per-frame app CPU times as CSV (frame,app_cpu_ms), atomically.
+void write_timing(const std::string& path, const std::vector<double>& app_cpu) {
+  std::ostringstream t;
+  t << "frame,app_cpu_ms\n";
+  for (size_t i = 0; i < app_cpu.size(); ++i) t << i << "," << 1e3 * app_cpu[i] << "\n";
+  smpl::write_file_atomic(path, t.str());
+}
+
+/// The app driven by a pose log, headless (or in the operator's window): replays every frame,
+/// saves the snapshots, prints the costs and writes the reports. Returns the exit code.
+int run_replay(const Args& a) {
+  check_record_path(a);
+  PoseLog log = read_pose_log(a.get("--replay"));
+  const std::string role = a.get("--role", log.header.role.empty() ? "self" : log.header.role);
+  std::string profile = log.header.interaction_profile;
+  const PoseLogHeader recorded = log.header;
+  VrAppOptions o = app_options(a, role, profile, &recorded);
+  const ControllerConfig controllers = read_controller_config(controllers_path(a, assets_dir(a)));
+  const ReplaySettings s = replay_settings(a);
+  ReplayDisplay display = open_replay_display(a.has("--operator-window"), s.eye_w, s.eye_h);
+  render::Renderer renderer(display.ctx->gl());
+  std::unique_ptr<Audio> audio = open_audio(a);
+  const std::string journal_path = o.journal_path;
+  VrApp app(std::move(o), *audio, &renderer);
+  std::optional<OperatorWindow> op;
+  if (display.window) op.emplace(*display.window);
+  ReplayCanvas canvas{*display.ctx, renderer, op, s.frames_dir, {}};
+  std::unique_ptr<PoseSource> source = replay_source(a, std::move(log), role, app);
+  ReplaySnapshots snapshots;
+  ReplayTimes times;
+  while (s.max_frames < 0 || times.frames < s.max_frames) {
+    const double c0 = thread_cpu_seconds();
+    const std::optional<PoseFrame> f = next_replay_frame(*source);
+    if (!f) break;
+    if (source->interaction_profile() != profile) {  // as live: the runtime named the controllers
+      profile = source->interaction_profile();
+      app.set_tips(controllers.offsets(profile));
     }
-    Json per = Json::object();
-    per.set("time", t);
-    per.set("wrist_error_m", we);
-    per.set("hand_in_torso", in);
-    per.set("joint_step_m", st);
-    per.set("limit_violations", lv);
-    j.set("per_frame", per);
-    Json shots = Json::array();
-    for (const auto& kv : saved) shots.push_back(kv.first);
-    j.set("snapshots", shots);
-    write_json_file(a.get("--embodiment-report"), j);
+    app.advance(*f, source.get());
+    app.build_scene(canvas.scene);
+    const std::vector<render::View> views = app.stereo_views(s.eye_w, s.eye_h);
+    times.app_cpu.push_back(thread_cpu_seconds() - c0);
+    if (s.draw_every > 0 && times.frames % s.draw_every == 0) {
+      const auto w0 = std::chrono::steady_clock::now();
+      canvas.draw(app, views);
+      times.draw_wall.push_back(
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - w0).count());
+    }
+    if (!s.frames_dir.empty()) snapshots.take(app, canvas, views, s.eye_w, s.eye_h);
+    ++times.frames;
+    if (app.finished()) write_outputs_once(app);
+    if (app.end_requested()) break;  // the user pressed the end button
   }
-  if (a.has("--timing")) {
-    std::ostringstream t;
-    t << "frame,app_cpu_ms\n";
-    for (size_t i = 0; i < app_cpu.size(); ++i) t << i << "," << 1e3 * app_cpu[i] << "\n";
-    smpl::write_file_atomic(a.get("--timing"), t.str());
-  }
+  print_replay_summary(times, s, app.embodiment());
+  if (a.has("--embodiment-report"))
+    write_json_file(a.get("--embodiment-report"),
+                    embodiment_report(app.embodiment(), snapshots.saved()));
+  if (a.has("--timing")) write_timing(a.get("--timing"), times.app_cpu);
   return finish(app, *audio, journal_path, a);
 }
 
@@ -611,8 +712,7 @@ int run_pivot_replay(const Args& a) {
   const std::string hand = a.get("--calibrate-tip");
   if (hand != "left" && hand != "right")
     throw std::invalid_argument("--calibrate-tip needs left or right");
-  const std::string controllers =
-      a.get("--controllers", assets_dir(a) + "/protocol/controllers.json");
+  const std::string controllers = controllers_path(a, assets_dir(a));
   PivotCollector pivot(hand == "left" ? Tip::Left : Tip::Right);
   for (const PoseFrame& f : log.frames) {
     const std::optional<PivotCalibration> r = pivot.feed(f);
@@ -639,11 +739,9 @@ int run_pivot_replay(const Args& a) {
 
 int run_simulate(const Args& a) {
   const std::string assets = assets_dir(a);
-  const Protocol protocol =
-      read_protocol(a.get("--protocol", assets + "/protocol/virtual-caliper.json"));
+  const Protocol protocol = read_protocol(protocol_path(a, assets));
   const std::string sex = a.get("--sex", "female");
-  const std::string model_path =
-      a.get("--model", default_model_path(a.get("--models-dir", assets + "/models"), sex));
+  const std::string model_path = a.get("--model", default_model_path(models_dir(a, assets), sex));
   const smpl::BodyModel model = smpl::load_model(model_path);
   Eigen::VectorXd betas = Eigen::VectorXd::Zero(model.num_betas());
   {
@@ -669,8 +767,7 @@ int run_simulate(const Args& a) {
   o.typed_in_log = a.get("--typed-in-log", "yes") != "no";
   o.motions = a.has("--motions");
   if (a.has("--profile")) o.interaction_profile = a.get("--profile");
-  const ControllerConfig cc =
-      read_controller_config(a.get("--controllers", assets + "/protocol/controllers.json"));
+  const ControllerConfig cc = read_controller_config(controllers_path(a, assets));
   o.tip_offsets = cc.offsets(o.interaction_profile);
   const SimulatedSession sim = simulate_session(protocol, person, o);
   write_pose_log(a.get("--simulate"), sim.log);
@@ -702,7 +799,7 @@ int run_live(const Args& a) {
   live.operator_window = a.has("--operator-window");
   live.record_path = a.get("--record");
   live.calibrate_tip = a.get("--calibrate-tip");
-  live.controllers_path = a.get("--controllers", assets + "/protocol/controllers.json");
+  live.controllers_path = controllers_path(a, assets);
   live.make_app_options = [&a, role = live.role](const std::string& profile) {
     return app_options(a, role, profile);
   };
