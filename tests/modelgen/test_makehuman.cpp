@@ -83,7 +83,7 @@ TEST(MakeHumanReader, SkinMeshIsTheClosedBodyInMetresFacingPlusZ) {
   EXPECT_GE(skin.uvs.minCoeff(), 0.0);
   EXPECT_LE(skin.uvs.maxCoeff(), 1.0);
 
-  const auto topo = modelgen_test::topology_report(static_cast<int>(v.rows()), skin.faces);
+  const auto topo = modelgen::topology_report(static_cast<int>(v.rows()), skin.faces);
   EXPECT_TRUE(topo.closed);
   EXPECT_TRUE(topo.oriented);
   EXPECT_TRUE(topo.vertex_manifold);
@@ -331,8 +331,8 @@ TEST(MakeHumanRig, TPoseHasHorizontalStraightArmsPalmsDownAndKeepsTheVolume) {
   const double v1 = caliper::mesh_volume(posed, a.skin.faces);
   std::printf("volume A-pose %.5f m^3, T-pose %.5f m^3\n", v0, v1);
   EXPECT_NEAR(v1 / v0, 1.0, 0.03);
-  const auto x0 = modelgen_test::self_intersections(rest, a.skin.faces, 0.01);
-  const auto x1 = modelgen_test::self_intersections(posed, a.skin.faces, 0.01);
+  const auto x0 = modelgen::self_intersections(rest, a.skin.faces, 0.01);
+  const auto x1 = modelgen::self_intersections(posed, a.skin.faces, 0.01);
   std::printf("self-intersecting triangle pairs: A-pose %zu, T-pose %zu\n", x0.size(), x1.size());
   EXPECT_LE(x1.size(), x0.size());
 }
