@@ -261,6 +261,20 @@ smpl::SparseMatrix merged_weights(const Assets& assets) {
       }
     }
   }
+  // Stray weights on the other side's limbs: SMPL's left joints are 1, 4, 7, ..., 22 (hips to
+  // hands, collars 13 and shoulders 16 included) and each right joint follows its left one.
+  const std::array<int, 9> left_joints{{1, 4, 7, 10, 13, 16, 18, 20, 22}};
+  for (Eigen::Index i = 0; i < v; ++i) {
+    const double x =
+        assets.base.vertices(assets.skin.source_vertex[static_cast<std::size_t>(i)], 0);
+    for (const int l : left_joints) {
+      if (x < -kMidlineBand) {
+        acc(i, l) = 0.0;
+      } else if (x > kMidlineBand) {
+        acc(i, l + 1) = 0.0;
+      }
+    }
+  }
   std::vector<Eigen::Triplet<double>> trip;
   for (Eigen::Index i = 0; i < v; ++i) {
     std::array<int, 24> order{};

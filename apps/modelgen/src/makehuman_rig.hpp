@@ -41,8 +41,16 @@ int smpl_segment(const Skeleton& skeleton, const std::string& bone);
 
 /// V x 24 skinning weights of the skin mesh: MakeHuman's bone weights summed per SMPL segment,
 /// the 4 largest kept per vertex (ties to the lower joint index), renormalised to sum 1.
+/// A weight on a limb segment of the other side of the body (a left joint for a vertex more than
+/// kMidlineBand to the right of the midline, or the reverse) is dropped first: hm08's weights
+/// carry a few such strays (0.2 % of toe2-3.R on a left toe vertex, 0.5 % of the other knee on a
+/// knee vertex), which pull the skin across the body when the other limb moves and fold it.
 /// Throws AssetError if a skin vertex has no weight at all.
 smpl::SparseMatrix merged_weights(const Assets& assets);
+
+/// Half-width (decimetres, base-mesh units) of the band about x = 0 where a vertex may carry
+/// weights of both sides' limb segments (the crotch, the spine): 1 cm.
+constexpr double kMidlineBand = 0.1;
 
 /// A body posed from MakeHuman's A-pose to SMPL's T-pose.
 struct TPoseBody {
