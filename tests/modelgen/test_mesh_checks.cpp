@@ -131,6 +131,9 @@ TEST(MeshChecks, IntersectingTetrahedraAreFoundSeparateOnesAreNot) {
     const std::vector<std::pair<int, int>> expected{{3, 4}, {3, 5}, {3, 6}};
     EXPECT_EQ(hits, expected) << "cell " << cell;
   }
+  // depth: the second tetrahedron's corner is 0.4 / sqrt(3) behind the slanted face
+  constexpr double kRoundoff = 1e-12;
+  EXPECT_NEAR(modelgen::crossing_depth(poke.v, poke.f, 3, 4), 0.4 / std::sqrt(3.0), kRoundoff);
   const Mesh apart = join(tetrahedron({0, 0, 0}, 1), tetrahedron({0.6, 0.6, 0.6}, 1));
   EXPECT_TRUE(modelgen::self_intersections(apart.v, apart.f, 0.1).empty());
   // one inside the other: surfaces do not cross

@@ -234,6 +234,22 @@ std::vector<std::pair<int, int>> self_intersections(const smpl::Vertices& v, con
   return hits;
 }
 
+double crossing_depth(const smpl::Vertices& v, const smpl::Faces& f, int i, int j) {
+  auto behind = [&](int a, int b) {
+    const Eigen::Vector3d p = v.row(f(b, 0)), q = v.row(f(b, 1)), r = v.row(f(b, 2));
+    const Eigen::Vector3d n = (q - p).cross(r - p);
+    if (n.norm() == 0.0) {
+      return 0.0;
+    }
+    double d = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      d = std::max(d, -(Eigen::Vector3d(v.row(f(a, k))) - p).dot(n) / n.norm());
+    }
+    return d;
+  };
+  return std::min(behind(i, j), behind(j, i));
+}
+
 std::vector<int> flipped_triangles(const smpl::BodyModel& model, const smpl::Vertices& rest,
                                    const smpl::Body& posed) {
   std::vector<int> out;

@@ -45,6 +45,13 @@ TopologyReport topology_report(int num_vertices, const smpl::Faces& faces);
 std::vector<std::pair<int, int>> self_intersections(const smpl::Vertices& v, const smpl::Faces& f,
                                                     double cell = 0.02);
 
+/// How far the surfaces cross at an intersecting pair (i, j) of self_intersections(), metres: for
+/// each triangle, the largest distance of its vertices behind the other's plane (against the
+/// other's normal, so the winding must be outward); the smaller of the two. An upper bound of the
+/// penetration depth there (exact for a corner poking through a face). 0 when no vertex of either
+/// triangle is behind the other's plane; a degenerate triangle's plane gives 0.
+double crossing_depth(const smpl::Vertices& v, const smpl::Faces& f, int i, int j);
+
 /// Area (m^2) below which a triangle counts as degenerate in flipped_triangles() (1 um^2: the
 /// skin's smallest triangles are about 1 mm^2).
 constexpr double kDegenerateArea = 1e-12;
