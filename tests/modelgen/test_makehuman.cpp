@@ -1,6 +1,7 @@
 /// \file test_makehuman.cpp
 /// MakeHuman asset readers and the skin mesh, on the real CC0 files (../shared/data/makehuman)
 /// and on small hand-written files for the error paths.
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <cstdio>
@@ -479,6 +480,69 @@ TEST(MakeHumanRig, TemplateIsAClosedManifoldWithoutSelfIntersectionAndFewFoldsIn
     std::printf("%-22s %3zu flipped triangles, %4zu self-intersecting pairs\n", p.name.c_str(),
                 flipped.size(), hits.size());
     EXPECT_LE(flipped.size(), kFlippedToday[i]) << p.name;
+  }
+}
+
+// The table behind kWeightSmoothingPasses (docs/models.md, "Geometry checks"); minutes, so not
+// in CI: modelgen_tests --gtest_also_run_disabled_tests --gtest_filter='*WeightSmoothingTable*'.
+// Per pass count: flipped triangles per test pose, and the side effects: the body's volume
+// change (ml) with both wrists twisted 90 degrees about the forearm (the candy wrapper) and with
+// both elbows flexed 90 degrees, and how far (mm, largest and median) the vertices that MakeHuman
+// gives wholly to the left wrist+hand or left ankle+foot move from where the unsmoothed weights
+// put them with that wrist and ankle flexed 90 degrees (the hands and feet still follow their
+// joints when this stays small).
+TEST(MakeHumanRig, DISABLED_WeightSmoothingTable) {
+  REQUIRE_ASSETS();
+  namespace mh = modelgen::mh;
+  const auto& a = assets();
+  smpl::BodyModel m = mh::template_model(a, mh::default_regressor_targets());
+  const Eigen::VectorXd betas(0);
+  constexpr double kRight = 1.5707963267948966;
+  Eigen::VectorXd twist = Eigen::VectorXd::Zero(72), elbows = twist, distal = twist;
+  twist.segment<3>(3 * 20) = Eigen::Vector3d(kRight, 0, 0);
+  twist.segment<3>(3 * 21) = Eigen::Vector3d(kRight, 0, 0);
+  elbows.segment<3>(3 * 18) = Eigen::Vector3d(0, -kRight, 0);
+  elbows.segment<3>(3 * 19) = Eigen::Vector3d(0, kRight, 0);
+  distal.segment<3>(3 * 20) = Eigen::Vector3d(0, 0, -kRight);
+  distal.segment<3>(3 * 7) = Eigen::Vector3d(kRight, 0, 0);
+  const double rest_volume = caliper::mesh_volume(m.v_template, m.faces);
+  const smpl::SparseMatrix w0 = mh::merged_weights(a, 0);
+  m.weights = w0;
+  const smpl::Vertices distal0 = smpl::evaluate(m, betas, distal).vertices;
+  std::vector<Eigen::Index> tips;  // wholly on the left wrist+hand or the left ankle+foot
+  for (Eigen::Index i = 0; i < w0.rows(); ++i) {
+    double hand = 0.0, foot = 0.0;
+    for (smpl::SparseMatrix::InnerIterator it(w0, i); it; ++it) {
+      hand += (it.col() == 20 || it.col() == 22) ? it.value() : 0.0;
+      foot += (it.col() == 7 || it.col() == 10) ? it.value() : 0.0;
+    }
+    if (hand > 0.999 || foot > 0.999) tips.push_back(i);
+  }
+  std::printf(
+      "passes | flipped per test pose (test_poses() order) | total | wrist twist dV ml | "
+      "elbows dV ml | hand+foot drift max/median mm (%zu vertices)\n",
+      tips.size());
+  for (const int passes : {0, 5, 10, 20, 30, 40, 50, 60, 70, 100}) {
+    m.weights = mh::merged_weights(a, passes);
+    std::size_t total = 0;
+    std::string row;
+    for (const modelgen::TestPose& p : modelgen::test_poses()) {
+      const smpl::Body body = smpl::evaluate(m, betas, p.theta);
+      const std::size_t f = modelgen::flipped_triangles(m, m.v_template, body).size();
+      total += f;
+      row += std::to_string(f) + " ";
+    }
+    const double dv_twist =
+        caliper::mesh_volume(smpl::evaluate(m, betas, twist).vertices, m.faces) - rest_volume;
+    const double dv_elbows =
+        caliper::mesh_volume(smpl::evaluate(m, betas, elbows).vertices, m.faces) - rest_volume;
+    const smpl::Vertices d = smpl::evaluate(m, betas, distal).vertices;
+    std::vector<double> drift;
+    for (const Eigen::Index i : tips) drift.push_back((d.row(i) - distal0.row(i)).norm() * 1e3);
+    std::sort(drift.begin(), drift.end());
+    std::printf("%3d | %s| %3zu | %7.1f | %7.1f | %6.2f / %6.2f / %6.2f\n", passes, row.c_str(),
+                total, dv_twist * 1e6, dv_elbows * 1e6, drift.back(),
+                drift[drift.size() * 95 / 100], drift[drift.size() / 2]);
   }
 }
 

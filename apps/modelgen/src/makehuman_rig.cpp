@@ -248,10 +248,75 @@ TPoseBody t_pose(const Assets& assets, const Positions& a_pose) {
 // Merged weights
 // ------------------------------------------------------------------------------------------------
 
+namespace {
+
+using WeightRows = Eigen::Matrix<double, Eigen::Dynamic, 24, Eigen::RowMajor>;
+
+// The 1-ring of every vertex of `faces` (n vertices), each list sorted increasing.
+std::vector<std::vector<int>> vertex_neighbours(Eigen::Index n, const smpl::Faces& faces) {
+  std::vector<std::vector<int>> ring(static_cast<std::size_t>(n));
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int a = faces(f, c);
+      const int b = faces(f, (c + 1) % 3);
+      ring[static_cast<std::size_t>(a)].push_back(b);
+      ring[static_cast<std::size_t>(b)].push_back(a);
+    }
+  }
+  for (auto& r : ring) {
+    std::sort(r.begin(), r.end());
+    r.erase(std::unique(r.begin(), r.end()), r.end());
+  }
+  return ring;
+}
+
+// Diffuses the V x 24 weights `w` over the 1-ring, `passes` times (see merged_weights): each pass
+// w'(i) = (w(i) + mean of w over the 1-ring of i) / 2, kept to the joints `allowed` for i, then
+// renormalised to sum 1. Plain loops in a fixed order (neighbours increasing, joints 0..23), so
+// the result is the same bit for bit on every CPU (no FMA: the build uses -ffp-contract=off).
+void diffuse_weights(const std::vector<std::vector<int>>& ring,
+                     const std::vector<std::array<bool, 24>>& allowed, int passes, WeightRows& w) {
+  const auto v = w.rows();
+  WeightRows next(v, 24);
+  for (int pass = 0; pass < passes; ++pass) {
+    for (Eigen::Index i = 0; i < v; ++i) {
+      const auto& r = ring[static_cast<std::size_t>(i)];
+      const auto& ok = allowed[static_cast<std::size_t>(i)];
+      double sum = 0.0;
+      for (int k = 0; k < 24; ++k) {
+        double x = 0.0;
+        if (ok[static_cast<std::size_t>(k)]) {
+          double mean = 0.0;
+          for (const int n : r) {
+            mean += w(n, k);
+          }
+          mean = r.empty() ? w(i, k) : mean / static_cast<double>(r.size());
+          x = 0.5 * w(i, k) + 0.5 * mean;
+        }
+        next(i, k) = x;
+        sum += x;
+      }
+      for (int k = 0; k < 24; ++k) {
+        next(i, k) = next(i, k) / sum;  // sum > 0: w(i, k) > 0 for some allowed k (see below)
+      }
+    }
+    w.swap(next);
+  }
+}
+
+}  // namespace
+
 smpl::SparseMatrix merged_weights(const Assets& assets) {
+  return merged_weights(assets, kWeightSmoothingPasses);
+}
+
+smpl::SparseMatrix merged_weights(const Assets& assets, int smoothing_passes) {
+  if (smoothing_passes < 0) {
+    throw std::invalid_argument("merged_weights: smoothing_passes is " +
+                                std::to_string(smoothing_passes) + "; give 0 or more");
+  }
   const auto v = static_cast<Eigen::Index>(assets.skin.source_vertex.size());
-  Eigen::Matrix<double, Eigen::Dynamic, 24, Eigen::RowMajor> acc =
-      Eigen::Matrix<double, Eigen::Dynamic, 24, Eigen::RowMajor>::Zero(v, 24);
+  WeightRows acc = WeightRows::Zero(v, 24);
   for (const auto& [bone, list] : assets.weights) {
     const int seg = smpl_segment(assets.skeleton, bone);
     for (const auto& [i, x] : list) {
@@ -264,16 +329,52 @@ smpl::SparseMatrix merged_weights(const Assets& assets) {
   // Stray weights on the other side's limbs: SMPL's left joints are 1, 4, 7, ..., 22 (hips to
   // hands, collars 13 and shoulders 16 included) and each right joint follows its left one.
   const std::array<int, 9> left_joints{{1, 4, 7, 10, 13, 16, 18, 20, 22}};
+  std::vector<std::array<bool, 24>> other_side(static_cast<std::size_t>(v));
   for (Eigen::Index i = 0; i < v; ++i) {
     const double x =
         assets.base.vertices(assets.skin.source_vertex[static_cast<std::size_t>(i)], 0);
+    auto& o = other_side[static_cast<std::size_t>(i)];
+    o.fill(false);
     for (const int l : left_joints) {
       if (x < -kMidlineBand) {
-        acc(i, l) = 0.0;
+        o[static_cast<std::size_t>(l)] = true;
       } else if (x > kMidlineBand) {
-        acc(i, l + 1) = 0.0;
+        o[static_cast<std::size_t>(l + 1)] = true;
       }
     }
+    for (int k = 0; k < 24; ++k) {
+      if (o[static_cast<std::size_t>(k)]) {
+        acc(i, k) = 0.0;
+      }
+    }
+  }
+  if (smoothing_passes > 0) {
+    // Every row of acc sums to more than 0 here (else the check below throws; then smoothing
+    // is skipped for it: a vertex without weight keeps none). Each vertex may take the joints
+    // that influence it or a 1-ring neighbour, never one of the other side's limbs.
+    for (Eigen::Index i = 0; i < v; ++i) {
+      if (!(acc.row(i).sum() > 0.0)) {
+        smoothing_passes = 0;
+      } else {
+        acc.row(i) /= acc.row(i).sum();
+      }
+    }
+  }
+  if (smoothing_passes > 0) {
+    const auto ring = vertex_neighbours(v, assets.skin.faces);
+    std::vector<std::array<bool, 24>> allowed(static_cast<std::size_t>(v));
+    for (Eigen::Index i = 0; i < v; ++i) {
+      auto& a = allowed[static_cast<std::size_t>(i)];
+      for (int k = 0; k < 24; ++k) {
+        bool near = acc(i, k) > 0.0;
+        for (const int n : ring[static_cast<std::size_t>(i)]) {
+          near = near || acc(n, k) > 0.0;
+        }
+        a[static_cast<std::size_t>(k)] =
+            near && !other_side[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)];
+      }
+    }
+    diffuse_weights(ring, allowed, smoothing_passes, acc);
   }
   std::vector<Eigen::Triplet<double>> trip;
   for (Eigen::Index i = 0; i < v; ++i) {
