@@ -445,6 +445,43 @@ TEST(MakeHumanRig, TemplateModelIsValidAndDeterministic) {
   const smpl::BodyModel m2 = mh::template_model(a, mh::default_regressor_targets());
   EXPECT_TRUE(m1.v_template == m2.v_template);
   EXPECT_TRUE(smpl::SparseMatrix(m1.j_regressor - m2.j_regressor).norm() == 0.0);
+  EXPECT_TRUE(smpl::SparseMatrix(m1.weights - m2.weights).norm() == 0.0);  // smoothed twice
+}
+
+// The weight diffusion of merged_weights() (issue 11): 0 passes leaves MakeHuman's merge as it was;
+// the smoothed weights give a vertex only joints that influenced it or a 1-ring neighbour before
+// smoothing (no weight on a joint far from it), still 4 at most summing to 1 (checked above with
+// the default passes); a negative pass count is refused.
+TEST(MakeHumanRig, SmoothedWeightsStayOnTheJointsOfTheOneRing) {
+  REQUIRE_ASSETS();
+  namespace mh = modelgen::mh;
+  const auto& a = assets();
+  const smpl::SparseMatrix w0 = mh::merged_weights(a, 0);
+  const smpl::SparseMatrix w = mh::merged_weights(a);
+  ASSERT_EQ(w.rows(), w0.rows());
+  EXPECT_GT(smpl::SparseMatrix(w - w0).norm(), 1.0);  // the default smooths
+  std::vector<std::set<int>> near(static_cast<std::size_t>(w0.rows()));
+  auto add_row = [&](Eigen::Index to, Eigen::Index from) {
+    for (smpl::SparseMatrix::InnerIterator it(w0, from); it; ++it) {
+      near[static_cast<std::size_t>(to)].insert(static_cast<int>(it.col()));
+    }
+  };
+  for (Eigen::Index i = 0; i < w0.rows(); ++i) add_row(i, i);
+  const smpl::Faces& f = a.skin.faces;
+  for (Eigen::Index t = 0; t < f.rows(); ++t) {
+    for (int c = 0; c < 3; ++c) {
+      add_row(f(t, c), f(t, (c + 1) % 3));
+      add_row(f(t, (c + 1) % 3), f(t, c));
+    }
+  }
+  int far = 0;
+  for (Eigen::Index i = 0; i < w.rows(); ++i) {
+    for (smpl::SparseMatrix::InnerIterator it(w, i); it; ++it) {
+      far += near[static_cast<std::size_t>(i)].count(static_cast<int>(it.col())) == 0 ? 1 : 0;
+    }
+  }
+  EXPECT_EQ(far, 0);
+  EXPECT_THROW(mh::merged_weights(a, -1), std::invalid_argument);
 }
 
 // Geometry of the template (issue 11, "Must show" 2; the shape models are checked by
@@ -465,11 +502,12 @@ TEST(MakeHumanRig, TemplateIsAClosedManifoldWithoutSelfIntersectionAndFewFoldsIn
   EXPECT_EQ(r.unused_vertices, 0);
   EXPECT_GT(caliper::mesh_volume(m.v_template, m.faces), 0.045);
   EXPECT_TRUE(modelgen::self_intersections(m.v_template, m.faces).empty());
-  // Flipped triangles per test pose (test_poses() order) measured on 2026-11-25: the issue asks
-  // for none; these ceilings keep today's folds from growing until the weights are smoothed
-  // (diffusing the merged weights 50 times over the 1-ring removes all but 10 in the experiment
-  // reported in docs/models.md). The left-right pairs are equal: mesh and weights are symmetric.
-  const std::size_t kFlippedToday[10] = {17, 17, 14, 14, 25, 25, 14, 21, 21, 0};
+  // Flipped triangles per test pose (test_poses() order) measured on 2026-11-25 with the weights
+  // diffused kWeightSmoothingPasses = 50 times (168 in all before: 17 17 14 14 25 25 14 21 21 0;
+  // DISABLED_WeightSmoothingTable, docs/models.md): the issue asks for none; these ceilings keep
+  // the folds left (arms lowered, hips flexed) from growing. Lower them, never raise them.
+  // The left-right pairs are equal: mesh and weights are symmetric.
+  const std::size_t kFlippedToday[10] = {0, 0, 0, 0, 2, 2, 0, 3, 3, 0};
   const Eigen::VectorXd betas(0);
   ASSERT_EQ(modelgen::test_poses().size(), 10u);
   for (std::size_t i = 0; i < 10; ++i) {
@@ -520,8 +558,8 @@ TEST(MakeHumanRig, DISABLED_WeightSmoothingTable) {
   }
   std::printf(
       "passes | flipped per test pose (test_poses() order) | total | wrist twist dV ml | "
-      "elbows dV ml | hand+foot drift max/median mm (%zu vertices)\n",
-      tips.size());
+      "elbows dV ml | hand+foot drift max/p95/median mm (%zu vertices); rest volume %.1f l\n",
+      tips.size(), rest_volume * 1e3);
   for (const int passes : {0, 5, 10, 20, 30, 40, 50, 60, 70, 100}) {
     m.weights = mh::merged_weights(a, passes);
     std::size_t total = 0;

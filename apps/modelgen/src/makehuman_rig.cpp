@@ -297,10 +297,35 @@ void diffuse_weights(const std::vector<std::vector<int>>& ring,
         sum += x;
       }
       for (int k = 0; k < 24; ++k) {
-        next(i, k) = next(i, k) / sum;  // sum > 0: w(i, k) > 0 for some allowed k (see below)
+        next(i, k) = next(i, k) / sum;  // sum > 0: w(i, k) > 0 for an allowed k, its own
       }
     }
     w.swap(next);
+  }
+}
+
+// Keeps the 4 largest weights of each row of `w` (ties to the lower joint index), the others set
+// to 0, divided by their sum. Throws AssetError if a row has no positive weight.
+void keep_four_largest(const Assets& assets, WeightRows& w) {
+  for (Eigen::Index i = 0; i < w.rows(); ++i) {
+    std::array<int, 24> order{};
+    for (int k = 0; k < 24; ++k) {
+      order[static_cast<std::size_t>(k)] = k;
+    }
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return w(i, a) > w(i, b); });
+    double sum = 0.0;
+    for (int r = 0; r < 4; ++r) {
+      sum += w(i, order[static_cast<std::size_t>(r)]);
+    }
+    if (!(sum > 0.0)) {
+      throw AssetError("MakeHuman weights: skin vertex " + std::to_string(i) + " (base vertex " +
+                       std::to_string(assets.skin.source_vertex[static_cast<std::size_t>(i)]) +
+                       ") has no bone weight");
+    }
+    for (int r = 0; r < 24; ++r) {
+      const auto k = order[static_cast<std::size_t>(r)];
+      w(i, k) = r < 4 && w(i, k) > 0.0 ? w(i, k) / sum : 0.0;
+    }
   }
 }
 
@@ -348,19 +373,10 @@ smpl::SparseMatrix merged_weights(const Assets& assets, int smoothing_passes) {
       }
     }
   }
+  keep_four_largest(assets, acc);  // the merge as MakeHuman gives it: 0 passes
   if (smoothing_passes > 0) {
-    // Every row of acc sums to more than 0 here (else the check below throws; then smoothing
-    // is skipped for it: a vertex without weight keeps none). Each vertex may take the joints
-    // that influence it or a 1-ring neighbour, never one of the other side's limbs.
-    for (Eigen::Index i = 0; i < v; ++i) {
-      if (!(acc.row(i).sum() > 0.0)) {
-        smoothing_passes = 0;
-      } else {
-        acc.row(i) /= acc.row(i).sum();
-      }
-    }
-  }
-  if (smoothing_passes > 0) {
+    // Each vertex may take the joints that influence it or a 1-ring neighbour in the 4-kept
+    // merge, never one of the other side's limbs.
     const auto ring = vertex_neighbours(v, assets.skin.faces);
     std::vector<std::array<bool, 24>> allowed(static_cast<std::size_t>(v));
     for (Eigen::Index i = 0; i < v; ++i) {
@@ -375,28 +391,13 @@ smpl::SparseMatrix merged_weights(const Assets& assets, int smoothing_passes) {
       }
     }
     diffuse_weights(ring, allowed, smoothing_passes, acc);
+    keep_four_largest(assets, acc);
   }
   std::vector<Eigen::Triplet<double>> trip;
   for (Eigen::Index i = 0; i < v; ++i) {
-    std::array<int, 24> order{};
     for (int k = 0; k < 24; ++k) {
-      order[static_cast<std::size_t>(k)] = k;
-    }
-    std::stable_sort(order.begin(), order.end(),
-                     [&](int a, int b) { return acc(i, a) > acc(i, b); });
-    double sum = 0.0;
-    for (int r = 0; r < 4; ++r) {
-      sum += acc(i, order[static_cast<std::size_t>(r)]);
-    }
-    if (!(sum > 0.0)) {
-      throw AssetError("MakeHuman weights: skin vertex " + std::to_string(i) + " (base vertex " +
-                       std::to_string(assets.skin.source_vertex[static_cast<std::size_t>(i)]) +
-                       ") has no bone weight");
-    }
-    for (int r = 0; r < 4; ++r) {
-      const int k = order[static_cast<std::size_t>(r)];
       if (acc(i, k) > 0.0) {
-        trip.emplace_back(static_cast<int>(i), k, acc(i, k) / sum);
+        trip.emplace_back(static_cast<int>(i), k, acc(i, k));
       }
     }
   }
