@@ -557,17 +557,19 @@ TEST(MakeHumanRig, DISABLED_WeightSmoothingTable) {
     if (hand > 0.999 || foot > 0.999) tips.push_back(i);
   }
   std::printf(
-      "passes | flipped per test pose (test_poses() order) | total | wrist twist dV ml | "
+      "passes | flipped per test pose (test_poses() order) | total | self-intersecting pairs | "
+      "wrist twist dV ml | "
       "elbows dV ml | hand+foot drift max/p95/median mm (%zu vertices); rest volume %.1f l\n",
       tips.size(), rest_volume * 1e3);
   for (const int passes : {0, 5, 10, 20, 30, 40, 50, 60, 70, 100}) {
     m.weights = mh::merged_weights(a, passes);
-    std::size_t total = 0;
+    std::size_t total = 0, pairs = 0;
     std::string row;
     for (const modelgen::TestPose& p : modelgen::test_poses()) {
       const smpl::Body body = smpl::evaluate(m, betas, p.theta);
       const std::size_t f = modelgen::flipped_triangles(m, m.v_template, body).size();
       total += f;
+      pairs += modelgen::self_intersections(body.vertices, m.faces).size();
       row += std::to_string(f) + " ";
     }
     const double dv_twist =
@@ -578,8 +580,8 @@ TEST(MakeHumanRig, DISABLED_WeightSmoothingTable) {
     std::vector<double> drift;
     for (const Eigen::Index i : tips) drift.push_back((d.row(i) - distal0.row(i)).norm() * 1e3);
     std::sort(drift.begin(), drift.end());
-    std::printf("%3d | %s| %3zu | %7.1f | %7.1f | %6.2f / %6.2f / %6.2f\n", passes, row.c_str(),
-                total, dv_twist * 1e6, dv_elbows * 1e6, drift.back(),
+    std::printf("%3d | %s| %3zu | %4zu | %7.1f | %7.1f | %6.2f / %6.2f / %6.2f\n", passes,
+                row.c_str(), total, pairs, dv_twist * 1e6, dv_elbows * 1e6, drift.back(),
                 drift[drift.size() * 95 / 100], drift[drift.size() / 2]);
   }
 }
