@@ -92,7 +92,7 @@ TEST(CatmullClark, CubeCountsRowsAndShrinkage) {
   // inside the cage)
   smpl::Vertices v = s2.s * cube_points();
   const smpl::Faces f = triangulate(s2.quads);
-  const auto rep = modelgen_test::topology_report(static_cast<int>(v.rows()), f);
+  const auto rep = modelgen::topology_report(static_cast<int>(v.rows()), f);
   EXPECT_TRUE(rep.closed);
   EXPECT_TRUE(rep.oriented);
   EXPECT_EQ(rep.euler, 2);
@@ -138,8 +138,7 @@ TEST(Cage, TopologyIsTheSameForEveryBodyAndSymmetric) {
   // the refined cage is a closed oriented sphere
   const modelgen::Subdivision s =
       modelgen::catmull_clark(static_cast<int>(f.positions.size()), f.quads, 1);
-  const auto rep =
-      modelgen_test::topology_report(static_cast<int>(s.s.rows()), triangulate(s.quads));
+  const auto rep = modelgen::topology_report(static_cast<int>(s.s.rows()), triangulate(s.quads));
   EXPECT_TRUE(rep.closed);
   EXPECT_TRUE(rep.oriented);
   EXPECT_TRUE(rep.vertex_manifold);

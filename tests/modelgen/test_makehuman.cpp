@@ -1,6 +1,7 @@
 /// \file test_makehuman.cpp
 /// MakeHuman asset readers and the skin mesh, on the real CC0 files (../shared/data/makehuman)
 /// and on small hand-written files for the error paths.
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <cstdio>
@@ -19,6 +20,7 @@
 #include "makehuman.hpp"
 #include "mesh_checks.hpp"
 #include "smpl/avatar_export.hpp"
+#include "smpl/evaluate.hpp"
 #include "smpl/fbx.hpp"
 #include "smpl/gltf.hpp"
 #include "smpl/io.hpp"
@@ -83,7 +85,7 @@ TEST(MakeHumanReader, SkinMeshIsTheClosedBodyInMetresFacingPlusZ) {
   EXPECT_GE(skin.uvs.minCoeff(), 0.0);
   EXPECT_LE(skin.uvs.maxCoeff(), 1.0);
 
-  const auto topo = modelgen_test::topology_report(static_cast<int>(v.rows()), skin.faces);
+  const auto topo = modelgen::topology_report(static_cast<int>(v.rows()), skin.faces);
   EXPECT_TRUE(topo.closed);
   EXPECT_TRUE(topo.oriented);
   EXPECT_TRUE(topo.vertex_manifold);
@@ -269,6 +271,19 @@ TEST(MakeHumanRig, MergedWeightsAreFourPerVertexSummingToOne) {
     ASSERT_NEAR(sum, 1.0, kRoundoff) << "vertex " << i;
     ++dominant[static_cast<std::size_t>(arg)];
   }
+  // No vertex off the midline carries a weight of the other side's limbs (hm08 has four such
+  // strays, dropped by the merge: merged_weights()).
+  int cross = 0;
+  for (Eigen::Index i = 0; i < w.rows(); ++i) {
+    const double x = a.base.vertices(a.skin.source_vertex[static_cast<std::size_t>(i)], 0);
+    for (smpl::SparseMatrix::InnerIterator it(w, i); it; ++it) {
+      const int k = static_cast<int>(it.col());
+      const bool left = k == 1 || k == 4 || k == 7 || k == 10 || k == 13 || (k >= 16 && k % 2 == 0);
+      const bool right = k != 0 && k != 3 && k != 6 && k != 9 && k != 12 && k != 15 && !left;
+      cross += (left && x < -mh::kMidlineBand) || (right && x > mh::kMidlineBand);
+    }
+  }
+  EXPECT_EQ(cross, 0);
   // Every joint drives some skin; left and right sides drive the same number of vertices
   // (MakeHuman's weights are symmetric, the mesh too) to within 1 %.
   const auto& names = smpl::smpl_joint_names();
@@ -331,8 +346,8 @@ TEST(MakeHumanRig, TPoseHasHorizontalStraightArmsPalmsDownAndKeepsTheVolume) {
   const double v1 = caliper::mesh_volume(posed, a.skin.faces);
   std::printf("volume A-pose %.5f m^3, T-pose %.5f m^3\n", v0, v1);
   EXPECT_NEAR(v1 / v0, 1.0, 0.03);
-  const auto x0 = modelgen_test::self_intersections(rest, a.skin.faces, 0.01);
-  const auto x1 = modelgen_test::self_intersections(posed, a.skin.faces, 0.01);
+  const auto x0 = modelgen::self_intersections(rest, a.skin.faces, 0.01);
+  const auto x1 = modelgen::self_intersections(posed, a.skin.faces, 0.01);
   std::printf("self-intersecting triangle pairs: A-pose %zu, T-pose %zu\n", x0.size(), x1.size());
   EXPECT_LE(x1.size(), x0.size());
 }
@@ -430,6 +445,145 @@ TEST(MakeHumanRig, TemplateModelIsValidAndDeterministic) {
   const smpl::BodyModel m2 = mh::template_model(a, mh::default_regressor_targets());
   EXPECT_TRUE(m1.v_template == m2.v_template);
   EXPECT_TRUE(smpl::SparseMatrix(m1.j_regressor - m2.j_regressor).norm() == 0.0);
+  EXPECT_TRUE(smpl::SparseMatrix(m1.weights - m2.weights).norm() == 0.0);  // smoothed twice
+}
+
+// The weight diffusion of merged_weights() (issue 11): 0 passes leaves MakeHuman's merge as it was;
+// the smoothed weights give a vertex only joints that influenced it or a 1-ring neighbour before
+// smoothing (no weight on a joint far from it), still 4 at most summing to 1 (checked above with
+// the default passes); a negative pass count is refused.
+TEST(MakeHumanRig, SmoothedWeightsStayOnTheJointsOfTheOneRing) {
+  REQUIRE_ASSETS();
+  namespace mh = modelgen::mh;
+  const auto& a = assets();
+  const smpl::SparseMatrix w0 = mh::merged_weights(a, 0);
+  const smpl::SparseMatrix w = mh::merged_weights(a);
+  ASSERT_EQ(w.rows(), w0.rows());
+  EXPECT_GT(smpl::SparseMatrix(w - w0).norm(), 1.0);  // the default smooths
+  std::vector<std::set<int>> near(static_cast<std::size_t>(w0.rows()));
+  auto add_row = [&](Eigen::Index to, Eigen::Index from) {
+    for (smpl::SparseMatrix::InnerIterator it(w0, from); it; ++it) {
+      near[static_cast<std::size_t>(to)].insert(static_cast<int>(it.col()));
+    }
+  };
+  for (Eigen::Index i = 0; i < w0.rows(); ++i) add_row(i, i);
+  const smpl::Faces& f = a.skin.faces;
+  for (Eigen::Index t = 0; t < f.rows(); ++t) {
+    for (int c = 0; c < 3; ++c) {
+      add_row(f(t, c), f(t, (c + 1) % 3));
+      add_row(f(t, (c + 1) % 3), f(t, c));
+    }
+  }
+  int far = 0;
+  for (Eigen::Index i = 0; i < w.rows(); ++i) {
+    for (smpl::SparseMatrix::InnerIterator it(w, i); it; ++it) {
+      far += near[static_cast<std::size_t>(i)].count(static_cast<int>(it.col())) == 0 ? 1 : 0;
+    }
+  }
+  EXPECT_EQ(far, 0);
+  EXPECT_THROW(mh::merged_weights(a, -1), std::invalid_argument);
+}
+
+// Geometry of the template (issue 11, "Must show" 2; the shape models are checked by
+// caliper-modelgen-check, docs/models.md): a closed genus-0 manifold of one piece, positive
+// volume, no self-intersection in the T-pose; in the 10 test poses, the flipped triangles are the
+// folds linear blend skinning makes with MakeHuman's weights at 90-degree bends (inner elbow,
+// back of the knee, groin, armpit). Their counts are guarded at today's figures, per pose.
+TEST(MakeHumanRig, TemplateIsAClosedManifoldWithoutSelfIntersectionAndFewFoldsInTestPoses) {
+  REQUIRE_ASSETS();
+  namespace mh = modelgen::mh;
+  const smpl::BodyModel m = mh::template_model(assets(), mh::default_regressor_targets());
+  const modelgen::TopologyReport r = modelgen::topology_report(m.num_vertices(), m.faces);
+  EXPECT_TRUE(r.closed);
+  EXPECT_TRUE(r.oriented);
+  EXPECT_TRUE(r.vertex_manifold);
+  EXPECT_EQ(r.components, 1);
+  EXPECT_EQ(r.euler, 2);
+  EXPECT_EQ(r.unused_vertices, 0);
+  EXPECT_GT(caliper::mesh_volume(m.v_template, m.faces), 0.045);
+  EXPECT_TRUE(modelgen::self_intersections(m.v_template, m.faces).empty());
+  // Flipped triangles per test pose (test_poses() order) measured on 2026-11-25 with the weights
+  // diffused kWeightSmoothingPasses = 50 times (168 in all before: 17 17 14 14 25 25 14 21 21 0;
+  // DISABLED_WeightSmoothingTable, docs/models.md): the issue asks for none; these ceilings keep
+  // the folds left (arms lowered, hips flexed) from growing. Lower them, never raise them.
+  // The left-right pairs are equal: mesh and weights are symmetric.
+  const std::size_t kFlippedToday[10] = {0, 0, 0, 0, 2, 2, 0, 3, 3, 0};
+  const Eigen::VectorXd betas(0);
+  ASSERT_EQ(modelgen::test_poses().size(), 10u);
+  for (std::size_t i = 0; i < 10; ++i) {
+    const modelgen::TestPose& p = modelgen::test_poses()[i];
+    const smpl::Body body = smpl::evaluate(m, betas, p.theta);
+    const std::vector<int> flipped = modelgen::flipped_triangles(m, m.v_template, body);
+    const auto hits = modelgen::self_intersections(body.vertices, m.faces);
+    std::printf("%-22s %3zu flipped triangles, %4zu self-intersecting pairs\n", p.name.c_str(),
+                flipped.size(), hits.size());
+    EXPECT_LE(flipped.size(), kFlippedToday[i]) << p.name;
+  }
+}
+
+// The table behind kWeightSmoothingPasses (docs/models.md, "Geometry checks"); minutes, so not
+// in CI: modelgen_tests --gtest_also_run_disabled_tests --gtest_filter='*WeightSmoothingTable*'.
+// Per pass count: flipped triangles per test pose, and the side effects: the body's volume
+// change (ml) with both wrists twisted 90 degrees about the forearm (the candy wrapper) and with
+// both elbows flexed 90 degrees, and how far (mm, largest and median) the vertices that MakeHuman
+// gives wholly to the left wrist+hand or left ankle+foot move from where the unsmoothed weights
+// put them with that wrist and ankle flexed 90 degrees (the hands and feet still follow their
+// joints when this stays small).
+TEST(MakeHumanRig, DISABLED_WeightSmoothingTable) {
+  REQUIRE_ASSETS();
+  namespace mh = modelgen::mh;
+  const auto& a = assets();
+  smpl::BodyModel m = mh::template_model(a, mh::default_regressor_targets());
+  const Eigen::VectorXd betas(0);
+  constexpr double kRight = 1.5707963267948966;
+  Eigen::VectorXd twist = Eigen::VectorXd::Zero(72), elbows = twist, distal = twist;
+  twist.segment<3>(3 * 20) = Eigen::Vector3d(kRight, 0, 0);
+  twist.segment<3>(3 * 21) = Eigen::Vector3d(kRight, 0, 0);
+  elbows.segment<3>(3 * 18) = Eigen::Vector3d(0, -kRight, 0);
+  elbows.segment<3>(3 * 19) = Eigen::Vector3d(0, kRight, 0);
+  distal.segment<3>(3 * 20) = Eigen::Vector3d(0, 0, -kRight);
+  distal.segment<3>(3 * 7) = Eigen::Vector3d(kRight, 0, 0);
+  const double rest_volume = caliper::mesh_volume(m.v_template, m.faces);
+  const smpl::SparseMatrix w0 = mh::merged_weights(a, 0);
+  m.weights = w0;
+  const smpl::Vertices distal0 = smpl::evaluate(m, betas, distal).vertices;
+  std::vector<Eigen::Index> tips;  // wholly on the left wrist+hand or the left ankle+foot
+  for (Eigen::Index i = 0; i < w0.rows(); ++i) {
+    double hand = 0.0, foot = 0.0;
+    for (smpl::SparseMatrix::InnerIterator it(w0, i); it; ++it) {
+      hand += (it.col() == 20 || it.col() == 22) ? it.value() : 0.0;
+      foot += (it.col() == 7 || it.col() == 10) ? it.value() : 0.0;
+    }
+    if (hand > 0.999 || foot > 0.999) tips.push_back(i);
+  }
+  std::printf(
+      "passes | flipped per test pose (test_poses() order) | total | self-intersecting pairs | "
+      "wrist twist dV ml | "
+      "elbows dV ml | hand+foot drift max/p95/median mm (%zu vertices); rest volume %.1f l\n",
+      tips.size(), rest_volume * 1e3);
+  for (const int passes : {0, 5, 10, 20, 30, 40, 50, 60, 70, 100}) {
+    m.weights = mh::merged_weights(a, passes);
+    std::size_t total = 0, pairs = 0;
+    std::string row;
+    for (const modelgen::TestPose& p : modelgen::test_poses()) {
+      const smpl::Body body = smpl::evaluate(m, betas, p.theta);
+      const std::size_t f = modelgen::flipped_triangles(m, m.v_template, body).size();
+      total += f;
+      pairs += modelgen::self_intersections(body.vertices, m.faces).size();
+      row += std::to_string(f) + " ";
+    }
+    const double dv_twist =
+        caliper::mesh_volume(smpl::evaluate(m, betas, twist).vertices, m.faces) - rest_volume;
+    const double dv_elbows =
+        caliper::mesh_volume(smpl::evaluate(m, betas, elbows).vertices, m.faces) - rest_volume;
+    const smpl::Vertices d = smpl::evaluate(m, betas, distal).vertices;
+    std::vector<double> drift;
+    for (const Eigen::Index i : tips) drift.push_back((d.row(i) - distal0.row(i)).norm() * 1e3);
+    std::sort(drift.begin(), drift.end());
+    std::printf("%3d | %s| %3zu | %4zu | %7.1f | %7.1f | %6.2f / %6.2f / %6.2f\n", passes,
+                row.c_str(), total, pairs, dv_twist * 1e6, dv_elbows * 1e6, drift.back(),
+                drift[drift.size() * 95 / 100], drift[drift.size() / 2]);
+  }
 }
 
 // The template's texture coordinates kept through the exports (issue 11): GLB split at the seams

@@ -100,11 +100,11 @@ TEST_P(OpenModel, HasEveryLandmarkOfTheSharedVocabulary) {
 }
 
 TEST_P(OpenModel, IsAClosedOrientedManifoldWithPositiveVolume) {
-  const modelgen_test::TopologyReport r =
-      modelgen_test::topology_report(model_.num_vertices(), model_.faces);
+  const modelgen::TopologyReport r = modelgen::topology_report(model_.num_vertices(), model_.faces);
   EXPECT_TRUE(r.closed);
   EXPECT_TRUE(r.oriented);
   EXPECT_TRUE(r.vertex_manifold);
+  EXPECT_EQ(r.components, 1);
   EXPECT_EQ(r.euler, 2);  // a sphere: genus 0
   EXPECT_EQ(r.unused_vertices, 0);
   EXPECT_GT(caliper::mesh_volume(model_.v_template, model_.faces), 0.04);
@@ -112,14 +112,14 @@ TEST_P(OpenModel, IsAClosedOrientedManifoldWithPositiveVolume) {
 
 TEST_P(OpenModel, HasNoSelfIntersectionAtMeanAndTwoSdAlongTenComponents) {
   Eigen::VectorXd betas = Eigen::VectorXd::Zero(model_.num_betas());
-  auto hits = modelgen_test::self_intersections(shaped(model_, betas), model_.faces);
+  auto hits = modelgen::self_intersections(shaped(model_, betas), model_.faces);
   EXPECT_TRUE(hits.empty()) << hits.size() << " intersecting pairs at the mean";
   for (int k = 0; k < 10; ++k) {
     for (double s : {-2.0, 2.0}) {
       betas.setZero();
       betas[k] = s;
       const smpl::Vertices v = shaped(model_, betas);
-      hits = modelgen_test::self_intersections(v, model_.faces);
+      hits = modelgen::self_intersections(v, model_.faces);
       EXPECT_TRUE(hits.empty()) << hits.size() << " intersecting pairs at beta[" << k
                                 << "] = " << s;
       EXPECT_GT(caliper::mesh_volume(v, model_.faces), 0.0);
@@ -127,34 +127,14 @@ TEST_P(OpenModel, HasNoSelfIntersectionAtMeanAndTwoSdAlongTenComponents) {
   }
 }
 
-// Test poses: each bends one joint pair by 90 degrees (axis-angle, radians).
-struct TestPose {
-  const char* name;
-  int joint;
-  Eigen::Vector3d axis_angle;
-};
-
+// The 10 test poses (modelgen::test_poses(): each bends one joint by 45 or 90 degrees).
 TEST_P(OpenModel, HasNoFlippedTrianglesInTestPoses) {
-  constexpr double kRight = 1.5707963267948966;
-  const TestPose poses[] = {
-      {"left elbow flexed", 18, {0, -kRight, 0}},
-      {"right elbow flexed", 19, {0, kRight, 0}},
-      {"left knee flexed", 4, {kRight, 0, 0}},
-      {"right knee flexed", 5, {kRight, 0, 0}},
-      {"left shoulder down", 16, {0, 0, -kRight}},
-      {"right shoulder down", 17, {0, 0, kRight}},
-      {"left shoulder forward", 16, {0, -kRight, 0}},
-      {"left hip flexed", 1, {-kRight, 0, 0}},
-      {"right hip flexed", 2, {-kRight, 0, 0}},
-      {"left hip abducted 45", 1, {0, 0, kRight / 2}},
-  };
   const Eigen::VectorXd betas = Eigen::VectorXd::Zero(model_.num_betas());
   const smpl::Vertices rest = shaped(model_, betas);
-  for (const TestPose& p : poses) {
-    Eigen::VectorXd theta = Eigen::VectorXd::Zero(3 * model_.num_joints());
-    theta.segment<3>(3 * p.joint) = p.axis_angle;
-    const smpl::Body body = smpl::evaluate(model_, betas, theta);
-    const std::vector<int> flipped = modelgen_test::flipped_triangles(model_, rest, body);
+  ASSERT_EQ(modelgen::test_poses().size(), 10u);
+  for (const modelgen::TestPose& p : modelgen::test_poses()) {
+    const smpl::Body body = smpl::evaluate(model_, betas, p.theta);
+    const std::vector<int> flipped = modelgen::flipped_triangles(model_, rest, body);
     EXPECT_TRUE(flipped.empty()) << p.name << ": " << flipped.size() << " flipped triangles";
   }
 }

@@ -248,10 +248,100 @@ TPoseBody t_pose(const Assets& assets, const Positions& a_pose) {
 // Merged weights
 // ------------------------------------------------------------------------------------------------
 
+namespace {
+
+using WeightRows = Eigen::Matrix<double, Eigen::Dynamic, 24, Eigen::RowMajor>;
+
+// The 1-ring of every vertex of `faces` (n vertices), each list sorted increasing.
+std::vector<std::vector<int>> vertex_neighbours(Eigen::Index n, const smpl::Faces& faces) {
+  std::vector<std::vector<int>> ring(static_cast<std::size_t>(n));
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int a = faces(f, c);
+      const int b = faces(f, (c + 1) % 3);
+      ring[static_cast<std::size_t>(a)].push_back(b);
+      ring[static_cast<std::size_t>(b)].push_back(a);
+    }
+  }
+  for (auto& r : ring) {
+    std::sort(r.begin(), r.end());
+    r.erase(std::unique(r.begin(), r.end()), r.end());
+  }
+  return ring;
+}
+
+// Diffuses the V x 24 weights `w` over the 1-ring, `passes` times (see merged_weights): each pass
+// w'(i) = (w(i) + mean of w over the 1-ring of i) / 2, kept to the joints `allowed` for i, then
+// renormalised to sum 1. Plain loops in a fixed order (neighbours increasing, joints 0..23), so
+// the result is the same bit for bit on every CPU (no FMA: the build uses -ffp-contract=off).
+void diffuse_weights(const std::vector<std::vector<int>>& ring,
+                     const std::vector<std::array<bool, 24>>& allowed, int passes, WeightRows& w) {
+  const auto v = w.rows();
+  WeightRows next(v, 24);
+  for (int pass = 0; pass < passes; ++pass) {
+    for (Eigen::Index i = 0; i < v; ++i) {
+      const auto& r = ring[static_cast<std::size_t>(i)];
+      const auto& ok = allowed[static_cast<std::size_t>(i)];
+      double sum = 0.0;
+      for (int k = 0; k < 24; ++k) {
+        double x = 0.0;
+        if (ok[static_cast<std::size_t>(k)]) {
+          double mean = 0.0;
+          for (const int n : r) {
+            mean += w(n, k);
+          }
+          mean = r.empty() ? w(i, k) : mean / static_cast<double>(r.size());
+          x = 0.5 * w(i, k) + 0.5 * mean;
+        }
+        next(i, k) = x;
+        sum += x;
+      }
+      for (int k = 0; k < 24; ++k) {
+        next(i, k) = next(i, k) / sum;  // sum > 0: w(i, k) > 0 for an allowed k, its own
+      }
+    }
+    w.swap(next);
+  }
+}
+
+// Keeps the 4 largest weights of each row of `w` (ties to the lower joint index), the others set
+// to 0, divided by their sum. Throws AssetError if a row has no positive weight.
+void keep_four_largest(const Assets& assets, WeightRows& w) {
+  for (Eigen::Index i = 0; i < w.rows(); ++i) {
+    std::array<int, 24> order{};
+    for (int k = 0; k < 24; ++k) {
+      order[static_cast<std::size_t>(k)] = k;
+    }
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return w(i, a) > w(i, b); });
+    double sum = 0.0;
+    for (int r = 0; r < 4; ++r) {
+      sum += w(i, order[static_cast<std::size_t>(r)]);
+    }
+    if (!(sum > 0.0)) {
+      throw AssetError("MakeHuman weights: skin vertex " + std::to_string(i) + " (base vertex " +
+                       std::to_string(assets.skin.source_vertex[static_cast<std::size_t>(i)]) +
+                       ") has no bone weight");
+    }
+    for (int r = 0; r < 24; ++r) {
+      const auto k = order[static_cast<std::size_t>(r)];
+      w(i, k) = r < 4 && w(i, k) > 0.0 ? w(i, k) / sum : 0.0;
+    }
+  }
+}
+
+}  // namespace
+
 smpl::SparseMatrix merged_weights(const Assets& assets) {
+  return merged_weights(assets, kWeightSmoothingPasses);
+}
+
+smpl::SparseMatrix merged_weights(const Assets& assets, int smoothing_passes) {
+  if (smoothing_passes < 0) {
+    throw std::invalid_argument("merged_weights: smoothing_passes is " +
+                                std::to_string(smoothing_passes) + "; give 0 or more");
+  }
   const auto v = static_cast<Eigen::Index>(assets.skin.source_vertex.size());
-  Eigen::Matrix<double, Eigen::Dynamic, 24, Eigen::RowMajor> acc =
-      Eigen::Matrix<double, Eigen::Dynamic, 24, Eigen::RowMajor>::Zero(v, 24);
+  WeightRows acc = WeightRows::Zero(v, 24);
   for (const auto& [bone, list] : assets.weights) {
     const int seg = smpl_segment(assets.skeleton, bone);
     for (const auto& [i, x] : list) {
@@ -261,27 +351,53 @@ smpl::SparseMatrix merged_weights(const Assets& assets) {
       }
     }
   }
+  // Stray weights on the other side's limbs: SMPL's left joints are 1, 4, 7, ..., 22 (hips to
+  // hands, collars 13 and shoulders 16 included) and each right joint follows its left one.
+  const std::array<int, 9> left_joints{{1, 4, 7, 10, 13, 16, 18, 20, 22}};
+  std::vector<std::array<bool, 24>> other_side(static_cast<std::size_t>(v));
+  for (Eigen::Index i = 0; i < v; ++i) {
+    const double x =
+        assets.base.vertices(assets.skin.source_vertex[static_cast<std::size_t>(i)], 0);
+    auto& o = other_side[static_cast<std::size_t>(i)];
+    o.fill(false);
+    for (const int l : left_joints) {
+      if (x < -kMidlineBand) {
+        o[static_cast<std::size_t>(l)] = true;
+      } else if (x > kMidlineBand) {
+        o[static_cast<std::size_t>(l + 1)] = true;
+      }
+    }
+    for (int k = 0; k < 24; ++k) {
+      if (o[static_cast<std::size_t>(k)]) {
+        acc(i, k) = 0.0;
+      }
+    }
+  }
+  keep_four_largest(assets, acc);  // the merge as MakeHuman gives it: 0 passes
+  if (smoothing_passes > 0) {
+    // Each vertex may take the joints that influence it or a 1-ring neighbour in the 4-kept
+    // merge, never one of the other side's limbs.
+    const auto ring = vertex_neighbours(v, assets.skin.faces);
+    std::vector<std::array<bool, 24>> allowed(static_cast<std::size_t>(v));
+    for (Eigen::Index i = 0; i < v; ++i) {
+      auto& a = allowed[static_cast<std::size_t>(i)];
+      for (int k = 0; k < 24; ++k) {
+        bool near = acc(i, k) > 0.0;
+        for (const int n : ring[static_cast<std::size_t>(i)]) {
+          near = near || acc(n, k) > 0.0;
+        }
+        a[static_cast<std::size_t>(k)] =
+            near && !other_side[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)];
+      }
+    }
+    diffuse_weights(ring, allowed, smoothing_passes, acc);
+    keep_four_largest(assets, acc);
+  }
   std::vector<Eigen::Triplet<double>> trip;
   for (Eigen::Index i = 0; i < v; ++i) {
-    std::array<int, 24> order{};
     for (int k = 0; k < 24; ++k) {
-      order[static_cast<std::size_t>(k)] = k;
-    }
-    std::stable_sort(order.begin(), order.end(),
-                     [&](int a, int b) { return acc(i, a) > acc(i, b); });
-    double sum = 0.0;
-    for (int r = 0; r < 4; ++r) {
-      sum += acc(i, order[static_cast<std::size_t>(r)]);
-    }
-    if (!(sum > 0.0)) {
-      throw AssetError("MakeHuman weights: skin vertex " + std::to_string(i) + " (base vertex " +
-                       std::to_string(assets.skin.source_vertex[static_cast<std::size_t>(i)]) +
-                       ") has no bone weight");
-    }
-    for (int r = 0; r < 4; ++r) {
-      const int k = order[static_cast<std::size_t>(r)];
       if (acc(i, k) > 0.0) {
-        trip.emplace_back(static_cast<int>(i), k, acc(i, k) / sum);
+        trip.emplace_back(static_cast<int>(i), k, acc(i, k));
       }
     }
   }

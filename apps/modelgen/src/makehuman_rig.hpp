@@ -41,8 +41,32 @@ int smpl_segment(const Skeleton& skeleton, const std::string& bone);
 
 /// V x 24 skinning weights of the skin mesh: MakeHuman's bone weights summed per SMPL segment,
 /// the 4 largest kept per vertex (ties to the lower joint index), renormalised to sum 1.
-/// Throws AssetError if a skin vertex has no weight at all.
+/// A weight on a limb segment of the other side of the body (a left joint for a vertex more than
+/// kMidlineBand to the right of the midline, or the reverse) is dropped first: hm08's weights
+/// carry a few such strays (0.2 % of toe2-3.R on a left toe vertex, 0.5 % of the other knee on a
+/// knee vertex), which pull the skin across the body when the other limb moves and fold it.
+/// Then the weights are smoothed: `smoothing_passes` passes of uniform (umbrella) Laplacian
+/// diffusion over the skin mesh's 1-ring, w'(i) = (w(i) + mean of w over the neighbours of i) / 2,
+/// each vertex restricted to the joints that already influence it or a 1-ring neighbour (so no
+/// vertex takes a joint far from it in SMPL's hierarchy) and never to a limb of the other side,
+/// renormalised to sum 1 after each pass. MakeHuman's weights change sharply across 90-degree
+/// bends (inner elbow, back of the knee, groin, armpit), where linear blend skinning folds the
+/// skin (flipped triangles); the diffusion spreads the change over a few rings. Deterministic:
+/// plain loops in a fixed order, the same bytes on every CPU. The 4 largest are kept afterwards.
+/// Throws AssetError if a skin vertex has no weight at all; std::invalid_argument if
+/// smoothing_passes < 0.
+smpl::SparseMatrix merged_weights(const Assets& assets, int smoothing_passes);
+
+/// Diffusion passes merged_weights(assets) applies, chosen by measuring the template's flipped
+/// triangles in the 10 test poses against its side effects (docs/models.md, "Geometry checks").
+constexpr int kWeightSmoothingPasses = 50;  // flipped triangles 168 -> 10 (docs/models.md)
+
+/// merged_weights(assets, kWeightSmoothingPasses): the weights of the MakeHuman models.
 smpl::SparseMatrix merged_weights(const Assets& assets);
+
+/// Half-width (decimetres, base-mesh units) of the band about x = 0 where a vertex may carry
+/// weights of both sides' limb segments (the crotch, the spine): 1 cm.
+constexpr double kMidlineBand = 0.1;
 
 /// A body posed from MakeHuman's A-pose to SMPL's T-pose.
 struct TPoseBody {
