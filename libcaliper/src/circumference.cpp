@@ -217,8 +217,7 @@ std::optional<double> circumference_between(const smpl::Vertices& vertices,
 
 const std::vector<std::string>& circumference_ids() {
   static const std::vector<std::string> ids = {"chest_circumference", "waist_circumference",
-                                               "hip_circumference", "thigh_circumference",
-                                               "waist_iliac_circumference"};
+                                               "hip_circumference", "thigh_circumference"};
   return ids;
 }
 

@@ -60,7 +60,9 @@ MeasurementMap circumferences(const smpl::Vertices& vertices, const smpl::Faces&
                               const LandmarkTable& landmarks, bool convex_hull = true,
                               double thigh_drop = 0.02);
 
-/// Ids of the circumference measurements, in the order above.
+/// Ids of the four circumferences of the shared landmark vocabulary, in the order above
+/// (chest, waist, hip, thigh; the columns of `caliper batch --circumferences`).
+/// waist_iliac_circumference is not listed: it needs landmarks outside the vocabulary.
 const std::vector<std::string>& circumference_ids();
 
 }  // namespace caliper
