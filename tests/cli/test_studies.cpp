@@ -167,6 +167,7 @@ TEST(NhanesStudy, SmallSampleGivesOneRowPerBinAndSex) {
     EXPECT_LE(all.beyond_3sd, all.count);
   }
   EXPECT_NE(table.find("| female | all | 40 |"), std::string::npos) << table;
+  EXPECT_EQ(table.find("nan"), std::string::npos) << table;  // empty bins print dashes
   EXPECT_NE(table.find("| male | all | 40 |"), std::string::npos) << table;
 }
 

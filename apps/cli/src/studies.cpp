@@ -605,6 +605,11 @@ std::string nhanes_markdown(const std::vector<NhanesRow>& rows) {
     if (r.failed) misses.push_back(std::to_string(r.failed) + " failed");
     std::string m;
     for (const auto& x : misses) m += (m.empty() ? "" : ", ") + x;
+    if (r.measured() == 0) {  // an empty bin (or every avatar failed): no figures
+      s << "| " << r.sex << " | " << r.bin << " | " << r.count
+        << " | - | - | - | - | - | - | - | - | - | - | - | " << (m.empty() ? "none" : m) << " |\n";
+      continue;
+    }
     s << "| " << r.sex << " | " << r.bin << " | " << r.count << " | " << mm(r.hip_bias_mm, true)
       << " | " << mm(r.hip_mae_mm, false) << " | " << mm(r.hip_baseline_mae_mm, false) << " | "
       << smpl::format_fixed(hip_ratio, 2) << " | " << mm(r.waist_bias_mm, true) << " | "
