@@ -237,6 +237,10 @@ MeasurementMap circumferences(const smpl::Vertices& vertices, const smpl::Faces&
     torso("chest_circumference", pt("left_nipple").y(), "left_chest", "right_chest");
   if (has("navel")) torso("waist_circumference", pt("navel").y(), "left_waist", "right_waist");
   if (has("left_hip")) torso("hip_circumference", pt("left_hip").y(), "left_hip", "right_hip");
+  if (has("left_iliac_crest")) {
+    torso("waist_iliac_circumference", pt("left_iliac_crest").y(), "left_iliac_crest",
+          "right_iliac_crest");
+  }
   if (has("crotch")) {
     const Eigen::Vector3d crotch = pt("crotch");
     const auto loops = slice_mesh(vertices, faces, crotch.y() - thigh_drop);

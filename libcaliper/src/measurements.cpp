@@ -134,6 +134,30 @@ void derive_torso_landmarks(const smpl::Vertices& v, LandmarkTable& table, doubl
   }
 }
 
+void derive_iliac_crest_landmarks(const smpl::Vertices& v, LandmarkTable& table,
+                                  double stature_fraction, double band) {
+  if (table.count("left_iliac_crest") && table.count("right_iliac_crest")) return;
+  if (!table.count("left_shoulder") || !table.count("right_shoulder"))
+    throw LandmarkError(
+        "the iliac crest rule needs the left_shoulder and right_shoulder landmarks");
+  const Eigen::Vector3d l = landmark_point(v, table.at("left_shoulder"));
+  const Eigen::Vector3d r = landmark_point(v, table.at("right_shoulder"));
+  const double mid = 0.5 * (l.x() + r.x()), half = 0.5 * std::abs(l.x() - r.x());
+  const double floor = floor_height(v);
+  const double y = floor + stature_fraction * (v.col(1).maxCoeff() - floor);
+  int best_l = -1, best_r = -1;
+  for (Eigen::Index i = 0; i < v.rows(); ++i) {
+    if (std::abs(v(i, 1) - y) > band || std::abs(v(i, 0) - mid) >= half) continue;
+    if (v(i, 0) > mid && (best_l < 0 || v(i, 0) > v(best_l, 0))) best_l = static_cast<int>(i);
+    if (v(i, 0) < mid && (best_r < 0 || v(i, 0) < v(best_r, 0))) best_r = static_cast<int>(i);
+  }
+  if (best_l < 0 || best_r < 0)
+    throw LandmarkError("the iliac crest rule found no torso vertex within " +
+                        std::to_string(band) + " m of the height " + std::to_string(y) + " m");
+  if (!table.count("left_iliac_crest")) table["left_iliac_crest"] = {best_l};
+  if (!table.count("right_iliac_crest")) table["right_iliac_crest"] = {best_r};
+}
+
 LandmarkTable landmarks_for(const smpl::BodyModel& model) {
   LandmarkTable table;
   if (model.num_vertices() == kSmplVertexCount) table = smpl_landmarks();

@@ -288,6 +288,57 @@ TEST(Circumference, TorsoLegsAndArmsAreSeparated) {
   EXPECT_NEAR(lengths.at("hip_circumference"), 2 * polygon_perimeter(32, 0.07), 1e-9);
 }
 
+TEST(Circumference, IliacCrestWaistIsTheGirthAtTheCrestLandmarks) {
+  // A torso of three stacked prisms: r = 0.16 from 0.8 to 1.05 (the pelvis, iliac crest level),
+  // r = 0.13 from 1.05 to 1.4 (the waist at the navel) and r = 0.2 from 1.4 to 1.6 (the
+  // shoulders), legs below, T-pose "hands" at x = +/-0.7 crossing both lower levels.
+  Mesh body = test::make_prism(test::circle(32, 0.07, 0.1), 0.0, 0.8, 4, 0.1);
+  test::append(body, test::make_prism(test::circle(32, 0.07, -0.1), 0.0, 0.8, 4, -0.1));
+  test::append(body, test::make_prism(test::circle(32, 0.16), 0.8, 1.05, 4));
+  test::append(body, test::make_prism(test::circle(32, 0.13), 1.05, 1.4, 4));
+  test::append(body, test::make_prism(test::circle(32, 0.2), 1.4, 1.6, 4));
+  test::append(body, test::make_prism(test::circle(8, 0.04, 0.7), 0.5, 1.3, 3, 0.7));
+  test::append(body, test::make_prism(test::circle(8, 0.04, -0.7), 0.5, 1.3, 3, -0.7));
+  LandmarkTable t;
+  const auto at = [&](double x, double y, double z) {
+    return std::vector<int>{test::nearest_vertex(body.v, Eigen::Vector3d(x, y, z))};
+  };
+  t["navel"] = at(0, 1.2, 0.13);
+  t["left_waist"] = at(0.13, 1.2, 0);
+  t["right_waist"] = at(-0.13, 1.2, 0);
+  t["left_shoulder"] = at(0.2, 1.6, 0);
+  t["right_shoulder"] = at(-0.2, 1.6, 0);
+  EXPECT_EQ(circumferences(body.v, body.f, t).count("waist_iliac_circumference"), 0u)
+      << "no iliac crest landmarks, no iliac-crest waist";
+  const double crest_y = 0.8 + 0.25 * 2.0 / 3.0;  // the prism's third ring of vertices
+  t["left_iliac_crest"] = at(0.16, crest_y, 0);
+  t["right_iliac_crest"] = at(-0.16, crest_y, 0);
+  const auto c = circumferences(body.v, body.f, t);
+  EXPECT_NEAR(c.at("waist_iliac_circumference"), polygon_perimeter(32, 0.16), 1e-9);
+  EXPECT_NEAR(c.at("waist_circumference"), polygon_perimeter(32, 0.13), 1e-9);
+
+  // The opt-in rule finds the same two vertices when asked for that level (the hands lie
+  // outside the shoulders and are skipped), and never replaces a landmark a table has.
+  LandmarkTable derived = t;
+  derived.erase("left_iliac_crest");
+  derived.erase("right_iliac_crest");
+  derive_iliac_crest_landmarks(body.v, derived, crest_y / 1.6, 0.01);
+  ASSERT_EQ(derived.count("left_iliac_crest"), 1u);
+  EXPECT_NEAR(body.v(derived.at("left_iliac_crest")[0], 0), 0.16, 1e-12);
+  EXPECT_NEAR(body.v(derived.at("left_iliac_crest")[0], 1), crest_y, 1e-12);
+  EXPECT_NEAR(body.v(derived.at("right_iliac_crest")[0], 0), -0.16, 1e-12);
+  LandmarkTable kept = t;
+  derive_iliac_crest_landmarks(body.v, kept, 0.2);
+  EXPECT_EQ(kept.at("left_iliac_crest"), t.at("left_iliac_crest"));
+  // Without shoulders, or with no vertex near the level, the rule says why.
+  derived.erase("left_shoulder");
+  derived.erase("left_iliac_crest");
+  EXPECT_THROW(derive_iliac_crest_landmarks(body.v, derived), LandmarkError);
+  LandmarkTable gap = t;
+  gap.erase("left_iliac_crest");
+  EXPECT_THROW(derive_iliac_crest_landmarks(body.v, gap, 0.75 / 1.6, 0.001), LandmarkError);
+}
+
 TEST(Circumference, HullCornerCases) {
   EXPECT_EQ(convex_hull_perimeter({}), 0.0);
   EXPECT_EQ(convex_hull_perimeter({Eigen::Vector2d(1, 1)}), 0.0);

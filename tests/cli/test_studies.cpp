@@ -4,7 +4,14 @@
 // 3 SD where the true body was within 2 SD).
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "caliper/circumference.hpp"
+#include "caliper/measurements.hpp"
 #include "caliper/regressor.hpp"
+#include "caliper/training.hpp"
 #include "cli_fixture.hpp"
 #include "model_source.hpp"
 #include "studies.hpp"
@@ -81,6 +88,122 @@ TEST(SimulationStudy, NoiseAwareBeatsPlainRegressorsAndStaysPlausible) {
     }
     EXPECT_GT(r.true_within_2sd, 0);
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// NHANES study
+
+/// A folder of its own for the NHANES test files.
+std::string nhanes_test_dir() {
+  const auto dir = std::filesystem::temp_directory_path() / "caliper-cli-nhanes-test";
+  std::filesystem::create_directories(dir);
+  return dir.string();
+}
+
+std::string write_file(const std::string& name, const std::string& text) {
+  const std::string path = nhanes_test_dir() + "/" + name;
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
+/// The toy model with left/right_iliac_crest placed by the library's rule (at the toy's own
+/// waist level: the toy is not human-shaped, so ANSUR's 0.608 of stature is not used).
+smpl::BodyModel toy_with_iliac_crest(const std::string& sex, std::uint64_t seed) {
+  smpl::BodyModel m = test::cli_test_model(sex, seed);
+  LandmarkTable t = landmarks_for(m);
+  const double floor = m.v_template.col(1).minCoeff();
+  const double navel = landmark_point(m.v_template, t.at("navel")).y();
+  derive_iliac_crest_landmarks(m.v_template, t,
+                               (navel - floor) / (m.v_template.col(1).maxCoeff() - floor), 0.02);
+  for (const char* n : {"left_iliac_crest", "right_iliac_crest"}) m.landmarks[n] = t.at(n);
+  return m;
+}
+
+/// An NHANES-format file (comment lines, quoted header, cm and kg) of `n` bodies drawn from the
+/// model: their own height, weight from volume, hip and iliac-crest waist.
+std::string nhanes_file_from(const smpl::BodyModel& m, int n, std::uint64_t seed,
+                             const std::string& name) {
+  std::ostringstream s;
+  s << "# test bodies drawn from " << m.meta.name << "\n#\n"
+    << "\"BMXWT\",\"BMXHT\",\"BMXARML\",\"BMXLEG\",\"BMXARMC\",\"BMXHIP\",\"BMXWAIST\"\n";
+  const Eigen::MatrixXd betas = gaussian_betas(n, 10, seed);
+  for (int i = 0; i < n; ++i) {
+    const MeasurementMap a = measure_all(m, shaped_vertices(m, betas.row(i).transpose()));
+    s << a.at("weight") << "," << a.at("height") * 100 << ",30,40,30,"
+      << a.at("hip_circumference") * 100 << "," << a.at("waist_iliac_circumference") * 100 << "\n";
+  }
+  return write_file(name, s.str());
+}
+
+TEST(NhanesStudy, SmallSampleGivesOneRowPerBinAndSex) {
+  constexpr int kPeople = 40;
+  ModelBundle female = bundle_for(toy_with_iliac_crest("female", 7));
+  ModelBundle male = bundle_for(toy_with_iliac_crest("male", 11));
+  female.path = "toy-female.npz";
+  male.path = "toy-male.npz";
+  std::vector<NhanesGroup> groups = {
+      {"female", read_nhanes_csv(nhanes_file_from(female.model, kPeople, 3, "f.csv")), &female},
+      {"male", read_nhanes_csv(nhanes_file_from(male.model, kPeople, 4, "m.csv")), &male}};
+  ASSERT_EQ(groups[0].people.size(), static_cast<size_t>(kPeople));
+  EXPECT_EQ(groups[0].people[0].line, 4);  // after two comment lines and the header
+  const auto rows = nhanes_study(groups, 5);
+  const std::string table = nhanes_markdown(rows);
+  ASSERT_EQ(rows.size(), 2 * (nhanes_bmi_bins().size() + 1)) << table;
+  for (size_t g = 0; g < 2; ++g) {
+    int in_bins = 0;
+    for (size_t b = 0; b < nhanes_bmi_bins().size(); ++b) in_bins += rows[g * 8 + b].count;
+    const NhanesRow& all = rows[g * 8 + 7];
+    EXPECT_EQ(all.bin, "all");
+    EXPECT_EQ(in_bins, kPeople) << table;
+    EXPECT_EQ(all.count, kPeople) << table;
+    EXPECT_EQ(all.failed, 0) << table;
+    // R2 reproduces the weight of the model's own bodies (the Table 1 bound).
+    EXPECT_LE(all.weight_mean_abs_kg, kWeightTolKg) << table;
+    for (double v :
+         {all.hip_mae_mm, all.hip_baseline_mae_mm, all.waist_mae_mm, all.waist_baseline_mae_mm}) {
+      EXPECT_TRUE(std::isfinite(v) && v > 0.0) << table;
+    }
+    EXPECT_LE(std::abs(all.hip_bias_mm), all.hip_mae_mm) << table;
+    EXPECT_LE(all.beyond_3sd, all.count);
+  }
+  EXPECT_NE(table.find("| female | all | 40 |"), std::string::npos) << table;
+  EXPECT_EQ(table.find("nan"), std::string::npos) << table;  // empty bins print dashes
+  EXPECT_NE(table.find("| male | all | 40 |"), std::string::npos) << table;
+}
+
+TEST(NhanesStudy, MissingLandmarkNamesItAndTheModelFile) {
+  ModelBundle plain = bundle_for(test::cli_test_model("female", 7));
+  plain.path = "plain-toy.npz";
+  const smpl::BodyModel with = toy_with_iliac_crest("female", 7);
+  std::vector<NhanesGroup> groups = {
+      {"female", read_nhanes_csv(nhanes_file_from(with, 20, 3, "few.csv")), &plain}};
+  try {
+    nhanes_study(groups, 5);
+    FAIL() << "a model without iliac crest landmarks was accepted";
+  } catch (const RuntimeError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("'left_iliac_crest'"), std::string::npos) << what;
+    EXPECT_NE(what.find("plain-toy.npz"), std::string::npos) << what;
+    EXPECT_NE(what.find("--derive-iliac-crest"), std::string::npos) << what;
+  }
+}
+
+TEST(NhanesStudy, BadFilesAreNamed) {
+  const auto message = [](const std::string& path) {
+    try {
+      read_nhanes_csv(path);
+    } catch (const RuntimeError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message(nhanes_test_dir() + "/absent.csv").find("cannot open"), std::string::npos);
+  const std::string no_waist = write_file("no_waist.csv", "BMXWT,BMXHT,BMXHIP\n70,170,100\n");
+  EXPECT_NE(message(no_waist).find("no column BMXWAIST"), std::string::npos) << message(no_waist);
+  const std::string bad =
+      write_file("bad.csv", "# c\nBMXWT,BMXHT,BMXHIP,BMXWAIST\n70,170,100,90\n70,,100,90\n");
+  EXPECT_NE(message(bad).find("bad.csv:4: BMXHT '' is not a positive number"), std::string::npos)
+      << message(bad);
 }
 
 }  // namespace

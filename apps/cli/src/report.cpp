@@ -30,6 +30,7 @@ std::string label_of(const std::string& id) {
   if (id == "chest_circumference") return "Chest circumference";
   if (id == "waist_circumference") return "Waist circumference";
   if (id == "hip_circumference") return "Hip circumference";
+  if (id == "waist_iliac_circumference") return "Waist circumference (iliac crest)";
   if (id == "thigh_circumference") return "Thigh circumference";
   for (const auto& d : paper_measurements())
     if (d.id == id) return d.label;

@@ -1,9 +1,12 @@
-// Evaluation studies (docs/evaluation.md). Sections: helpers; 1 Table 1; 2 simulation; 3 ANSUR II.
+// Evaluation studies (docs/evaluation.md). Sections: helpers; 1 Table 1; 2 simulation; 3 ANSUR II;
+// 4 NHANES.
 #include "studies.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <sstream>
 
 #include <Eigen/QR>
@@ -377,6 +380,243 @@ std::string ansur_markdown(const std::vector<AnsurRow>& rows) {
       s << " " << smpl::format_fixed(r.mae_mm[t], 1) << " (" << (r.bias_mm[t] >= 0 ? "+" : "")
         << smpl::format_fixed(r.bias_mm[t], 1) << ") |";
     s << "\n";
+  }
+  return s.str();
+}
+
+// ---------------------------------------------------------------------------------------------
+// 4. NHANES
+// ---------------------------------------------------------------------------------------------
+
+std::vector<NhanesPerson> read_nhanes_csv(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw RuntimeError(path + ": cannot open the NHANES file (check --nhanes-dir)");
+  // Leading `#` lines are the file's description; the header follows them.
+  std::string line, text;
+  int skipped = 0;
+  bool body = false;
+  while (std::getline(in, line)) {
+    if (!body && !line.empty() && line[0] == '#') {
+      ++skipped;
+      continue;
+    }
+    body = true;
+    text += line;
+    text += '\n';
+  }
+  const CsvTable t = parse_csv(text, path);
+  struct Column {
+    const char* name;
+    double NhanesPerson::*field;
+    double scale;  // to SI
+  };
+  const Column columns[] = {{"BMXHT", &NhanesPerson::height, 0.01},
+                            {"BMXWT", &NhanesPerson::weight, 1.0},
+                            {"BMXHIP", &NhanesPerson::hip, 0.01},
+                            {"BMXWAIST", &NhanesPerson::waist, 0.01}};
+  std::vector<int> index;
+  for (const Column& c : columns) {
+    const int k = t.column(c.name);
+    if (k < 0)
+      throw RuntimeError(path + ": no column " + c.name +
+                         " (an NHANES body-measures file has BMXWT, BMXHT, BMXHIP, BMXWAIST)");
+    index.push_back(k);
+  }
+  std::vector<NhanesPerson> people;
+  for (size_t r = 0; r < t.rows.size(); ++r) {
+    NhanesPerson p;
+    p.line = t.line_numbers[r] + skipped;
+    for (size_t c = 0; c < index.size(); ++c) {
+      const std::string& cell = t.rows[r][static_cast<size_t>(index[c])];
+      char* end = nullptr;
+      const double v = std::strtod(cell.c_str(), &end);
+      if (cell.empty() || *end != '\0' || !std::isfinite(v) || v <= 0.0)
+        throw RuntimeError(path + ":" + std::to_string(p.line) + ": " + columns[c].name + " '" +
+                           cell + "' is not a positive number");
+      p.*(columns[c].field) = v * columns[c].scale;
+    }
+    people.push_back(p);
+  }
+  if (people.empty()) throw RuntimeError(path + ": no data rows");
+  return people;
+}
+
+const std::vector<std::string>& nhanes_bmi_bins() {
+  static const std::vector<std::string> b = {"<20",   "20-25", "25-30", "30-35",
+                                             "35-40", "40-50", ">50"};
+  return b;
+}
+
+int nhanes_bmi_bin(double bmi) {
+  static const double upper[] = {20, 25, 30, 35, 40, 50};
+  int k = 0;
+  while (k < 6 && bmi >= upper[k]) ++k;
+  return k;
+}
+
+const std::vector<std::string>& nhanes_waist_landmarks() {
+  static const std::vector<std::string> l = {"left_iliac_crest", "right_iliac_crest"};
+  return l;
+}
+
+namespace {
+
+/// Out-of-fold predictions of target ~ height + weight + 1 (least squares), `folds` folds.
+Eigen::VectorXd cross_validated_fit(const std::vector<NhanesPerson>& people,
+                                    double NhanesPerson::*target, int folds) {
+  const Eigen::Index n = static_cast<Eigen::Index>(people.size());
+  Eigen::VectorXd out(n);
+  for (int f = 0; f < folds; ++f) {
+    std::vector<Eigen::Index> train;
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (i % folds != f) train.push_back(i);
+    Eigen::MatrixXd X(static_cast<Eigen::Index>(train.size()), 3);
+    Eigen::VectorXd y(X.rows());
+    for (size_t r = 0; r < train.size(); ++r) {
+      const NhanesPerson& p = people[static_cast<size_t>(train[r])];
+      X.row(static_cast<Eigen::Index>(r)) << p.height, p.weight, 1.0;
+      y[static_cast<Eigen::Index>(r)] = p.*target;
+    }
+    const Eigen::Vector3d w = X.colPivHouseholderQr().solve(y);
+    for (Eigen::Index i = f; i < n; i += folds) {
+      const NhanesPerson& p = people[static_cast<size_t>(i)];
+      out[i] = w[0] * p.height + w[1] * p.weight + w[2];
+    }
+  }
+  return out;
+}
+
+/// Sums of one row, turned into means by finish().
+struct NhanesSums {
+  NhanesRow row;
+  void add(const NhanesPerson& p, double hip, double waist, double weight, double hip_base,
+           double waist_base, bool beyond3) {
+    row.hip_bias_mm += (hip - p.hip) * 1000.0;
+    row.hip_mae_mm += std::abs(hip - p.hip) * 1000.0;
+    row.hip_baseline_mae_mm += std::abs(hip_base - p.hip) * 1000.0;
+    row.waist_bias_mm += (waist - p.waist) * 1000.0;
+    row.waist_mae_mm += std::abs(waist - p.waist) * 1000.0;
+    row.waist_baseline_mae_mm += std::abs(waist_base - p.waist) * 1000.0;
+    row.weight_mean_abs_kg += std::abs(weight - p.weight);
+    row.weight_max_abs_kg = std::max(row.weight_max_abs_kg, std::abs(weight - p.weight));
+    row.beyond_3sd += beyond3;
+  }
+  NhanesRow finish() const {
+    NhanesRow r = row;
+    const double m = r.measured();
+    if (m > 0) {
+      for (double* v : {&r.hip_bias_mm, &r.hip_mae_mm, &r.hip_baseline_mae_mm, &r.waist_bias_mm,
+                        &r.waist_mae_mm, &r.waist_baseline_mae_mm, &r.weight_mean_abs_kg})
+        *v /= m;
+    }
+    return r;
+  }
+};
+
+}  // namespace
+
+std::vector<NhanesRow> nhanes_study(const std::vector<NhanesGroup>& groups, int folds) {
+  if (folds < 2) throw UsageError("the NHANES baseline needs at least 2 folds");
+  for (const NhanesGroup& g : groups) {
+    const LandmarkTable table = landmarks_for(g.bundle->model);
+    for (const std::string& name : nhanes_waist_landmarks()) {
+      if (!table.count(name))
+        throw RuntimeError(
+            "model " + g.bundle->path + " ('" + g.bundle->model.meta.name + "') has no landmark '" +
+            name +
+            "': the NHANES waist (waist_iliac_circumference, at the iliac crest) needs "
+            "left_iliac_crest and right_iliac_crest in the model's landmark table; use a model "
+            "that carries them, or add --derive-iliac-crest to place them by the v2 generator's "
+            "rule (the lateral torso vertices at 0.608 of the stature of the mean body)");
+    }
+  }
+  std::vector<NhanesRow> rows;
+  for (const NhanesGroup& g : groups) {
+    if (static_cast<int>(g.people.size()) < 2 * folds)
+      throw RuntimeError("NHANES " + g.sex + ": " + std::to_string(g.people.size()) +
+                         " people, too few for a " + std::to_string(folds) +
+                         "-fold baseline (at least " + std::to_string(2 * folds) + ")");
+    const Eigen::VectorXd hip_base = cross_validated_fit(g.people, &NhanesPerson::hip, folds);
+    const Eigen::VectorXd waist_base = cross_validated_fit(g.people, &NhanesPerson::waist, folds);
+    const size_t B = nhanes_bmi_bins().size();
+    std::vector<NhanesSums> bins(B + 1);  // the last: all
+    for (size_t b = 0; b <= B; ++b) {
+      bins[b].row.sex = g.sex;
+      bins[b].row.bin = b < B ? nhanes_bmi_bins()[b] : "all";
+    }
+    bool checked = false;
+    for (size_t i = 0; i < g.people.size(); ++i) {
+      const NhanesPerson& p = g.people[i];
+      NhanesSums& bin = bins[static_cast<size_t>(nhanes_bmi_bin(p.bmi()))];
+      ++bin.row.count;
+      ++bins[B].row.count;
+      Avatar av;
+      try {
+        av = make_avatar(*g.bundle, "R2", {{"height", p.height}, {"weight", p.weight}}, nullptr,
+                         true, false, !checked);
+        checked = true;
+      } catch (const std::exception&) {
+        ++bin.row.failed;  // counted and reported, not hidden
+        ++bins[B].row.failed;
+        continue;
+      }
+      const auto hip = av.achieved.find("hip_circumference");
+      const auto waist = av.achieved.find("waist_iliac_circumference");
+      const auto weight = av.achieved.find("weight");
+      if (hip == av.achieved.end() || waist == av.achieved.end() || weight == av.achieved.end()) {
+        ++bin.row.failed;
+        ++bins[B].row.failed;
+        continue;
+      }
+      const Eigen::Index k = static_cast<Eigen::Index>(i);
+      for (NhanesSums* s : {&bin, &bins[B]})
+        s->add(p, hip->second, waist->second, weight->second, hip_base[k], waist_base[k],
+               !av.plausibility.beyond_3sd.empty());
+    }
+    for (const NhanesSums& s : bins) rows.push_back(s.finish());
+  }
+  return rows;
+}
+
+std::string nhanes_markdown(const std::vector<NhanesRow>& rows) {
+  std::ostringstream s;
+  s << "| sex | BMI | people | hip bias | hip MAE | hip baseline MAE | hip ratio | waist bias | "
+       "waist MAE | waist baseline MAE | waist ratio | weight mean abs (kg) | weight max abs "
+       "(kg) | beyond 3 SD | misses |\n"
+       "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  const auto mm = [](double v, bool sign) {
+    return (sign && v >= 0 ? "+" : "") + smpl::format_fixed(v, 1);
+  };
+  for (const NhanesRow& r : rows) {
+    const double hip_ratio = r.hip_mae_mm / r.hip_baseline_mae_mm;
+    const double waist_ratio = r.waist_mae_mm / r.waist_baseline_mae_mm;
+    const double share = r.measured() ? 100.0 * r.beyond_3sd / r.measured() : 0.0;
+    std::vector<std::string> misses;
+    if (r.measured() > 0) {
+      const double bias_limit = r.bin == ">50" ? 30.0 : 20.0;
+      if (std::abs(r.hip_bias_mm) > bias_limit) misses.push_back("hip bias");
+      if (!(hip_ratio <= 1.15)) misses.push_back("hip MAE");
+      if (std::abs(r.waist_bias_mm) > bias_limit) misses.push_back("waist bias");
+      if (!(waist_ratio <= 1.15)) misses.push_back("waist MAE");
+      if (r.weight_mean_abs_kg > 0.5) misses.push_back("weight mean");
+      if (r.weight_max_abs_kg > 2.0) misses.push_back("weight max");
+      if (r.bin != ">50" && r.bin != "all" && share >= 5.0) misses.push_back("3 SD");
+    }
+    if (r.failed) misses.push_back(std::to_string(r.failed) + " failed");
+    std::string m;
+    for (const auto& x : misses) m += (m.empty() ? "" : ", ") + x;
+    if (r.measured() == 0) {  // an empty bin (or every avatar failed): no figures
+      s << "| " << r.sex << " | " << r.bin << " | " << r.count
+        << " | - | - | - | - | - | - | - | - | - | - | - | " << (m.empty() ? "none" : m) << " |\n";
+      continue;
+    }
+    s << "| " << r.sex << " | " << r.bin << " | " << r.count << " | " << mm(r.hip_bias_mm, true)
+      << " | " << mm(r.hip_mae_mm, false) << " | " << mm(r.hip_baseline_mae_mm, false) << " | "
+      << smpl::format_fixed(hip_ratio, 2) << " | " << mm(r.waist_bias_mm, true) << " | "
+      << mm(r.waist_mae_mm, false) << " | " << mm(r.waist_baseline_mae_mm, false) << " | "
+      << smpl::format_fixed(waist_ratio, 2) << " | " << smpl::format_fixed(r.weight_mean_abs_kg, 2)
+      << " | " << smpl::format_fixed(r.weight_max_abs_kg, 2) << " | " << r.beyond_3sd << " ("
+      << smpl::format_fixed(share, 1) << " %) | " << (m.empty() ? "none" : m) << " |\n";
   }
   return s.str();
 }

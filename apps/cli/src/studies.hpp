@@ -9,6 +9,10 @@
 /// 3. ansur_study: held-out ANSUR II subjects (every 5th of each file), avatars from their real
 ///    inputs, circumferences and biacromial breadth on the avatar vs the survey, next to the
 ///    direct linear-regression baseline fitted on the other subjects.
+/// 4. nhanes_study: NHANES 2017-2020 adults (development half), R2 avatars from height and
+///    weight per sex and BMI bin: hip and iliac-crest waist against the survey next to a
+///    cross-validated height+weight linear fit, weight from the avatar's volume, and the share
+///    of avatars beyond 3 SD (issue 11, "Must show" 4).
 #pragma once
 
 #include <cstdint>
@@ -85,5 +89,66 @@ const std::vector<std::string>& ansur_avatar_measurements();
 std::vector<AnsurRow> ansur_study(
     const std::vector<std::pair<std::vector<Person>, const ModelBundle*>>& groups, int every = 5);
 std::string ansur_markdown(const std::vector<AnsurRow>& rows);
+
+/// One NHANES adult: survey values in SI units.
+struct NhanesPerson {
+  double height = 0.0;  ///< BMXHT, m
+  double weight = 0.0;  ///< BMXWT, kg
+  double hip = 0.0;     ///< BMXHIP, m (maximum extension of the buttocks)
+  double waist = 0.0;  ///< BMXWAIST, m (just above the uppermost lateral border of the iliac crest)
+  int line = 0;        ///< source line
+  double bmi() const { return weight / (height * height); }
+};
+
+/// Reads one file of the NHANES body measures (`#` comment lines, a header with the columns
+/// BMXWT, BMXHT, BMXHIP, BMXWAIST among others, quoted or not; cm and kg). Throws RuntimeError
+/// naming the file when it cannot be opened, a column is missing, or a value is not a positive
+/// number (with its line).
+std::vector<NhanesPerson> read_nhanes_csv(const std::string& path);
+
+/// The BMI bins of the study: "<20", "20-25", "25-30", "30-35", "35-40", "40-50", ">50"
+/// (lower bound included).
+const std::vector<std::string>& nhanes_bmi_bins();
+/// Index into nhanes_bmi_bins() of a BMI in kg/m^2.
+int nhanes_bmi_bin(double bmi);
+
+/// One row of the NHANES study: one sex and one BMI bin ("all" for the whole sex).
+struct NhanesRow {
+  std::string sex;
+  std::string bin;
+  int count = 0;   ///< people in the bin
+  int failed = 0;  ///< people whose avatar could not be made (left out of every figure)
+  double hip_bias_mm = 0.0, hip_mae_mm = 0.0, hip_baseline_mae_mm = 0.0;
+  double waist_bias_mm = 0.0, waist_mae_mm = 0.0, waist_baseline_mae_mm = 0.0;
+  double weight_mean_abs_kg = 0.0, weight_max_abs_kg = 0.0;
+  int beyond_3sd = 0;  ///< avatars with a component beyond 3 SD
+  int measured() const { return count - failed; }
+};
+
+/// One sex of the NHANES study: the people, the model bundle (with its R2 regressor) and the
+/// model file (named in errors).
+struct NhanesGroup {
+  std::string sex;
+  std::vector<NhanesPerson> people;
+  const ModelBundle* bundle = nullptr;
+};
+
+/// Landmarks the iliac-crest waist needs (caliper::circumferences()).
+const std::vector<std::string>& nhanes_waist_landmarks();
+
+/// For each group: R2 avatars from height and weight (the model's in-process or loaded R2),
+/// their hip_circumference and waist_iliac_circumference against BMXHIP and BMXWAIST (bias =
+/// mean of avatar - survey), the baseline (circumference ~ height + weight + 1, least squares,
+/// `folds`-fold cross-validated: person i is predicted by the fit on the people with
+/// i % folds != its fold), the avatar's weight from its volume (the paper's formula for the
+/// model's gender) against BMXWT, and the avatars beyond 3 SD (caliper::plausibility). Rows per
+/// BMI bin, then "all", per group. Throws RuntimeError naming the model file and the landmark
+/// when a bundle's model lacks an nhanes_waist_landmarks() landmark.
+std::vector<NhanesRow> nhanes_study(const std::vector<NhanesGroup>& groups, int folds = 10);
+
+/// Markdown table of the rows with a last column naming the issue-11 targets each row misses:
+/// |bias| <= 20 mm (30 mm over BMI 50), avatar MAE <= 1.15 x baseline MAE, weight from volume
+/// within 0.5 kg mean and 2 kg max, under 5 % beyond 3 SD (bins under BMI 50).
+std::string nhanes_markdown(const std::vector<NhanesRow>& rows);
 
 }  // namespace caliper::cli

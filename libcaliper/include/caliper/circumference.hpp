@@ -43,19 +43,26 @@ std::optional<double> circumference_between(const smpl::Vertices& vertices,
                                             const smpl::Faces& faces, double height, double x_min,
                                             double x_max, bool convex_hull = true);
 
-/// The four circumferences, metres, for a rest-pose body (T-pose), each left out when its
+/// The five circumferences, metres, for a rest-pose body (T-pose), each left out when its
 /// landmarks are missing or no loop qualifies:
 /// - chest_circumference at left_nipple height, loops between right_chest.x and left_chest.x;
 /// - waist_circumference at navel height, loops between right_waist.x and left_waist.x;
 /// - hip_circumference at left_hip height, loops between right_hip.x and left_hip.x
 ///   (both legs together when the plane is below the crotch);
 /// - thigh_circumference `thigh_drop` metres below the crotch, the loop whose centroid has the
-///   smallest x greater than crotch.x (the left leg).
+///   smallest x greater than crotch.x (the left leg);
+/// - waist_iliac_circumference (the waist of NHANES and the WHO: just above the uppermost
+///   lateral border of the iliac crest) at left_iliac_crest height, loops between
+///   right_iliac_crest.x and left_iliac_crest.x. These two landmarks are not in the shared
+///   vocabulary: only a model whose own table (BodyModel::landmarks) carries them has this
+///   girth (derive_iliac_crest_landmarks() places them by a rule, on request).
 MeasurementMap circumferences(const smpl::Vertices& vertices, const smpl::Faces& faces,
                               const LandmarkTable& landmarks, bool convex_hull = true,
                               double thigh_drop = 0.02);
 
-/// Ids of the circumference measurements, in the order above.
+/// Ids of the four circumferences of the shared landmark vocabulary, in the order above
+/// (chest, waist, hip, thigh; the columns of `caliper batch --circumferences`).
+/// waist_iliac_circumference is not listed: it needs landmarks outside the vocabulary.
 const std::vector<std::string>& circumference_ids();
 
 }  // namespace caliper

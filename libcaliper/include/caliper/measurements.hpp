@@ -75,6 +75,22 @@ const LandmarkTable& smpl_landmarks();
 void derive_torso_landmarks(const smpl::Vertices& template_vertices, LandmarkTable& table,
                             double band = 0.015);
 
+/// The mean iliocristale height of ANSUR II as a fraction of stature (0.608, women and men
+/// alike; the rule of the v2 generator, apps/modelgen/src/makehuman_measures.hpp).
+constexpr double kIliacCrestStatureFraction = 0.608;
+
+/// Adds left_iliac_crest / right_iliac_crest (the top of the iliac crest at the body's sides:
+/// the waist level of NHANES and the WHO, caliper::circumferences()) to `table` when missing, by
+/// a rule on `template_vertices` (rest pose): among vertices within +/- `band` metres of
+/// floor + `stature_fraction` * stature and with |x - mid| below the shoulder half-width (from
+/// left/right_shoulder, which must be present), the vertex of largest (left) or smallest (right)
+/// x. Never called by landmarks_for(): a model carries these landmarks or the caller asks for
+/// the rule explicitly (`caliper evaluate nhanes --derive-iliac-crest`). Throws LandmarkError
+/// when the shoulders are missing or no vertex lies in the band.
+void derive_iliac_crest_landmarks(const smpl::Vertices& template_vertices, LandmarkTable& table,
+                                  double stature_fraction = kIliacCrestStatureFraction,
+                                  double band = 0.01);
+
 /// The landmark table for a model: smpl_landmarks() when the model has 6890 vertices (else
 /// empty), overridden name by name by model.landmarks, then derive_torso_landmarks() on
 /// model.v_template. Throws LandmarkError if an id is out of range for the model.
