@@ -9,6 +9,9 @@ find_package(nlohmann_json 3 REQUIRED)
 find_package(assimp 5 REQUIRED)
 # minizip (libminizip-dev) writes the .npz container (libsmpl/src/zip.cpp says why not libzip).
 pkg_check_modules(MINIZIP REQUIRED IMPORTED_TARGET minizip)
+# libcsv (libcsv-dev) parses every CSV file (libcaliper/src/csv.cpp says why this library);
+# cmake/FindLibCSV.cmake, as it has no CMake package or pkg-config file.
+find_package(LibCSV REQUIRED)
 
 # Python: Debian's python3 (python3-numpy, python3-scipy, python3-pytest come from apt), never
 # whichever python3 is first on PATH (a pyenv shim on some machines). Set CALIPER_PYTHON to use

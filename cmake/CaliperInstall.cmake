@@ -3,7 +3,7 @@
 #   pkg-config --cflags --libs virtual-caliper                                     (anything else)
 # Exported targets: vc::smpl (alias smpl::smpl), vc::smpl_gltf (alias smpl::gltf), vc::caliper
 # (alias caliper::caliper). They are static libraries, so their private link dependencies (zlib,
-# tinygltf, nlohmann_json) travel in the exported interface as $<LINK_ONLY:...> and the package
+# tinygltf, nlohmann_json, libcsv) travel in the exported interface as $<LINK_ONLY:...> and the package
 # config finds every one of them (find_dependency); tests/consumer/run.sh checks it from outside.
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
@@ -32,6 +32,7 @@ write_basic_package_version_file(${CMAKE_CURRENT_BINARY_DIR}/VirtualCaliperConfi
   COMPATIBILITY SameMajorVersion)
 install(FILES ${CMAKE_CURRENT_BINARY_DIR}/VirtualCaliperConfig.cmake
   ${CMAKE_CURRENT_BINARY_DIR}/VirtualCaliperConfigVersion.cmake
+  ${CMAKE_CURRENT_LIST_DIR}/FindLibCSV.cmake
   DESTINATION ${CALIPER_CMAKE_INSTALL_DIR})
 
 # pkg-config: one file for the three libraries, relocatable (prefix from the file's own folder,
@@ -40,10 +41,11 @@ install(FILES ${CMAKE_CURRENT_BINARY_DIR}/VirtualCaliperConfig.cmake
 set(CALIPER_PC_REQUIRES "eigen3 zlib nlohmann_json")
 # minizip goes in Libs, not Requires: its Cflags would put /usr/include/minizip (whose zip.h
 # shadows libzip's) on every consumer's include path, and no installed header includes it.
-set(CALIPER_PC_LIBS "-lcaliper -lsmpl -lminizip")
+# libcsv (CSV parsing in libcaliper) has no .pc file: it goes in Libs too.
+set(CALIPER_PC_LIBS "-lcaliper -lsmpl -lminizip -lcsv")
 if(CALIPER_HAVE_GLTF)
   set(CALIPER_PC_REQUIRES "${CALIPER_PC_REQUIRES} tinygltf")
-  set(CALIPER_PC_LIBS "-lcaliper -lsmpl_gltf -lsmpl -lminizip")
+  set(CALIPER_PC_LIBS "-lcaliper -lsmpl_gltf -lsmpl -lminizip -lcsv")
 endif()
 file(RELATIVE_PATH CALIPER_PC_TO_PREFIX /${CMAKE_INSTALL_LIBDIR}/pkgconfig /)
 string(REGEX REPLACE "/$" "" CALIPER_PC_TO_PREFIX "${CALIPER_PC_TO_PREFIX}")

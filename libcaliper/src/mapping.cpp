@@ -3,10 +3,9 @@
 
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
-#include <sstream>
 #include <string>
 
+#include "caliper/csv.hpp"
 #include "caliper/errors.hpp"
 
 namespace caliper {
@@ -18,15 +17,6 @@ std::string trim(const std::string& s) {
   if (b == std::string::npos) return "";
   const auto e = s.find_last_not_of(" \t\r\n");
   return s.substr(b, e - b + 1);
-}
-
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> out;
-  std::stringstream ss(line);
-  std::string cell;
-  while (std::getline(ss, cell, ',')) out.push_back(trim(cell));
-  if (!line.empty() && line.back() == ',') out.push_back("");
-  return out;
 }
 
 struct Fit {
@@ -59,58 +49,42 @@ bool fit_line(const std::vector<double>& x, const std::vector<double>& y, std::s
 }  // namespace
 
 std::vector<PairedValue> read_paired_csv(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InvalidInputError("cannot open mapping CSV '" + path + "'");
-  std::string line;
-  int line_no = 0;
-  int col_m = -1, col_r = -1, col_v = -1;
-  std::size_t ncols = 0;
+  CsvTable t;
+  try {
+    t = read_csv(path, CsvOptions{/*per_row_errors=*/false, /*comment_lines=*/true});
+  } catch (const CsvError& e) {
+    throw InvalidInputError(std::string("mapping CSV: ") + e.what());
+  }
+  const int col_m = t.column("measurement"), col_r = t.column("real"), col_v = t.column("virtual");
+  if (col_m < 0 || col_r < 0 || col_v < 0) {
+    std::string found;
+    for (const auto& h : t.header) found += (found.empty() ? "" : ",") + h;
+    throw InvalidInputError(path +
+                            ": the header must name the columns measurement, real and virtual "
+                            "(found: " +
+                            found + ")");
+  }
   std::vector<PairedValue> out;
-  while (std::getline(in, line)) {
-    ++line_no;
-    const std::string t = trim(line);
-    if (t.empty() || t[0] == '#') continue;
-    const auto cells = split(t);
-    if (col_m < 0) {
-      for (std::size_t i = 0; i < cells.size(); ++i) {
-        if (cells[i] == "measurement") col_m = static_cast<int>(i);
-        if (cells[i] == "real") col_r = static_cast<int>(i);
-        if (cells[i] == "virtual") col_v = static_cast<int>(i);
-      }
-      if (col_m < 0 || col_r < 0 || col_v < 0) {
-        throw InvalidInputError(path + ":" + std::to_string(line_no) +
-                                ": the header must name the columns measurement, real and "
-                                "virtual (found: " +
-                                t + ")");
-      }
-      ncols = cells.size();
-      continue;
-    }
-    if (cells.size() < ncols) {
-      throw InvalidInputError(path + ":" + std::to_string(line_no) + ": expected " +
-                              std::to_string(ncols) + " columns, found " +
-                              std::to_string(cells.size()));
-    }
-    PairedValue p;
-    p.measurement = cells[static_cast<std::size_t>(col_m)];
+  for (std::size_t r = 0; r < t.rows.size(); ++r) {
+    const std::string where = path + ":" + std::to_string(t.line_numbers[r]);
+    const auto cell = [&](int col) { return trim(t.rows[r][static_cast<std::size_t>(col)]); };
     const auto number = [&](int col, const char* what) {
-      const std::string& c = cells[static_cast<std::size_t>(col)];
+      const std::string c = cell(col);
       char* end = nullptr;
       const double v = std::strtod(c.c_str(), &end);
       if (c.empty() || end != c.c_str() + c.size() || !std::isfinite(v)) {
-        throw InvalidInputError(path + ":" + std::to_string(line_no) + ": the " + what +
-                                " value '" + c + "' is not a finite number");
+        throw InvalidInputError(where + ": the " + what + " value '" + c +
+                                "' is not a finite number");
       }
       return v;
     };
+    PairedValue p;
+    p.measurement = cell(col_m);
     p.real = number(col_r, "real");
     p.virtual_value = number(col_v, "virtual");
-    if (p.measurement.empty()) {
-      throw InvalidInputError(path + ":" + std::to_string(line_no) + ": empty measurement id");
-    }
+    if (p.measurement.empty()) throw InvalidInputError(where + ": empty measurement id");
     out.push_back(p);
   }
-  if (col_m < 0) throw InvalidInputError("mapping CSV '" + path + "' is empty (no header)");
   if (out.empty()) throw InvalidInputError("mapping CSV '" + path + "' has no data rows");
   return out;
 }

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
 
 #include "smpl/atomic_file.hpp"
 #include "smpl/export.hpp"
@@ -312,35 +313,19 @@ void write_mesh_avatar(const std::string& path, const BodyModel& model,
     v = evaluate(model, betas, options.pose).vertices;
     v.col(1).array() += lift;
   }
-  std::string metadata;
-  if (!options.extras.empty()) {
-    // A flat JSON object of strings, escaped by hand (libsmpl links no JSON library).
-    metadata = "{";
-    bool first = true;
-    for (const auto& [key, value] : options.extras) {
-      metadata += first ? "\"" : ", \"";
-      first = false;
-      for (const std::string* s : {&key, &value}) {
-        for (const char c : *s) {
-          if (c == '"' || c == '\\') {
-            metadata += '\\';
-            metadata += c;
-          } else if (static_cast<unsigned char>(c) < 0x20) {
-            appendf(metadata, "\\u%04x", static_cast<unsigned>(c));
-          } else {
-            metadata += c;
-          }
-        }
-        metadata += s == &key ? "\": \"" : "\"";
-      }
-    }
-    metadata += "}";
-  }
+  const std::string metadata = mesh_metadata_json(options.extras);
   if (obj) {
     write_obj(path, v, model.faces, options.up, metadata, model.uvs, model.uv_faces);
   } else {
     write_ply(path, v, model.faces, options.up, metadata);
   }
+}
+
+std::string mesh_metadata_json(const std::map<std::string, std::string>& extras) {
+  if (extras.empty()) return "";
+  nlohmann::ordered_json j = nlohmann::ordered_json::object();
+  for (const auto& [key, value] : extras) j[key] = value;
+  return j.dump(-1, ' ', /*ensure_ascii=*/false, nlohmann::ordered_json::error_handler_t::replace);
 }
 
 }  // namespace smpl

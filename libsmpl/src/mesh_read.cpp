@@ -11,7 +11,11 @@
 #include <utility>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "smpl/export.hpp"
 #include "smpl/npz.hpp"
+#include "smpl/text.hpp"
 
 namespace smpl {
 namespace {
@@ -403,6 +407,51 @@ MeshData read_obj(const std::string& path) {
 MeshData read_ply(const std::string& path) {
   const std::vector<std::uint8_t> bytes = read_file_bytes(path);
   return parse_ply(bytes.data(), bytes.size(), path);
+}
+
+std::map<std::string, std::string> parse_mesh_metadata_json(const std::string& json,
+                                                            const std::string& context) {
+  // Not valid JSON, or not an object: parse() without exceptions gives a discarded value.
+  const nlohmann::json j = nlohmann::json::parse(json, nullptr, /*allow_exceptions=*/false);
+  if (!j.is_object()) {
+    throw ModelError(context +
+                     ": its caliper-metadata comment is not a JSON object; remove the comment or "
+                     "export the avatar again");
+  }
+  std::map<std::string, std::string> extras;
+  for (const auto& [key, value] : j.items()) {
+    if (value.is_string()) extras[key] = value.get<std::string>();
+  }
+  return extras;
+}
+
+MeshAvatar read_mesh_avatar(const std::string& path) {
+  const bool obj = ends_with_ci(path, ".obj");
+  if (!obj && !ends_with_ci(path, ".ply")) {
+    throw ModelError(path + ": not an OBJ or PLY file name (expected .obj or .ply)");
+  }
+  MeshData d = obj ? read_obj(path) : read_ply(path);
+  MeshAvatar a;
+  UpAxis up = UpAxis::Y;
+  // The comments written by write_obj / write_ply: "up: z ..." and "caliper-metadata {json}".
+  for (const std::string& c : d.comments) {
+    std::istringstream s(c);
+    std::string tag;
+    s >> tag;
+    if (tag == "up:") {
+      std::string axis;
+      s >> axis;
+      if (axis == "z") up = UpAxis::Z;
+      if (axis == "y") up = UpAxis::Y;
+    } else if (tag == "caliper-metadata") {
+      std::string json;
+      std::getline(s, json);
+      for (auto& [key, value] : parse_mesh_metadata_json(json, path)) a.extras[key] = value;
+    }
+  }
+  a.vertices = from_up_axis(d.vertices, up);
+  a.faces = std::move(d.faces);
+  return a;
 }
 
 }  // namespace smpl

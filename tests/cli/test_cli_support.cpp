@@ -157,25 +157,7 @@ TEST(CliStyle, DefaultsAndUnitsAreShown) {
   EXPECT_EQ(app::usage_error_line("demo", "bad"), "demo: error: bad (see demo --help)\n");
 }
 
-TEST(Csv, QuotesCrlfAndErrors) {
-  const CsvTable t = parse_csv("id,\"na,me\"\r\n1,\"a \"\"b\"\"\"\r\n2,c\r\n", "x.csv");
-  ASSERT_EQ(t.header.size(), 2u);
-  EXPECT_EQ(t.header[1], "na,me");
-  ASSERT_EQ(t.rows.size(), 2u);
-  EXPECT_EQ(t.rows[0][1], "a \"b\"");
-  EXPECT_EQ(t.line_numbers[1], 3);
-  try {
-    parse_csv("a,b\n1,2\n3\n", "people.csv");
-    FAIL();
-  } catch (const RuntimeError& e) {
-    EXPECT_NE(std::string(e.what()).find("people.csv:3: 1 cells, but the header has 2"),
-              std::string::npos)
-        << e.what();
-  }
-  EXPECT_THROW(parse_csv("", "empty.csv"), RuntimeError);
-  EXPECT_EQ(csv_escape("a,b"), "\"a,b\"");
-  EXPECT_EQ(csv_escape("plain"), "plain");
-}
+// The CSV reader itself is libcaliper's: tests/caliper/test_csv.cpp.
 
 TEST(People, HeaderUnitsAreConverted) {
   EXPECT_EQ(measurement_column("height_cm")->first, "height");

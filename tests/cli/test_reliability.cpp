@@ -236,7 +236,7 @@ TEST_F(Reliability, BatchRowWithAStrayQuoteIsAPerRowError) {
   const CsvTable multi = parse_csv("a,b\n\"x\ny\",1\n", "t.csv");
   ASSERT_EQ(multi.rows.size(), 1u);
   EXPECT_EQ(multi.rows[0][0], "x\ny");
-  EXPECT_THROW(parse_csv("a,b\n\"x,1\n", "t.csv"), RuntimeError);
+  EXPECT_THROW(parse_csv("a,b\n\"x,1\n", "t.csv"), CsvError);
 }
 
 TEST_F(Reliability, BatchChecksItsOutputsBeforeWorking) {

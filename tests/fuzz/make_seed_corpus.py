@@ -158,9 +158,13 @@ def main():
          b"".join(json.dumps(r, separators=(",", ":")).encode() + b"\n" for r in journal))
     for name in ("virtual-caliper.json", "controllers.json"):
         seed("protocol", name, open(os.path.join(REPO, "assets/protocol", name), "rb").read())
-    seed("csv", "people.csv", b"id,sex,height_cm,weight_kg,\"note, quoted\"\r\n"
+    # fuzz_csv: the first byte picks the options (bit 0 per-row errors, bit 1 comment lines).
+    seed("csv", "people.csv", b"\x00id,sex,height_cm,weight_kg,\"note, quoted\"\r\n"
                               b"a,female,168,62,\"say \"\"hi\"\"\"\r\nb,male,181,84,\"two\nlines\"\r\n")
-    seed("csv", "ansur_stats.csv", head_lines(os.path.join(REPO, "assets/models/ansur_stats.csv"), 8))
+    seed("csv", "people_bad_rows.csv", b"\x01id,height_cm,weight_kg\na,170,62\nb,\"171,63\n"
+                                       b"c\"x,172\nd,173,65,1\ne,174,\"66")
+    seed("csv", "ansur_stats.csv",
+         b"\x02" + head_lines(os.path.join(REPO, "assets/models/ansur_stats.csv"), 8))
 
 
 if __name__ == "__main__":

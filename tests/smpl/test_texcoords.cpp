@@ -91,8 +91,12 @@ TEST(Texcoords, ModelWithoutThemExportsTheSameBytesAsBefore) {
   const std::vector<Case> cases = {{"plain.glb", &o, 0xd8798cda8eeab3b1ull},
                                    {"plain.gltf", &o, 0xbdcbb202611f9317ull},
                                    {"plain.vrm", &mesh_o, 0xe3d000d418bfaf85ull},
-                                   {"plain.obj", &mesh_o, 0xd6e68e6807d173a2ull},
-                                   {"plain.ply", &mesh_o, 0x3a1e2f26fe249ba2ull}};
+                                   // OBJ/PLY: the metadata comment is nlohmann-json's compact
+                                   // {"model":"plain"} since issue 15 (was {"model": "plain"};
+                                   // with those two spaces put back the bytes hash to the old
+                                   // 0xd6e68e6807d173a2 / 0x3a1e2f26fe249ba2).
+                                   {"plain.obj", &mesh_o, 0xad1b99881de027f8ull},
+                                   {"plain.ply", &mesh_o, 0x5b67a489a4286596ull}};
   for (const auto& c : cases) {
     const fs::path file = out_dir() / c.file;
     smpl::export_avatar(file.string(), m, betas, *c.options);

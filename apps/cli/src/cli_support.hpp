@@ -1,8 +1,9 @@
 /// \file cli_support.hpp
 /// Small pieces of the `caliper` command line that do not depend on libcaliper's algorithms:
 /// exit codes and the errors that carry them, option parsing (CLI11, app/cli_style.hpp), lengths
-/// and masses with units ("168cm", "1.68m", "66in", "5ft6in", "62kg", "137lb"), a CSV reader and
-/// writer, the asset locator and a progress reporter.
+/// and masses with units ("168cm", "1.68m", "66in", "5ft6in", "62kg", "137lb"), libcaliper's
+/// CSV reader and writer (caliper/csv.hpp) in this namespace's reach, the asset locator and a
+/// progress reporter.
 #pragma once
 
 #include <chrono>
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "app/help_text.hpp"
+#include "caliper/csv.hpp"
 #include "commands.hpp"
 
 namespace caliper::cli {
@@ -129,30 +131,8 @@ double parse_mass(const std::string& text, const std::string& what);
 // CSV
 // ---------------------------------------------------------------------------------------------
 
-/// A CSV table read in full: a header row and data rows of text cells (RFC 4180 quoting;
-/// CRLF or LF; bytes are kept as they are, so Latin-1 files are read unchanged).
-struct CsvTable {
-  std::vector<std::string> header;
-  std::vector<std::vector<std::string>> rows;
-  std::vector<int> line_numbers;  ///< 1-based file line of each row (for error messages)
-  /// Per row: "" when fine, else what is wrong with it (only with `per_row_errors`: a row with
-  /// another number of cells than the header, padded or cut to the header's width; a row whose
-  /// quoted cell is not closed on its own line, split at commas, reading going on at the next
-  /// line).
-  std::vector<std::string> row_errors;
-  /// Column index of `name` (exact, then case-insensitive), or -1.
-  int column(const std::string& name) const;
-};
-
-/// Reads a CSV file. Throws RuntimeError naming the file (and line) when it cannot be read, is
-/// empty, or (without `per_row_errors`) a row has a different number of cells than the header or
-/// a quote is never closed; with `per_row_errors` such a data row is kept with its problem in
-/// `row_errors` instead (and a quoted cell may then not span lines: measurement tables have none).
-CsvTable read_csv(const std::string& path, bool per_row_errors = false);
-/// Parses CSV text (`source` names it in errors); `per_row_errors` as for read_csv().
-CsvTable parse_csv(const std::string& text, const std::string& source, bool per_row_errors = false);
-/// Quotes a cell when it contains a comma, quote or line break.
-std::string csv_escape(const std::string& cell);
+// The project's one reader and cell writer are libcaliper's (caliper/csv.hpp): CsvTable,
+// read_csv, parse_csv and csv_escape are found from here as caliper::..., and throw CsvError.
 
 // ---------------------------------------------------------------------------------------------
 // Assets, terminal, progress

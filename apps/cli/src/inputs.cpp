@@ -77,7 +77,7 @@ bool parse_cell(const std::string& cell, double& out) {
 }  // namespace
 
 std::vector<Person> read_people_csv(const std::string& path) {
-  const CsvTable t = read_csv(path, /*per_row_errors=*/true);
+  const CsvTable t = read_csv(path, CsvOptions{/*per_row_errors=*/true});
   std::vector<std::pair<int, std::pair<std::string, double>>> cols;
   for (size_t c = 0; c < t.header.size(); ++c) {
     if (auto m = measurement_column(t.header[c])) cols.emplace_back(static_cast<int>(c), *m);
@@ -118,7 +118,7 @@ std::vector<Person> read_people_csv(const std::string& path) {
 }
 
 std::vector<Person> read_ansur_csv(const std::string& path) {
-  const CsvTable t = read_csv(path, /*per_row_errors=*/true);
+  const CsvTable t = read_csv(path, CsvOptions{/*per_row_errors=*/true});
   auto need = [&](const char* name) {
     const int c = t.column(name);
     if (c < 0) {

@@ -2,10 +2,8 @@
 
 #include <cmath>
 #include <limits>
-#include <sstream>
 #include <utility>
 
-#include "caliper/json.hpp"
 #include "cli_support.hpp"
 #include "smpl/avatar_export.hpp"
 #include "smpl/export.hpp"
@@ -14,37 +12,6 @@
 #include "smpl/mesh_read.hpp"
 
 namespace caliper::cli {
-
-namespace {
-
-// An OBJ `#` or PLY `comment` line written by smpl::write_obj/write_ply: "up: z ..." gives the
-// axis convention, "caliper-metadata {json}" the avatar's metadata. Other comments are ignored.
-void read_comment(const std::string& text, const std::string& path, smpl::UpAxis& up,
-                  std::map<std::string, std::string>& extras) {
-  std::istringstream s(text);
-  std::string tag;
-  s >> tag;
-  if (tag == "up:") {
-    std::string axis;
-    s >> axis;
-    if (axis == "z") up = smpl::UpAxis::Z;
-    if (axis == "y") up = smpl::UpAxis::Y;
-  } else if (tag == "caliper-metadata") {
-    std::string json;
-    std::getline(s, json);
-    try {
-      const Json j = parse_json(json);
-      for (const auto& [key, value] : j.as_object()) {
-        if (value.is_string()) extras[key] = value.as_string();
-      }
-    } catch (const std::exception& e) {
-      throw RuntimeError(path + ": its caliper-metadata comment is not valid JSON (" + e.what() +
-                         ")");
-    }
-  }
-}
-
-}  // namespace
 
 MeshFile read_mesh(const std::string& path) {
   if (!file_exists(path)) throw RuntimeError(path + ": file not found");
@@ -72,11 +39,10 @@ MeshFile read_mesh(const std::string& path) {
     m.extras = std::move(a.metadata);
     m.order_from_faces = true;
   } else if (ext == ".obj" || ext == ".ply") {
-    smpl::MeshData d = ext == ".obj" ? smpl::read_obj(path) : smpl::read_ply(path);
-    smpl::UpAxis up = smpl::UpAxis::Y;
-    for (const std::string& c : d.comments) read_comment(c, path, up, m.extras);
-    m.vertices = smpl::from_up_axis(d.vertices, up);
-    m.faces = std::move(d.faces);
+    smpl::MeshAvatar a = smpl::read_mesh_avatar(path);
+    m.vertices = std::move(a.vertices);
+    m.faces = std::move(a.faces);
+    m.extras = std::move(a.extras);
   } else {
     throw RuntimeError(path + ": unknown mesh extension '" + ext + "' (expected " +
                        avatar_extensions_text() + ")");

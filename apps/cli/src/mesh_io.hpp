@@ -2,9 +2,8 @@
 /// Avatar files for the `caliper` command: writing an avatar by the output's extension
 /// (smpl::export_avatar: .glb, .gltf, .vrm, .fbx, .obj, .ply) and reading a rest-pose avatar mesh
 /// back (.glb/.gltf/.vrm through smpl::read_gltf, with beta_NN shape keys at their default
-/// weights; .fbx through smpl::read_fbx; OBJ and PLY through smpl/mesh_read.hpp: Wavefront OBJ
-/// `v`/`f` lines; PLY ascii or binary little-endian with x, y, z and a face index list; OBJ/PLY
-/// written with `up: z` are turned back to +Y up, and their `caliper-metadata` comment is read
+/// weights; .fbx through smpl::read_fbx; .obj and .ply through smpl::read_mesh_avatar, which
+/// turns files written with `up: z` back to +Y up and reads their `caliper-metadata` comment
 /// like a glTF's asset.extras).
 #pragma once
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -389,22 +390,10 @@ std::string ansur_markdown(const std::vector<AnsurRow>& rows) {
 // ---------------------------------------------------------------------------------------------
 
 std::vector<NhanesPerson> read_nhanes_csv(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw RuntimeError(path + ": cannot open the NHANES file (check --nhanes-dir)");
+  if (!std::filesystem::is_regular_file(path))
+    throw RuntimeError(path + ": cannot open the NHANES file (check --nhanes-dir)");
   // Leading `#` lines are the file's description; the header follows them.
-  std::string line, text;
-  int skipped = 0;
-  bool body = false;
-  while (std::getline(in, line)) {
-    if (!body && !line.empty() && line[0] == '#') {
-      ++skipped;
-      continue;
-    }
-    body = true;
-    text += line;
-    text += '\n';
-  }
-  const CsvTable t = parse_csv(text, path);
+  const CsvTable t = read_csv(path, CsvOptions{/*per_row_errors=*/false, /*comment_lines=*/true});
   struct Column {
     const char* name;
     double NhanesPerson::*field;
@@ -425,7 +414,7 @@ std::vector<NhanesPerson> read_nhanes_csv(const std::string& path) {
   std::vector<NhanesPerson> people;
   for (size_t r = 0; r < t.rows.size(); ++r) {
     NhanesPerson p;
-    p.line = t.line_numbers[r] + skipped;
+    p.line = t.line_numbers[r];
     for (size_t c = 0; c < index.size(); ++c) {
       const std::string& cell = t.rows[r][static_cast<size_t>(index[c])];
       char* end = nullptr;

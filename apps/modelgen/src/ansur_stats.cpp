@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "caliper/csv.hpp"
 #include "smpl/atomic_file.hpp"
 #include "smpl/text.hpp"
 
@@ -63,89 +64,32 @@ Eigen::MatrixXd SexStats::covariance() const {
   return sd.asDiagonal() * correlation * sd.asDiagonal();
 }
 
-namespace {
-
-std::vector<std::string> split_csv_line(const std::string& line) {
-  std::vector<std::string> out;
-  std::string cur;
-  for (char c : line) {
-    if (c == ',') {
-      out.push_back(cur);
-      cur.clear();
-    } else if (c != '\r' && c != '\n') {
-      cur.push_back(c);
-    }
-  }
-  out.push_back(cur);
-  return out;
-}
-
-}  // namespace
-
 Eigen::MatrixXd read_survey_columns(const std::string& csv_path,
                                     const std::vector<std::string>& columns) {
-  std::ifstream in(csv_path, std::ios::binary);
-  if (!in) {
-    throw std::runtime_error("cannot open survey file '" + csv_path + "'");
-  }
-  std::string line;
-  int line_no = 0;
-  bool have_header = false;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (line.empty() || line[0] != '#') {
-      have_header = true;
-      break;
-    }
-  }
-  if (!have_header) {
-    throw std::runtime_error("empty survey file '" + csv_path + "'");
-  }
-  std::vector<std::string> header = split_csv_line(line);
-  for (std::string& h : header) {
-    if (h.size() >= 2 && h.front() == '"' && h.back() == '"') {
-      h = h.substr(1, h.size() - 2);
-    }
-  }
+  const caliper::CsvTable t =
+      caliper::read_csv(csv_path, caliper::CsvOptions{/*per_row_errors=*/false,
+                                                      /*comment_lines=*/true});
   std::vector<int> col(columns.size(), -1);
   for (size_t d = 0; d < columns.size(); ++d) {
-    for (int h = 0; h < static_cast<int>(header.size()); ++h) {
-      if (smpl::to_lower(header[h]) == smpl::to_lower(columns[d])) {
-        col[d] = h;
-      }
-    }
+    col[d] = t.column(columns[d]);
     if (col[d] < 0) {
       throw std::runtime_error("survey file '" + csv_path + "' has no column '" + columns[d] + "'");
     }
   }
-  std::vector<Eigen::VectorXd> rows;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (line.empty() || line == "\r") {
-      continue;
-    }
-    const std::vector<std::string> f = split_csv_line(line);
-    Eigen::VectorXd r(static_cast<Eigen::Index>(columns.size()));
-    for (size_t d = 0; d < columns.size(); ++d) {
-      if (col[d] >= static_cast<int>(f.size())) {
-        throw std::runtime_error("survey file '" + csv_path + "' line " + std::to_string(line_no) +
-                                 ": too few fields");
-      }
-      char* end = nullptr;
-      const double v = std::strtod(f[col[d]].c_str(), &end);
-      if (end == f[col[d]].c_str() || !std::isfinite(v)) {
-        throw std::runtime_error("survey file '" + csv_path + "' line " + std::to_string(line_no) +
-                                 ": column '" + columns[d] + "' is not a number: '" + f[col[d]] +
-                                 "'");
-      }
-      r[static_cast<Eigen::Index>(d)] = v;
-    }
-    rows.push_back(r);
-  }
-  Eigen::MatrixXd out(static_cast<Eigen::Index>(rows.size()),
+  Eigen::MatrixXd out(static_cast<Eigen::Index>(t.rows.size()),
                       static_cast<Eigen::Index>(columns.size()));
-  for (size_t i = 0; i < rows.size(); ++i) {
-    out.row(static_cast<Eigen::Index>(i)) = rows[i].transpose();
+  for (size_t r = 0; r < t.rows.size(); ++r) {
+    for (size_t d = 0; d < columns.size(); ++d) {
+      const std::string& cell = t.rows[r][static_cast<size_t>(col[d])];
+      char* end = nullptr;
+      const double v = std::strtod(cell.c_str(), &end);
+      if (end == cell.c_str() || !std::isfinite(v)) {
+        throw std::runtime_error("survey file '" + csv_path + "' line " +
+                                 std::to_string(t.line_numbers[r]) + ": column '" + columns[d] +
+                                 "' is not a number: '" + cell + "'");
+      }
+      out(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(d)) = v;
+    }
   }
   return out;
 }
@@ -229,20 +173,12 @@ SurveyStats read_stats_table(const std::string& path) {
   }
   s.female.sex = "female";
   s.male.sex = "male";
-  std::string line;
-  int line_no = 0;
-  bool header_seen = false;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (line.empty() || line[0] == '#') {
-      continue;
-    }
-    if (!header_seen) {
-      header_seen = true;
-      continue;
-    }
-    const std::vector<std::string> f = split_csv_line(line);
-    const std::string where = "statistics table '" + path + "' line " + std::to_string(line_no);
+  const caliper::CsvTable t = caliper::read_csv(
+      path, caliper::CsvOptions{/*per_row_errors=*/false, /*comment_lines=*/true});
+  for (size_t r = 0; r < t.rows.size(); ++r) {
+    const std::vector<std::string>& f = t.rows[r];
+    const std::string where =
+        "statistics table '" + path + "' line " + std::to_string(t.line_numbers[r]);
     if (f.size() != static_cast<std::size_t>(5 + kNumDims)) {
       throw std::runtime_error(where + ": expected " + std::to_string(5 + kNumDims) +
                                " fields, found " + std::to_string(f.size()));

@@ -81,11 +81,11 @@ struct SurveyStats {
 };
 
 /// Reads the numeric `columns` of a survey CSV file (ANSUR II, NHANES): one row per data line,
-/// values as written (no unit conversion), columns in the order asked. Lines starting with '#'
-/// before the header are comments (NHANES); header names may be quoted and match case-
-/// insensitively; empty lines are skipped. Throws std::runtime_error naming the file, and the
-/// line and column, for a missing file or column, too few fields, or a value that is not a
-/// finite number.
+/// values as written (no unit conversion), columns in the order asked. Read by caliper/csv.hpp:
+/// lines starting with '#' are comments (NHANES); header names may be quoted and match case-
+/// insensitively; empty lines are skipped. Throws std::runtime_error (caliper::CsvError for the
+/// file's form) naming the file, and the line and column, for a missing file or column, a row
+/// with another number of cells than the header, or a value that is not a finite number.
 Eigen::MatrixXd read_survey_columns(const std::string& csv_path,
                                     const std::vector<std::string>& columns);
 

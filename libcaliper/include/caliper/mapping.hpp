@@ -4,8 +4,9 @@
 /// from paired values; identity for every measurement that was not fitted.
 ///
 /// CSV format (docs/regressors.md): a header line naming at least the columns `measurement`,
-/// `real` and `virtual` (any order, other columns ignored), then one pair per line; values in
-/// metres (weight in kg); blank lines and lines starting with '#' are skipped.
+/// `real` and `virtual` (any order, other columns ignored), then one pair per row, each row with
+/// as many cells as the header (RFC 4180 quoting, caliper/csv.hpp); values in metres (weight in
+/// kg); blank lines and lines starting with '#' are skipped.
 #pragma once
 
 #include <map>
@@ -25,7 +26,8 @@ struct PairedValue {
 };
 
 /// Reads pairs from a CSV file. Throws InvalidInputError naming the file and line for a missing
-/// column, an unparsable or non-finite number, or an empty file.
+/// column, an unparsable or non-finite number, a malformed row (CsvError's message), or an empty
+/// file.
 std::vector<PairedValue> read_paired_csv(const std::string& path);
 
 /// virtual = a * real + b for one measurement, with its fit report.

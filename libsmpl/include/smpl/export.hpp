@@ -108,6 +108,12 @@ void write_mesh_avatar(const std::string& path, const BodyModel& model,
                        const Eigen::Ref<const Eigen::VectorXd>& betas,
                        const ExportOptions& options = {});
 
+/// The JSON of the `caliper-metadata` comment of OBJ and PLY files (write_mesh_avatar): one
+/// compact line, a JSON object of the string `extras` in key order, made by nlohmann-json
+/// (`{"model":"caliper-female","sex":"female"}`; control characters escaped, bytes that are not
+/// UTF-8 replaced by U+FFFD). Empty `extras` give "" (no comment). read_mesh_avatar reads it.
+std::string mesh_metadata_json(const std::map<std::string, std::string>& extras);
+
 /// `vertices` mapped from the libraries' frame (+Y up) to `up`: identity for Y, (x, -z, y) for Z.
 Vertices to_up_axis(const Vertices& vertices, UpAxis up);
 /// The inverse of to_up_axis().

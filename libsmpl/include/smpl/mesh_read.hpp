@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -41,5 +42,27 @@ MeshData parse_ply(const std::uint8_t* bytes, std::size_t size, const std::strin
 MeshData read_obj(const std::string& path);
 /// Reads and parses a PLY file; errors name `path`.
 MeshData read_ply(const std::string& path);
+
+/// An avatar read back from the OBJ or PLY file that write_mesh_avatar (or write_obj/write_ply
+/// with metadata) wrote: +Y up, in metres, with its metadata.
+struct MeshAvatar {
+  Vertices vertices;  ///< V x 3, turned back to +Y up when the file says `up: z`
+  Faces faces;        ///< F x 3, every index < V
+  /// The string values of the `caliper-metadata {json}` comment (values of other JSON types are
+  /// skipped); empty without that comment.
+  std::map<std::string, std::string> extras;
+};
+
+/// Reads an .obj or .ply file (by extension, any case) through read_obj / read_ply and reads its
+/// comments as the writers put them: "up: z ..." (the vertices are turned back to +Y up,
+/// from_up_axis) and "caliper-metadata {json}" (a JSON object: mesh_metadata_json's output).
+/// Other comments are ignored. Throws ModelError naming `path`: another extension, what
+/// read_obj / read_ply throw, a metadata comment that is not a JSON object.
+MeshAvatar read_mesh_avatar(const std::string& path);
+
+/// Parses the JSON of a `caliper-metadata` comment into its string members (what mesh_metadata_json
+/// wrote). Throws ModelError naming `context` when `json` is not a JSON object.
+std::map<std::string, std::string> parse_mesh_metadata_json(const std::string& json,
+                                                            const std::string& context);
 
 }  // namespace smpl
