@@ -14,6 +14,8 @@
 
 #include <Eigen/Cholesky>
 
+#include "caliper/circumference.hpp"
+#include "caliper/measurements.hpp"
 #include "makehuman_rig.hpp"
 #include "makehuman_shape.hpp"
 
@@ -160,6 +162,20 @@ void check_principal_components(const Registered& s) {
       worst = std::max(worst, std::abs(m.v_template(r, c) - mean[3 * r + c]));
   }
   EXPECT_LT(worst, 1e-9) << "the template is not the mean registered body";
+  // The iliac crest landmarks (the NHANES and WHO waist): a left/right pair at one height on the
+  // torso sides, so that libcaliper measures waist_iliac_circumference on the model.
+  ASSERT_TRUE(m.landmarks.count("left_iliac_crest") && m.landmarks.count("right_iliac_crest"));
+  const Eigen::RowVector3d l = m.v_template.row(m.landmarks.at("left_iliac_crest").at(0));
+  const Eigen::RowVector3d r = m.v_template.row(m.landmarks.at("right_iliac_crest").at(0));
+  constexpr double kMirrorTol = 0.002;  // m: MakeHuman's mesh is symmetric to well under 1 mm
+  EXPECT_NEAR(l.y(), r.y(), kMirrorTol);
+  EXPECT_NEAR(l.x(), -r.x(), kMirrorTol);
+  EXPECT_GT(l.x(), 0.1);  // the subject's left is +x, at the side of the torso
+  const caliper::MeasurementMap girths =
+      caliper::circumferences(m.v_template, m.faces, caliper::landmarks_for(m));
+  ASSERT_TRUE(girths.count("waist_iliac_circumference"));
+  EXPECT_GT(girths.at("waist_iliac_circumference"), 0.6);
+  EXPECT_LT(girths.at("waist_iliac_circumference"), 1.3);
   const Eigen::MatrixXd& S = m.shapedirs;
   const Eigen::MatrixXd gram = S.transpose() * S;
   for (int a = 0; a < kBetas; ++a) {

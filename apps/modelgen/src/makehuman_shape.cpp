@@ -23,6 +23,7 @@
 #include "caliper/random.hpp"
 #include "caliper/volume.hpp"
 #include "caliper/weight.hpp"
+#include "makehuman_landmarks.hpp"
 #include "makehuman_measures.hpp"
 
 namespace modelgen::mh {
@@ -547,6 +548,13 @@ smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl
     model.shapedirs.col(b) = dir;
   }
   model.posedirs = Eigen::MatrixXd::Zero(A.rows(), 0);
+  // The iliac crest (the NHANES and WHO waist level) as landmarks, by the rule the fit measured
+  // people with, placed on this model's mean body; the right one is the left's mirror vertex.
+  const SurveyVertices at = survey_vertices(model.v_template, model.faces, model.j_regressor,
+                                            caliper::landmarks_for(model));
+  model.landmarks["left_iliac_crest"] = {at.iliac_crest};
+  model.landmarks["right_iliac_crest"] = {
+      mirror_vertex(model.v_template, at.iliac_crest, at.midline_x)};
   model.meta.name = "caliper-makehuman-" + sex;
   model.meta.gender = sex;
   model.meta.source =
