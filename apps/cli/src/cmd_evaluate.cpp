@@ -114,6 +114,7 @@ std::shared_ptr<const ModelBundle> nhanes_bundle(const std::string& path, bool d
   derive_iliac_crest_landmarks(copy->model.v_template, table);
   for (const char* name : {"left_iliac_crest", "right_iliac_crest"})
     copy->model.landmarks[name] = table.at(name);
+  copy->measure_info.emplace(copy->model);  // the loaded one predates the new landmarks
   note += "- " + path + ": iliac crest landmarks derived (--derive-iliac-crest: vertices " +
           std::to_string(table.at("left_iliac_crest").front()) + " / " +
           std::to_string(table.at("right_iliac_crest").front()) + ")\n";
