@@ -208,218 +208,296 @@ class Builder {
     }
   }
 
+  /// The cage being built.
+  Cage& cage() { return c_; }
+
  private:
   Cage& c_;
 };
 
-}  // namespace
+/// The heights and the breadths that place the cage's stages, derived from the survey dimensions
+/// (metres above the floor; the clamps keep the levels in order for any sampled body).
+struct BodyLevels {
+  double H = 0;           ///< stature: top of the head
+  double Hcr = 0;         ///< crotch height
+  double HA = 0;          ///< acromial (shoulder) height
+  double HX = 0;          ///< axilla height, at least 6 cm under the acromion
+  double HN = 0;          ///< chest (nipple) height, at least 3 cm under the axilla
+  double HW = 0;          ///< waist (omphalion) height, at least 8 cm under the chest
+  double HBt = 0;         ///< buttock height, 4 cm over the crotch to 8 cm under the waist
+  double HC7 = 0;         ///< cervicale height, at least 3 cm over the acromion
+  double HK = 0;          ///< knee height
+  double HM = 0;          ///< malleolus (ankle) height
+  double bia = 0;         ///< biacromial breadth, metres
+  double hand_scale = 0;  ///< hand length / 0.19 m (the reference hand), dimensionless
+};
 
-Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
-  Cage cage;
-  Builder b(cage);
+/// The levels of body `d` (kNumDims values, metres and kg, see Dim).
+BodyLevels body_levels(const Eigen::VectorXd& d) {
+  BodyLevels lv;
+  lv.H = d[kStature];
+  lv.Hcr = d[kCrotchHeight];
+  lv.HA = d[kAcromialHeight];
+  lv.HX = std::min(d[kAxillaHeight], lv.HA - 0.06);
+  lv.HN = std::min(d[kChestHeight], lv.HX - 0.03);
+  lv.HW = std::min(d[kWaistHeight], lv.HN - 0.08);
+  lv.HBt = std::clamp(d[kButtockHeight], lv.Hcr + 0.04, lv.HW - 0.08);
+  lv.HC7 = std::max(d[kCervicaleHeight], lv.HA + 0.03);
+  lv.HK = d[kKneeHeight];
+  lv.HM = d[kMalleolusHeight];
+  lv.bia = d[kBiacromial];
+  lv.hand_scale = d[kHandLength] / 0.19;
+  return lv;
+}
 
-  const double H = d[kStature];
-  const double Hcr = d[kCrotchHeight];
-  const double HA = d[kAcromialHeight];
-  const double HX = std::min(d[kAxillaHeight], HA - 0.06);
-  const double HN = std::min(d[kChestHeight], HX - 0.03);
-  const double HW = std::min(d[kWaistHeight], HN - 0.08);
-  const double HBt = std::clamp(d[kButtockHeight], Hcr + 0.04, HW - 0.08);
-  const double HC7 = std::max(d[kCervicaleHeight], HA + 0.03);
-  const double HK = d[kKneeHeight];
-  const double HM = d[kMalleolusHeight];
-  const double bia = d[kBiacromial];
-  const double hand_scale = d[kHandLength] / 0.19;
+/// The ten torso cross-sections r0..r9 from the crotch to the shoulder line.
+using TorsoSections = std::array<TorsoSection, 10>;
 
-  // ---------------------------------------------------------------- torso sections (r0..r9)
-  std::array<TorsoSection, 10> sec;
+/// Fills the lower torso sections of `sec`: r0 (just above the crotch), r1 (buttocks, widest
+/// hips), r2 (iliac crest), r3 (waist). Fits r1 to the buttock and r3 to the waist girth; `glute`
+/// is the backward bulge of the buttocks (metres), `bulk` scales the unmeasured depths of r0, r2.
+void lower_torso_sections(TorsoSections& sec, const Eigen::VectorXd& d, const BodyLevels& lv,
+                          bool female, double glute, double bulk) {
+  const double Hcr = lv.Hcr, HW = lv.HW, HBt = lv.HBt;
+  TorsoSection& s1 = sec[1];  // buttocks, widest hips
+  s1.y = HBt;
+  s1.a = d[kHipBreadth] / 2;
+  s1.df = d[kButtockDepth] * 0.44;
+  s1.db = d[kButtockDepth] * 0.56 - glute;
+  s1.cz = -0.005;
+  s1.glute = glute;
+  fit_exponent(s1, d[kButtockCirc]);
+  TorsoSection& s0 = sec[0];  // just above the crotch
+  s0 = s1;
+  s0.y = Hcr + 0.3 * (HBt - Hcr);
+  s0.a = s1.a * 0.97;
+  s0.df = s1.df * 0.85;
+  s0.db = s1.db * 0.92;
+  s0.df *= bulk;
+  s0.db *= bulk;
+  s0.glute = glute * 0.6;
+  TorsoSection& s3 = sec[3];  // waist (omphalion)
+  s3.y = HW;
+  s3.a = d[kWaistBreadth] / 2;
+  s3.df = d[kWaistDepth] * 0.52;
+  s3.db = d[kWaistDepth] * 0.48;
+  s3.cz = 0.0;
+  fit_exponent(s3, d[kWaistCirc]);
+  TorsoSection& s2 = sec[2];  // iliac crest
+  s2.y = 0.5 * (HBt + HW);
+  s2.a = 0.5 * (s1.a + s3.a) * (female ? 1.0 : 0.98);
+  s2.df = 0.5 * (s1.df + s3.df);
+  s2.db = 0.5 * (s1.db + s3.db);
+  s2.df *= bulk;
+  s2.db *= bulk;
+  s2.cz = 0.5 * (s1.cz + s3.cz);
+  s2.p = 0.5 * (s1.p + s3.p);
+  s2.glute = glute * 0.3;
+}
+
+/// Fills the upper torso sections of `sec` from the waist r3 (already filled): r4 (lower chest),
+/// r5 (chest at nipple height, fitted to the chest girth), r6 (armpits), r7 and r8 (between the
+/// armpits and the shoulders), r9 (shoulder line). `bust` is the forward bulge of the breasts
+/// (metres, 0 for men), `bulk` scales the unmeasured depths of r4 and r6.
+void upper_torso_sections(TorsoSections& sec, const Eigen::VectorXd& d, const BodyLevels& lv,
+                          bool female, double bust, double bulk) {
+  const double HA = lv.HA, HX = lv.HX, HN = lv.HN, HW = lv.HW, bia = lv.bia;
+  const TorsoSection& s3 = sec[3];
+  TorsoSection& s5 = sec[5];  // chest at nipple height
+  s5.y = HN;
+  s5.a = d[kChestBreadth] / 2;
+  s5.df = d[kChestDepth] * 0.5 - bust;
+  s5.db = d[kChestDepth] * 0.5;
+  s5.cz = 0.0;
+  s5.bust = bust;
+  s5.front_dip = female ? 0.25 * bust : 0.0;
+  fit_exponent(s5, d[kChestCirc]);
+  TorsoSection& s4 = sec[4];  // lower chest
+  s4.y = HW + 0.55 * (HN - HW);
+  s4.a = 0.35 * s3.a + 0.65 * s5.a;
+  s4.df = 0.4 * s3.df + 0.6 * s5.df;
+  s4.db = 0.4 * s3.db + 0.6 * s5.db;
+  s4.df *= bulk;
+  s4.db *= bulk;
+  s4.p = 0.5 * (s3.p + s5.p);
+  s4.bust = 0.5 * bust;
+  TorsoSection& s6 = sec[6];  // armpits
+  s6 = s5;
+  s6.y = HX;
+  s6.a = s5.a * 0.98;
+  s6.df = d[kChestDepth] * 0.47 - 0.3 * bust;
+  s6.db = d[kChestDepth] * 0.5 * bulk;
+  s6.df *= bulk;
+  s6.bust = 0.2 * bust;
+  s6.front_dip = 0;
+  s6.p = std::min(s5.p, 3.0);
+  TorsoSection& s9 = sec[9];  // shoulder line
+  s9.y = HA;
+  s9.a = bia / 2 * 0.86;
+  s9.df = d[kChestDepth] * 0.33;
+  s9.db = d[kChestDepth] * 0.42;
+  s9.cz = -0.01;
+  s9.p = 2.6;
+  for (int r = 7; r <= 8; ++r) {
+    const double t = (r - 6) / 3.0;
+    TorsoSection& s = sec[r];
+    s.y = HX + t * (HA - HX);
+    s.a = (1 - t) * s6.a + t * s9.a;
+    s.df = (1 - t) * s6.df + t * s9.df;
+    s.db = (1 - t) * s6.db + t * s9.db;
+    s.cz = (1 - t) * s6.cz + t * s9.cz;
+    s.p = (1 - t) * s6.p + t * s9.p;
+  }
+}
+
+/// The torso cross-sections r0..r9 of body `d` (kNumDims values, metres): heights from `lv`,
+/// breadths, depths and girths from the survey; `female` adds the bust and a rounder pelvis.
+/// `bulk` (dimensionless, 1 = as surveyed) scales the depths between the measured levels.
+TorsoSections torso_sections(const Eigen::VectorXd& d, const BodyLevels& lv, bool female,
+                             double bulk) {
+  TorsoSections sec;
   const double bust = female ? std::max(0.015, 0.28 * d[kChestDepth] - 0.015) : 0.0;
   const double glute = (female ? 0.022 : 0.016) + 0.1 * (d[kButtockDepth] - 0.23);
-  {
-    TorsoSection& s1 = sec[1];  // buttocks, widest hips
-    s1.y = HBt;
-    s1.a = d[kHipBreadth] / 2;
-    s1.df = d[kButtockDepth] * 0.44;
-    s1.db = d[kButtockDepth] * 0.56 - glute;
-    s1.cz = -0.005;
-    s1.glute = glute;
-    fit_exponent(s1, d[kButtockCirc]);
-    TorsoSection& s0 = sec[0];  // just above the crotch
-    s0 = s1;
-    s0.y = Hcr + 0.3 * (HBt - Hcr);
-    s0.a = s1.a * 0.97;
-    s0.df = s1.df * 0.85;
-    s0.db = s1.db * 0.92;
-    s0.df *= bulk;
-    s0.db *= bulk;
-    s0.glute = glute * 0.6;
-    TorsoSection& s3 = sec[3];  // waist (omphalion)
-    s3.y = HW;
-    s3.a = d[kWaistBreadth] / 2;
-    s3.df = d[kWaistDepth] * 0.52;
-    s3.db = d[kWaistDepth] * 0.48;
-    s3.cz = 0.0;
-    fit_exponent(s3, d[kWaistCirc]);
-    TorsoSection& s2 = sec[2];  // iliac crest
-    s2.y = 0.5 * (HBt + HW);
-    s2.a = 0.5 * (s1.a + s3.a) * (female ? 1.0 : 0.98);
-    s2.df = 0.5 * (s1.df + s3.df);
-    s2.db = 0.5 * (s1.db + s3.db);
-    s2.df *= bulk;
-    s2.db *= bulk;
-    s2.cz = 0.5 * (s1.cz + s3.cz);
-    s2.p = 0.5 * (s1.p + s3.p);
-    s2.glute = glute * 0.3;
-    TorsoSection& s5 = sec[5];  // chest at nipple height
-    s5.y = HN;
-    s5.a = d[kChestBreadth] / 2;
-    s5.df = d[kChestDepth] * 0.5 - bust;
-    s5.db = d[kChestDepth] * 0.5;
-    s5.cz = 0.0;
-    s5.bust = bust;
-    s5.front_dip = female ? 0.25 * bust : 0.0;
-    fit_exponent(s5, d[kChestCirc]);
-    TorsoSection& s4 = sec[4];  // lower chest
-    s4.y = HW + 0.55 * (HN - HW);
-    s4.a = 0.35 * s3.a + 0.65 * s5.a;
-    s4.df = 0.4 * s3.df + 0.6 * s5.df;
-    s4.db = 0.4 * s3.db + 0.6 * s5.db;
-    s4.df *= bulk;
-    s4.db *= bulk;
-    s4.p = 0.5 * (s3.p + s5.p);
-    s4.bust = 0.5 * bust;
-    TorsoSection& s6 = sec[6];  // armpits
-    s6 = s5;
-    s6.y = HX;
-    s6.a = s5.a * 0.98;
-    s6.df = d[kChestDepth] * 0.47 - 0.3 * bust;
-    s6.db = d[kChestDepth] * 0.5 * bulk;
-    s6.df *= bulk;
-    s6.bust = 0.2 * bust;
-    s6.front_dip = 0;
-    s6.p = std::min(s5.p, 3.0);
-    TorsoSection& s9 = sec[9];  // shoulder line
-    s9.y = HA;
-    s9.a = bia / 2 * 0.86;
-    s9.df = d[kChestDepth] * 0.33;
-    s9.db = d[kChestDepth] * 0.42;
-    s9.cz = -0.01;
-    s9.p = 2.6;
-    for (int r = 7; r <= 8; ++r) {
-      const double t = (r - 6) / 3.0;
-      TorsoSection& s = sec[r];
-      s.y = HX + t * (HA - HX);
-      s.a = (1 - t) * s6.a + t * s9.a;
-      s.df = (1 - t) * s6.df + t * s9.df;
-      s.db = (1 - t) * s6.db + t * s9.db;
-      s.cz = (1 - t) * s6.cz + t * s9.cz;
-      s.p = (1 - t) * s6.p + t * s9.p;
-    }
-  }
+  lower_torso_sections(sec, d, lv, female, glute, bulk);
+  upper_torso_sections(sec, d, lv, female, bust, bulk);
+  return sec;
+}
 
-  // ---------------------------------------------------------------- arm root ring (left)
-  const double xa = bia / 2;  // acromion
-  const double arm_ry = (HA - HX) / 2;
-  const double arm_y = (HA + HX) / 2;
-  const double r_bic = d[kBicepsCirc] / (2 * kPi) * 0.92 * bulk;
-  const double arm_rz = std::max(r_bic * 1.25, arm_ry * 0.95);
-  const double arm_tilt = 0.018;
-  const double arm_xc = xa - arm_tilt;
-  auto arm_root_point = [&](int j) {
+/// The ellipse where the left arm leaves the torso, in the plane x ~ acromion: ten points
+/// (j = 0 top, counter-clockwise seen from the left) that replace torso vertices of r6..r9.
+struct ArmRoot {
+  double xa = 0;        ///< acromion x (half the biacromial breadth), metres
+  double arm_ry = 0;    ///< vertical semi-axis, metres
+  double arm_y = 0;     ///< centre height, metres
+  double r_bic = 0;     ///< biceps radius (girth / 2 pi, scaled by bulk), metres
+  double arm_rz = 0;    ///< front-back semi-axis, metres
+  double arm_tilt = 0;  ///< x offset of the top and bottom against the sides, metres
+  double arm_xc = 0;    ///< centre x, metres
+
+  /// Point j (0..9) of the ring, metres.
+  Eigen::Vector3d point(int j) const {
     const double ph = 2 * kPi * j / 10.0;
     return Eigen::Vector3d(arm_xc + arm_tilt * pm::cos(ph), arm_y + arm_ry * pm::cos(ph),
                            -0.012 + arm_rz * pm::sin(ph));
-  };
-  // torso (ring, index) -> arm root j, for the left side
-  auto arm_root_index = [](int r, int i) -> int {
-    if (r == 9 && i == 4) {
-      return 0;
-    }
-    if (r == 9 && i == 3) {
-      return 1;
-    }
-    if (r == 8 && i == 3) {
-      return 2;
-    }
-    if (r == 7 && i == 3) {
-      return 3;
-    }
-    if (r == 6 && i == 3) {
-      return 4;
-    }
-    if (r == 6 && i == 4) {
-      return 5;
-    }
-    if (r == 6 && i == 5) {
-      return 6;
-    }
-    if (r == 7 && i == 5) {
-      return 7;
-    }
-    if (r == 8 && i == 5) {
-      return 8;
-    }
-    if (r == 9 && i == 5) {
-      return 9;
-    }
-    return -1;
-  };
+  }
+};
 
-  // ---------------------------------------------------------------- torso vertices
-  auto torso_skin = [&](int r, int i) -> VertexBlend {
-    const int k = i <= 8 ? i : 16 - i;  // distance from the front midline in steps
-    const bool left = i > 0 && i < 8;
-    const int hip = left ? kLHip : kLHip + 1;
-    const int collar = left ? kLCollar : kLCollar + 1;
-    const int shoulder = left ? kLShoulder : kLShoulder + 1;
-    switch (r) {
-      case 0:  // the hip blend spans r1 .. G1 so that 90-degree flexion does not fold the groin
-        if (k == 0 || k == 8) {
-          return {{kPelvis, 0.6}, {kLHip, 0.2}, {kLHip + 1, 0.2}};
-        }
-        return skin2(kPelvis, hip, 0.42);
-      case 1:
-        if (k == 0 || k == 8) {
-          return {{kPelvis, 0.8}, {kLHip, 0.1}, {kLHip + 1, 0.1}};
-        }
-        return skin2(kPelvis, hip, 0.2);
-      case 2:
-        return skin2(kPelvis, kSpine1, 0.5);
-      case 3:
-        return skin1(kSpine1);
-      case 4:
-        return skin2(kSpine1, kSpine2, 0.5);
-      case 5:
-        return skin2(kSpine2, kSpine3, 0.5);
-      case 6:
-        if (k >= 3 && k <= 5) {
-          return skin2(kSpine3, shoulder, 0.35);
-        }
-        return skin1(kSpine3);
-      case 7:
-      case 8:
-        if (k >= 3 && k <= 5) {
-          return {{kSpine3, 0.35}, {collar, 0.3}, {shoulder, 0.35}};
-        }
-        if (k == 2 || k == 6) {
-          return skin2(kSpine3, collar, 0.3);
-        }
-        return skin1(kSpine3);
-      default:  // 9
-        if (k == 4) {
-          return skin2(collar, shoulder, 0.5);
-        }
-        if (k == 3 || k == 5) {
-          return {{collar, 0.5}, {shoulder, 0.3}, {kSpine3, 0.2}};
-        }
-        if (k == 2 || k == 6) {
-          return skin2(kSpine3, collar, 0.55);
-        }
-        return skin2(kSpine3, collar, 0.2);
-    }
-  };
+/// The left arm root of body `d` between the axilla and the acromion of `lv`; `bulk` scales the
+/// biceps girth.
+ArmRoot arm_root(const Eigen::VectorXd& d, const BodyLevels& lv, double bulk) {
+  const double HA = lv.HA, HX = lv.HX;
+  ArmRoot ar;
+  ar.xa = lv.bia / 2;  // acromion
+  ar.arm_ry = (HA - HX) / 2;
+  ar.arm_y = (HA + HX) / 2;
+  ar.r_bic = d[kBicepsCirc] / (2 * kPi) * 0.92 * bulk;
+  ar.arm_rz = std::max(ar.r_bic * 1.25, ar.arm_ry * 0.95);
+  ar.arm_tilt = 0.018;
+  ar.arm_xc = ar.xa - ar.arm_tilt;
+  return ar;
+}
 
-  std::array<std::array<int, 16>, 10> T{};
+/// The arm root point (0..9) that torso vertex (ring `r`, index `i` on the left half, 0..8)
+/// becomes, or -1 if it stays a torso point.
+int arm_root_index(int r, int i) {
+  if (r == 9 && i == 4) {
+    return 0;
+  }
+  if (r == 9 && i == 3) {
+    return 1;
+  }
+  if (r == 8 && i == 3) {
+    return 2;
+  }
+  if (r == 7 && i == 3) {
+    return 3;
+  }
+  if (r == 6 && i == 3) {
+    return 4;
+  }
+  if (r == 6 && i == 4) {
+    return 5;
+  }
+  if (r == 6 && i == 5) {
+    return 6;
+  }
+  if (r == 7 && i == 5) {
+    return 7;
+  }
+  if (r == 8 && i == 5) {
+    return 8;
+  }
+  if (r == 9 && i == 5) {
+    return 9;
+  }
+  return -1;
+}
+
+/// The skinning weights of torso vertex (ring `r` 0..9, index `i` 0..15, 0 = front midline,
+/// counter-clockwise seen from above, 1..7 on the left).
+VertexBlend torso_skin(int r, int i) {
+  const int k = i <= 8 ? i : 16 - i;  // distance from the front midline in steps
+  const bool left = i > 0 && i < 8;
+  const int hip = left ? kLHip : kLHip + 1;
+  const int collar = left ? kLCollar : kLCollar + 1;
+  const int shoulder = left ? kLShoulder : kLShoulder + 1;
+  switch (r) {
+    case 0:  // the hip blend spans r1 .. G1 so that 90-degree flexion does not fold the groin
+      if (k == 0 || k == 8) {
+        return {{kPelvis, 0.6}, {kLHip, 0.2}, {kLHip + 1, 0.2}};
+      }
+      return skin2(kPelvis, hip, 0.42);
+    case 1:
+      if (k == 0 || k == 8) {
+        return {{kPelvis, 0.8}, {kLHip, 0.1}, {kLHip + 1, 0.1}};
+      }
+      return skin2(kPelvis, hip, 0.2);
+    case 2:
+      return skin2(kPelvis, kSpine1, 0.5);
+    case 3:
+      return skin1(kSpine1);
+    case 4:
+      return skin2(kSpine1, kSpine2, 0.5);
+    case 5:
+      return skin2(kSpine2, kSpine3, 0.5);
+    case 6:
+      if (k >= 3 && k <= 5) {
+        return skin2(kSpine3, shoulder, 0.35);
+      }
+      return skin1(kSpine3);
+    case 7:
+    case 8:
+      if (k >= 3 && k <= 5) {
+        return {{kSpine3, 0.35}, {collar, 0.3}, {shoulder, 0.35}};
+      }
+      if (k == 2 || k == 6) {
+        return skin2(kSpine3, collar, 0.3);
+      }
+      return skin1(kSpine3);
+    default:  // 9
+      if (k == 4) {
+        return skin2(collar, shoulder, 0.5);
+      }
+      if (k == 3 || k == 5) {
+        return {{collar, 0.5}, {shoulder, 0.3}, {kSpine3, 0.2}};
+      }
+      if (k == 2 || k == 6) {
+        return skin2(kSpine3, collar, 0.55);
+      }
+      return skin2(kSpine3, collar, 0.2);
+  }
+}
+
+/// Cage vertex ids of the torso: [ring r 0..9][index i 0..15]; -1 inside the arm holes (r7, r8
+/// at i = 4 and 12).
+using TorsoGrid = std::array<std::array<int, 16>, 10>;
+
+/// Adds the torso tube to the cage: the vertices of the ten rings (`sec`, with the arm root
+/// ellipse `root` and its mirror replacing the points around the arm holes; metres), the quads
+/// between consecutive rings except in the 3 x 2 arm holes, and the vertices' mirror pairs.
+/// Returns the vertex ids.
+TorsoGrid build_torso(Builder& b, const TorsoSections& sec, const ArmRoot& root) {
+  TorsoGrid T{};
   for (int r = 0; r < 10; ++r) {
     for (int i = 0; i < 16; ++i) {
       T[r][i] = -1;
@@ -431,7 +509,7 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
       const int li = i <= 8 ? i : 16 - i;
       const int j = arm_root_index(r, li);
       if (j >= 0) {
-        p = arm_root_point(j);
+        p = root.point(j);
         if (i > 8) {
           p.x() = -p.x();
         }
@@ -462,14 +540,29 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
     const int m = (16 - i) % 16;
     for (int r = 0; r < 10; ++r) {
       if (T[r][i] >= 0) {
-        cage.mirror[T[r][i]] = T[r][m];
+        b.cage().mirror[T[r][i]] = T[r][m];
       }
     }
   }
+  return T;
+}
 
-  // ---------------------------------------------------------------- shoulder cap (4 x 4 grid)
+/// The shoulder cap: a 4 x 4 grid over the torso's top ring with the neck hole in its middle.
+struct ShoulderCap {
+  /// Vertex ids by (u, v): u = 0 right .. 4 left, v = 0 back .. 4 front; -1 inside the hole.
+  std::array<std::array<int, 5>, 5> grid{};
+  std::vector<int> neck;  ///< the neck hole ring, 8 vertex ids counter-clockwise from the front
+  double r_neck = 0;      ///< neck radius (neck girth / 2 pi, scaled by bulk), metres
+};
+
+/// Adds the shoulder cap to the cage: the grid's boundary is the top torso ring T[9], its
+/// interior the neck hole ring of body `d` (neck girth scaled by `bulk`, at the cervicale height
+/// `HC7`, metres) with its quads and mirror pairs.
+ShoulderCap build_shoulder_cap(Builder& b, const TorsoGrid& T, const Eigen::VectorXd& d, double HC7,
+                               double bulk) {
+  ShoulderCap cap;
   // Grid (u, v): u = 0 right .. 4 left, v = 0 back .. 4 front. Boundary = top ring T[9].
-  std::array<std::array<int, 5>, 5> G{};
+  std::array<std::array<int, 5>, 5>& G = cap.grid;
   {
     const int bu[16] = {2, 3, 4, 4, 4, 4, 4, 3, 2, 1, 0, 0, 0, 0, 0, 1};
     const int bv[16] = {4, 4, 4, 3, 2, 1, 0, 0, 0, 0, 0, 1, 2, 3, 4, 4};
@@ -483,8 +576,10 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
   // Neck hole ring (8, counter-clockwise around +y from the front).
   const int nu[8] = {2, 3, 3, 3, 2, 1, 1, 1};
   const int nv[8] = {3, 3, 2, 1, 1, 1, 2, 3};
-  const double r_neck = d[kNeckCirc] / (2 * kPi) * bulk;
-  std::vector<int> N0(8);
+  cap.r_neck = d[kNeckCirc] / (2 * kPi) * bulk;
+  const double r_neck = cap.r_neck;
+  std::vector<int>& N0 = cap.neck;
+  N0.resize(8);
   for (int k = 0; k < 8; ++k) {
     const int kl = k <= 4 ? k : 8 - k;  // compute the left half, mirror exactly
     const double th = 2 * kPi * kl / 8.0;
@@ -505,7 +600,7 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
     G[nu[k]][nv[k]] = N0[k];
   }
   for (int k = 0; k < 8; ++k) {
-    cage.mirror[N0[k]] = N0[(8 - k) % 8];
+    b.cage().mirror[N0[k]] = N0[(8 - k) % 8];
   }
   for (int u = 0; u < 4; ++u) {
     for (int v = 0; v < 4; ++v) {
@@ -515,47 +610,67 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
       b.quad(G[u][v], G[u][v + 1], G[u + 1][v + 1], G[u + 1][v]);
     }
   }
+  return cap;
+}
 
-  // ---------------------------------------------------------------- neck and head (8-rings)
+/// Adds an 8-vertex ring of the neck or head at height `y` (metres): a superellipse (exponent
+/// 2 / 0.85) centred at z = `cz` with half width `a`, front depth `df`, back depth `dbk` and the
+/// front vertex pushed forward by `nose` (metres); all vertices skinned with `sk`. Sets the
+/// mirror pairs; returns the ids counter-clockwise from the front.
+std::vector<int> head_ring(Builder& b, double y, double cz, double a, double df, double dbk,
+                           double nose, const VertexBlend& sk) {
+  std::vector<int> ring(8);
+  for (int k = 0; k < 8; ++k) {
+    const int kl = k <= 4 ? k : 8 - k;  // compute the left half, mirror exactly
+    const double th = 2 * kPi * kl / 8.0;
+    const double sn = pm::sin(th), cs = pm::cos(th);
+    Eigen::Vector3d p(a * sgnpow(sn, 0.85), y, cz + (cs >= 0 ? df : dbk) * sgnpow(cs, 0.85));
+    if (k > 4) {
+      p.x() = -p.x();
+    }
+    if (kl == 0 || kl == 4) {
+      p.x() = 0.0;
+    }
+    if (k == 0) {
+      p.z() += nose;
+    }
+    ring[k] = b.vert(p, sk);
+  }
+  for (int k = 0; k < 8; ++k) {
+    b.cage().mirror[ring[k]] = ring[(8 - k) % 8];
+  }
+  return ring;
+}
+
+/// The rings of the neck and the head that the joints use, and the top of the head.
+struct NeckAndHead {
+  std::vector<int> n1, n2;  ///< neck rings over the cap and under the chin, 8 ids each
+  std::vector<int> h0;      ///< the lowest head ring (at the chin), 8 ids
+  int top = -1;             ///< the vertex at the top of the head
+};
+
+/// Adds the neck and the head of body `d` over the cap's neck ring `N0`: neck rings from the
+/// cervicale `lv.HC7` up to the chin, head rings sized by the head breadth and length up to the
+/// stature `lv.H` (metres), their quads, and a 2 x 2 grid around the top vertex closing the head.
+NeckAndHead build_neck_and_head(Builder& b, const std::vector<int>& N0, const Eigen::VectorXd& d,
+                                const BodyLevels& lv, double r_neck) {
+  const double H = lv.H, HC7 = lv.HC7;
   const double hh = 1.72 * d[kTragionTop];  // vertex to menton
   const double chin = H - hh;
   const double hb2 = d[kHeadBreadth] / 2, hl2 = d[kHeadLength] / 2;
-  auto head_ring = [&](double y, double cz, double a, double df, double dbk, double nose,
-                       VertexBlend sk) {
-    std::vector<int> ring(8);
-    for (int k = 0; k < 8; ++k) {
-      const int kl = k <= 4 ? k : 8 - k;  // compute the left half, mirror exactly
-      const double th = 2 * kPi * kl / 8.0;
-      const double sn = pm::sin(th), cs = pm::cos(th);
-      Eigen::Vector3d p(a * sgnpow(sn, 0.85), y, cz + (cs >= 0 ? df : dbk) * sgnpow(cs, 0.85));
-      if (k > 4) {
-        p.x() = -p.x();
-      }
-      if (kl == 0 || kl == 4) {
-        p.x() = 0.0;
-      }
-      if (k == 0) {
-        p.z() += nose;
-      }
-      ring[k] = b.vert(p, sk);
-    }
-    for (int k = 0; k < 8; ++k) {
-      cage.mirror[ring[k]] = ring[(8 - k) % 8];
-    }
-    return ring;
-  };
+  NeckAndHead nh;
   const std::vector<int> N1 =
-      head_ring(HC7 + 0.02, -0.02, r_neck * 0.98, r_neck * 0.98, r_neck, 0, skin1(kNeck));
-  const std::vector<int> N2 = head_ring(chin + 0.01, -0.012, r_neck * 1.02, r_neck * 1.05,
+      head_ring(b, HC7 + 0.02, -0.02, r_neck * 0.98, r_neck * 0.98, r_neck, 0, skin1(kNeck));
+  const std::vector<int> N2 = head_ring(b, chin + 0.01, -0.012, r_neck * 1.02, r_neck * 1.05,
                                         r_neck * 1.0, 0, skin2(kNeck, kHead, 0.5));
   const std::vector<int> H0 =
-      head_ring(chin + 0.03, -0.003, hb2 * 0.78, hl2 * 0.92, hl2 * 0.55, 0, skin1(kHead));
-  const std::vector<int> H1 =
-      head_ring(chin + 0.36 * hh, -0.015, hb2 * 0.93, hl2 * 0.98, hl2 * 0.9, 0.016, skin1(kHead));
+      head_ring(b, chin + 0.03, -0.003, hb2 * 0.78, hl2 * 0.92, hl2 * 0.55, 0, skin1(kHead));
+  const std::vector<int> H1 = head_ring(b, chin + 0.36 * hh, -0.015, hb2 * 0.93, hl2 * 0.98,
+                                        hl2 * 0.9, 0.016, skin1(kHead));
   const std::vector<int> H2 =
-      head_ring(chin + 0.58 * hh, -0.019, hb2 * 1.0, hl2 * 0.93, hl2 * 1.0, 0.004, skin1(kHead));
+      head_ring(b, chin + 0.58 * hh, -0.019, hb2 * 1.0, hl2 * 0.93, hl2 * 1.0, 0.004, skin1(kHead));
   const std::vector<int> H3 =
-      head_ring(chin + 0.82 * hh, -0.021, hb2 * 0.9, hl2 * 0.85, hl2 * 0.92, 0, skin1(kHead));
+      head_ring(b, chin + 0.82 * hh, -0.021, hb2 * 0.9, hl2 * 0.85, hl2 * 0.92, 0, skin1(kHead));
   b.connect(N0, N1);
   b.connect(N1, N2);
   b.connect(N2, H0);
@@ -578,6 +693,33 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
       }
     }
   }
+  nh.n1 = N1;
+  nh.n2 = N2;
+  nh.h0 = H0;
+  nh.top = head_top;
+  return nh;
+}
+
+}  // namespace
+
+Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
+  Cage cage;
+  Builder b(cage);
+  const BodyLevels lv = body_levels(d);
+  const double H = lv.H, Hcr = lv.Hcr, HA = lv.HA, HK = lv.HK, HM = lv.HM;
+  const double hand_scale = lv.hand_scale;
+  const ArmRoot arm_base = arm_root(d, lv, bulk);
+  const double xa = arm_base.xa, r_bic = arm_base.r_bic;
+  const TorsoGrid T = build_torso(b, torso_sections(d, lv, female, bulk), arm_base);
+  const ShoulderCap cap = build_shoulder_cap(b, T, d, lv.HC7, bulk);
+  const auto& G = cap.grid;
+  const std::vector<int>& N0 = cap.neck;
+  const NeckAndHead nh = build_neck_and_head(b, N0, d, lv, cap.r_neck);
+  const std::vector<int>& N1 = nh.n1;
+  const std::vector<int>& N2 = nh.n2;
+  const std::vector<int>& H0 = nh.h0;
+  const int head_top = nh.top;
+  (void)H;
 
   // ---------------------------------------------------------------- arms (left, then mirrored)
   const double span2 = d[kSpan] / 2;
