@@ -221,37 +221,37 @@ class Builder {
   Cage& c_;
 };
 
-/// The heights and the breadths that place the cage's stages, derived from the survey dimensions
-/// (metres above the floor; the clamps keep the levels in order for any sampled body).
+/// The heights (metres above the floor) and breadths (metres) that place the cage's stages,
+/// derived from the survey dimensions; the clamps keep the levels in order for any sampled body.
 struct BodyLevels {
-  double H = 0;           ///< stature: top of the head
-  double Hcr = 0;         ///< crotch height
-  double HA = 0;          ///< acromial (shoulder) height
-  double HX = 0;          ///< axilla height, at least 6 cm under the acromion
-  double HN = 0;          ///< chest (nipple) height, at least 3 cm under the axilla
-  double HW = 0;          ///< waist (omphalion) height, at least 8 cm under the chest
-  double HBt = 0;         ///< buttock height, 4 cm over the crotch to 8 cm under the waist
-  double HC7 = 0;         ///< cervicale height, at least 3 cm over the acromion
-  double HK = 0;          ///< knee height
-  double HM = 0;          ///< malleolus (ankle) height
-  double bia = 0;         ///< biacromial breadth, metres
+  double stature = 0;     ///< stature: top of the head
+  double crotch = 0;      ///< crotch height
+  double acromion = 0;    ///< acromial (shoulder) height
+  double axilla = 0;      ///< axilla height, at least 6 cm under the acromion
+  double chest = 0;       ///< chest (nipple) height, at least 3 cm under the axilla
+  double waist = 0;       ///< waist (omphalion) height, at least 8 cm under the chest
+  double buttock = 0;     ///< buttock height, 4 cm over the crotch to 8 cm under the waist
+  double cervicale = 0;   ///< cervicale height, at least 3 cm over the acromion
+  double knee = 0;        ///< knee height
+  double malleolus = 0;   ///< malleolus (ankle) height
+  double biacromial = 0;  ///< biacromial breadth, metres
   double hand_scale = 0;  ///< hand length / 0.19 m (the reference hand), dimensionless
 };
 
 /// The levels of body `d` (kNumDims values, metres and kg, see Dim).
 BodyLevels body_levels(const Eigen::VectorXd& d) {
   BodyLevels lv;
-  lv.H = d[kStature];
-  lv.Hcr = d[kCrotchHeight];
-  lv.HA = d[kAcromialHeight];
-  lv.HX = std::min(d[kAxillaHeight], lv.HA - 0.06);
-  lv.HN = std::min(d[kChestHeight], lv.HX - 0.03);
-  lv.HW = std::min(d[kWaistHeight], lv.HN - 0.08);
-  lv.HBt = std::clamp(d[kButtockHeight], lv.Hcr + 0.04, lv.HW - 0.08);
-  lv.HC7 = std::max(d[kCervicaleHeight], lv.HA + 0.03);
-  lv.HK = d[kKneeHeight];
-  lv.HM = d[kMalleolusHeight];
-  lv.bia = d[kBiacromial];
+  lv.stature = d[kStature];
+  lv.crotch = d[kCrotchHeight];
+  lv.acromion = d[kAcromialHeight];
+  lv.axilla = std::min(d[kAxillaHeight], lv.acromion - 0.06);
+  lv.chest = std::min(d[kChestHeight], lv.axilla - 0.03);
+  lv.waist = std::min(d[kWaistHeight], lv.chest - 0.08);
+  lv.buttock = std::clamp(d[kButtockHeight], lv.crotch + 0.04, lv.waist - 0.08);
+  lv.cervicale = std::max(d[kCervicaleHeight], lv.acromion + 0.03);
+  lv.knee = d[kKneeHeight];
+  lv.malleolus = d[kMalleolusHeight];
+  lv.biacromial = d[kBiacromial];
   lv.hand_scale = d[kHandLength] / 0.19;
   return lv;
 }
@@ -264,7 +264,7 @@ using TorsoSections = std::array<TorsoSection, 10>;
 /// is the backward bulge of the buttocks (metres), `bulk` scales the unmeasured depths of r0, r2.
 void lower_torso_sections(TorsoSections& sec, const Eigen::VectorXd& d, const BodyLevels& lv,
                           bool female, double glute, double bulk) {
-  const double Hcr = lv.Hcr, HW = lv.HW, HBt = lv.HBt;
+  const double Hcr = lv.crotch, HW = lv.waist, HBt = lv.buttock;
   TorsoSection& s1 = sec[1];  // buttocks, widest hips
   s1.y = HBt;
   s1.a = d[kHipBreadth] / 2;
@@ -307,7 +307,7 @@ void lower_torso_sections(TorsoSections& sec, const Eigen::VectorXd& d, const Bo
 /// (metres, 0 for men), `bulk` scales the unmeasured depths of r4 and r6.
 void upper_torso_sections(TorsoSections& sec, const Eigen::VectorXd& d, const BodyLevels& lv,
                           bool female, double bust, double bulk) {
-  const double HA = lv.HA, HX = lv.HX, HN = lv.HN, HW = lv.HW, bia = lv.bia;
+  const double HA = lv.acromion, HX = lv.axilla, HN = lv.chest, HW = lv.waist, bia = lv.biacromial;
   const TorsoSection& s3 = sec[3];
   TorsoSection& s5 = sec[5];  // chest at nipple height
   s5.y = HN;
@@ -391,9 +391,9 @@ struct ArmRoot {
 /// The left arm root of body `d` between the axilla and the acromion of `lv`; `bulk` scales the
 /// biceps girth.
 ArmRoot arm_root(const Eigen::VectorXd& d, const BodyLevels& lv, double bulk) {
-  const double HA = lv.HA, HX = lv.HX;
+  const double HA = lv.acromion, HX = lv.axilla;
   ArmRoot ar;
-  ar.xa = lv.bia / 2;  // acromion
+  ar.xa = lv.biacromial / 2;  // acromion
   ar.arm_ry = (HA - HX) / 2;
   ar.arm_y = (HA + HX) / 2;
   ar.r_bic = d[kBicepsCirc] / (2 * kPi) * 0.92 * bulk;
@@ -656,12 +656,12 @@ struct NeckAndHead {
 };
 
 /// Adds the neck and the head of body `d` over the cap's neck ring `N0`: neck rings of radius
-/// about `r_neck` from the cervicale `lv.HC7` up to the chin, head rings sized by the head
-/// breadth and length up to the stature `lv.H` (all metres), their quads, and a 2 x 2 grid
-/// around the top vertex closing the head.
+/// about `r_neck` from the cervicale (`lv`) up to the chin, head rings sized by the head breadth
+/// and length up to the stature (all metres), their quads, and a 2 x 2 grid around the top
+/// vertex closing the head.
 NeckAndHead build_neck_and_head(Builder& b, const std::vector<int>& N0, const Eigen::VectorXd& d,
                                 const BodyLevels& lv, double r_neck) {
-  const double H = lv.H, HC7 = lv.HC7;
+  const double H = lv.stature, HC7 = lv.cervicale;
   const double hh = 1.72 * d[kTragionTop];  // vertex to menton
   const double chin = H - hh;
   const double hb2 = d[kHeadBreadth] / 2, hl2 = d[kHeadLength] / 2;
@@ -726,7 +726,7 @@ struct ArmDims {
 /// The arm of body `d` (kNumDims values, metres) from its arm root `root` and levels `lv`;
 /// `bulk` scales the forearm girth (and the wrist's by its square root).
 ArmDims arm_dims(const Eigen::VectorXd& d, const BodyLevels& lv, const ArmRoot& root, double bulk) {
-  const double HA = lv.HA, hand_scale = lv.hand_scale;
+  const double HA = lv.acromion, hand_scale = lv.hand_scale;
   const double xa = root.xa, r_bic = root.r_bic;
   ArmDims a;
   a.xa = xa;
@@ -982,13 +982,13 @@ std::vector<int> leg_ring(Builder& b, LegIds& ids, const Eigen::Vector3d& c,
 }
 
 /// Adds the eight horizontal rings G1..G8 of the left leg of body `d` (kNumDims values, metres)
-/// from under the crotch `lv.Hcr` over the knee `lv.HK` to over the malleolus `lv.HM`: thigh,
-/// knee, calf and ankle girths (scaled by `bulk`) around the axis x ~ `x_t`; the ankle ring G8
-/// at (`x_a`, `z_a`) (metres). Returns the rings' ids.
+/// from under the crotch over the knee to over the malleolus (heights `lv`): thigh, knee, calf and
+/// ankle girths (scaled by `bulk`) around the axis x ~ `x_t`; the ankle ring G8 at (`x_a`, `z_a`)
+/// (metres). Returns the rings' ids.
 std::array<std::vector<int>, 8> leg_tube(Builder& b, LegIds& ids, const Eigen::VectorXd& d,
                                          const BodyLevels& lv, double x_t, double x_a, double z_a,
                                          double bulk) {
-  const double Hcr = lv.Hcr, HK = lv.HK, HM = lv.HM;
+  const double Hcr = lv.crotch, HK = lv.knee, HM = lv.malleolus;
   const Eigen::Vector3d ux = Eigen::Vector3d::UnitX();
   const Eigen::Vector3d vz = Eigen::Vector3d::UnitZ();
   std::array<std::vector<int>, 8> G;
@@ -1224,14 +1224,14 @@ Cage build_cage(const Eigen::VectorXd& d, bool female, double bulk) {
   const BodyLevels lv = body_levels(d);
   const ArmRoot arm_base = arm_root(d, lv, bulk);
   p.torso = build_torso(b, torso_sections(d, lv, female, bulk), arm_base);
-  p.cap = build_shoulder_cap(b, p.torso, d, lv.HC7, bulk);
+  p.cap = build_shoulder_cap(b, p.torso, d, lv.cervicale, bulk);
   p.head = build_neck_and_head(b, p.cap.neck, d, lv, p.cap.r_neck);
   const ArmDims arms = arm_dims(d, lv, arm_base, bulk);
   p.arm[0] = build_arm(b, p.torso, arms, false);
   p.arm[1] = build_arm(b, p.torso, arms, true);
   pair_mirrors(cage, p.arm[0].all, p.arm[1].all);
-  p.crotch =
-      b.vert(Eigen::Vector3d(0, lv.Hcr, -0.012), {{kPelvis, 0.4}, {kLHip, 0.3}, {kLHip + 1, 0.3}});
+  p.crotch = b.vert(Eigen::Vector3d(0, lv.crotch, -0.012),
+                    {{kPelvis, 0.4}, {kLHip, 0.3}, {kLHip + 1, 0.3}});
   p.leg[0] = build_leg(b, p.torso, p.crotch, d, lv, bulk, false);
   p.leg[1] = build_leg(b, p.torso, p.crotch, d, lv, bulk, true);
   pair_mirrors(cage, p.leg[0].all, p.leg[1].all);
