@@ -4,6 +4,7 @@
 #include "caliper/regressor.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
@@ -14,6 +15,7 @@
 #include <Eigen/QR>
 
 #include "caliper/errors.hpp"
+#include "smpl/enum_names.hpp"
 #include "smpl/text.hpp"
 
 namespace caliper {
@@ -145,17 +147,9 @@ void check_training(const TrainingSet& t, std::size_t inputs) {
 // Kinds and signatures
 
 std::string to_string(RegressorKind kind) {
-  switch (kind) {
-    case RegressorKind::R2:
-      return "R2";
-    case RegressorKind::R4:
-      return "R4";
-    case RegressorKind::R5:
-      return "R5";
-    case RegressorKind::R6:
-      return "R6";
-  }
-  return "R?";
+  static constexpr std::array<const char*, 4> kNames = {"R2", "R4", "R5", "R6"};
+  static_assert(kNames.size() == static_cast<std::size_t>(RegressorKind::R6) + 1);
+  return smpl::enum_name(kind, kNames, "R?");
 }
 
 std::optional<RegressorKind> parse_regressor_kind(const std::string& text) {
