@@ -303,6 +303,12 @@ const Json& Json::at(const std::string& key) const {
   if (!v) throw JsonError("missing key '" + key + "'");
   return *v;
 }
+Json Json::object(std::initializer_list<std::pair<std::string, Json>> members) {
+  Json j = object();
+  for (const auto& [key, value] : members) j.set(key, value);
+  return j;
+}
+
 Json& Json::set(const std::string& key, Json value) {
   if (type_ == Type::Null) type_ = Type::Object;
   if (type_ != Type::Object) type_error("an object", type_);

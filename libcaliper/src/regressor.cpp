@@ -79,13 +79,11 @@ std::vector<std::string> json_strings(const Json& j) {
 }
 
 Json signature_json(const ModelSignature& s) {
-  Json j = Json::object();
-  j.set("name", s.name);
-  j.set("gender", s.gender);
-  j.set("num_vertices", s.num_vertices);
-  j.set("num_betas", s.num_betas);
-  j.set("fingerprint", s.fingerprint);
-  return j;
+  return Json::object({{"name", s.name},
+                       {"gender", s.gender},
+                       {"num_vertices", s.num_vertices},
+                       {"num_betas", s.num_betas},
+                       {"fingerprint", s.fingerprint}});
 }
 
 ModelSignature json_signature(const Json& j) {
@@ -100,11 +98,8 @@ ModelSignature json_signature(const Json& j) {
 }
 
 Json formula_json(const WeightFormula& f) {
-  Json j = Json::object();
-  j.set("name", f.name);
-  j.set("coefficient", f.coefficient);
-  j.set("intercept", f.intercept);
-  return j;
+  return Json::object(
+      {{"name", f.name}, {"coefficient", f.coefficient}, {"intercept", f.intercept}});
 }
 
 WeightFormula json_formula(const Json& j) {

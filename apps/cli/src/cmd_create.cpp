@@ -315,7 +315,7 @@ Json create_report_json(const CreateResult& r, const std::string& regressor) {
   j.set("model", model);
   j.set("regressor", regressor);
   j.set("units",
-        json_object({{"length", Json("m")}, {"weight", Json("kg")}, {"volume", Json("m3")}}));
+        Json::object({{"length", Json("m")}, {"weight", Json("kg")}, {"volume", Json("m3")}}));
   j.set("input", measurements_json(avatar.input));
   if (r.mapping) j.set("mapped_input", measurements_json(avatar.mapped));
   j.set("achieved", measurements_json(avatar.achieved));
@@ -337,11 +337,11 @@ Json create_report_json(const CreateResult& r, const std::string& regressor) {
   Json files = Json::array();
   for (const auto& s : r.written) files.push_back(s);
   j.set("written", files);
-  j.set("timing_seconds", json_object({{"load_model", Json(r.bundle->load_seconds)},
-                                       {"train_regressors", Json(r.bundle->train_seconds)},
-                                       {"create", Json(r.create_s)},
-                                       {"write_avatar", Json(r.write_s)},
-                                       {"total", Json(r.total_s)}}));
+  j.set("timing_seconds", Json::object({{"load_model", Json(r.bundle->load_seconds)},
+                                        {"train_regressors", Json(r.bundle->train_seconds)},
+                                        {"create", Json(r.create_s)},
+                                        {"write_avatar", Json(r.write_s)},
+                                        {"total", Json(r.total_s)}}));
   return j;
 }
 
