@@ -72,12 +72,17 @@ std::string one_line(std::string s) {
 // ---------------------------------------------------------------------------------------------
 
 const std::vector<std::string>& smpl_fbx_bone_names() {
-  static const std::vector<std::string> names = {
-      "m_avg_Pelvis",  "m_avg_L_Hip",      "m_avg_R_Hip",      "m_avg_Spine1",   "m_avg_L_Knee",
-      "m_avg_R_Knee",  "m_avg_Spine2",     "m_avg_L_Ankle",    "m_avg_R_Ankle",  "m_avg_Spine3",
-      "m_avg_L_Foot",  "m_avg_R_Foot",     "m_avg_Neck",       "m_avg_L_Collar", "m_avg_R_Collar",
-      "m_avg_Head",    "m_avg_L_Shoulder", "m_avg_R_Shoulder", "m_avg_L_Elbow",  "m_avg_R_Elbow",
-      "m_avg_L_Wrist", "m_avg_R_Wrist",    "m_avg_L_Hand",     "m_avg_R_Hand"};
+  // "m_avg_" and the joint, in SMPL's joint order.
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> v;
+    for (const char* joint :
+         {"Pelvis",  "L_Hip",    "R_Hip",    "Spine1",  "L_Knee",     "R_Knee",
+          "Spine2",  "L_Ankle",  "R_Ankle",  "Spine3",  "L_Foot",     "R_Foot",
+          "Neck",    "L_Collar", "R_Collar", "Head",    "L_Shoulder", "R_Shoulder",
+          "L_Elbow", "R_Elbow",  "L_Wrist",  "R_Wrist", "L_Hand",     "R_Hand"})
+      v.push_back(std::string("m_avg_") + joint);
+    return v;
+  }();
   return names;
 }
 
