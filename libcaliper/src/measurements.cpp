@@ -276,8 +276,14 @@ smpl::Vertices shaped_vertices(const smpl::BodyModel& model, const Eigen::Vector
   }
   if (!betas.allFinite()) throw InvalidInputError("betas contain NaN or infinity");
   smpl::Vertices v = model.v_template;
-  if (betas.size() > 0) {
-    const Eigen::VectorXd d = model.shapedirs.leftCols(betas.size()) * betas;
+  // Trailing zero betas (an avatar's betas are the regressor's k padded with zeros to the
+  // model's count) add nothing: their columns are not read (6 of the open models' 16 columns,
+  // 1.8 MB per body). The sum over the other columns runs in the same order, so the vertices are
+  // the same (a validated model's shape directions are finite).
+  Eigen::Index n = betas.size();
+  while (n > 0 && betas[n - 1] == 0.0) --n;
+  if (n > 0) {
+    const Eigen::VectorXd d = model.shapedirs.leftCols(n) * betas.head(n);
     for (Eigen::Index i = 0; i < v.rows(); ++i) {
       v(i, 0) += d(3 * i);
       v(i, 1) += d(3 * i + 1);
