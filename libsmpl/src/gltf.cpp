@@ -20,6 +20,7 @@
 #include <filesystem>
 #include <limits>
 #include <sstream>
+#include <string_view>
 #include <unordered_map>
 
 #include <tiny_gltf.h>
@@ -436,14 +437,81 @@ std::string serialise(const tinygltf::Model& g, bool binary, const std::string& 
   return out.str();
 }
 
+void append_u32(std::string& out, std::uint32_t x) {
+  for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((x >> (8 * i)) & 0xffu));
+}
+
+std::uint32_t read_u32(const std::string& s, size_t at) {
+  std::uint32_t x = 0;
+  for (int i = 0; i < 4; ++i)
+    x |= static_cast<std::uint32_t>(static_cast<unsigned char>(s[at + static_cast<size_t>(i)]))
+         << (8 * i);
+  return x;
+}
+
+// A GLB as pieces written one after the other: `head` (the 12-byte header, the JSON chunk and
+// the BIN chunk's 8-byte header) and `bin` (buffer 0, moved out of the model), padded to 4
+// bytes. The JSON is tinygltf's for the model with an empty buffer, its byteLength then set to
+// the buffer's: the same bytes as tinygltf's GLB of the whole model (WriteBinaryGltfStream)
+// without copying the buffer through tinygltf's copy, its stream and two strings (the largest
+// cost of writing many avatars).
+struct GlbPieces {
+  std::string head;
+  std::vector<unsigned char> bin;
+  std::vector<std::string_view> views() const {
+    static const char zeros[4] = {0, 0, 0, 0};
+    return {head, std::string_view(reinterpret_cast<const char*>(bin.data()), bin.size()),
+            std::string_view(zeros, (4 - bin.size() % 4) % 4)};
+  }
+};
+
+GlbPieces glb_pieces(tinygltf::Model& g, const std::string& context) {
+  GlbPieces p;
+  if (!g.buffers.empty()) {
+    p.bin = std::move(g.buffers[0].data);
+    g.buffers[0].data.clear();
+  }
+  const std::string empty = serialise(g, true, context);  // header, JSON chunk, no BIN chunk
+  if (p.bin.empty()) {
+    p.head = empty;
+    return p;
+  }
+  std::string json = empty.substr(20, read_u32(empty, 12));
+  while (!json.empty() && json.back() == ' ') json.pop_back();  // the chunk's padding
+  const std::string from = "\"buffers\":[{\"byteLength\":0}]";
+  const size_t at = json.find(from);
+  if (at == std::string::npos || json.find(from, at + 1) != std::string::npos) {
+    throw ModelError(context + ": internal error: the GLB's buffer entry was not found");
+  }
+  json.replace(at, from.size(),
+               "\"buffers\":[{\"byteLength\":" + std::to_string(p.bin.size()) + "}]");
+  const size_t json_chunk = (json.size() + 3) & ~size_t{3};
+  const size_t bin_chunk = (p.bin.size() + 3) & ~size_t{3};
+  const size_t total = 12 + 8 + json_chunk + 8 + bin_chunk;
+  if (total > 0xffffffffu) throw ModelError(context + ": the avatar is too large for a GLB");
+  p.head.reserve(12 + 8 + json_chunk + 8);
+  p.head = "glTF";
+  append_u32(p.head, 2);
+  append_u32(p.head, static_cast<std::uint32_t>(total));
+  append_u32(p.head, static_cast<std::uint32_t>(json_chunk));
+  append_u32(p.head, 0x4E4F534Au);  // "JSON"
+  p.head += json;
+  p.head.append(json_chunk - json.size(), ' ');
+  append_u32(p.head, static_cast<std::uint32_t>(bin_chunk));
+  append_u32(p.head, 0x004E4942u);  // "BIN\0"
+  return p;
+}
+
 }  // namespace
 
 std::vector<std::uint8_t> glb_bytes(const BodyModel& model,
                                     const Eigen::Ref<const Eigen::VectorXd>& betas,
                                     const GltfOptions& options) {
-  const std::string s =
-      serialise(build_model(model, betas, options, "glb_bytes"), true, "glb_bytes");
-  return std::vector<std::uint8_t>(s.begin(), s.end());
+  tinygltf::Model g = build_model(model, betas, options, "glb_bytes");
+  const GlbPieces p = glb_pieces(g, "glb_bytes");
+  std::vector<std::uint8_t> out;
+  for (const std::string_view v : p.views()) out.insert(out.end(), v.begin(), v.end());
+  return out;
 }
 
 void write_gltf(const std::string& path, const BodyModel& model,
@@ -452,7 +520,10 @@ void write_gltf(const std::string& path, const BodyModel& model,
   if (!binary && !ends_with_ci(path, ".gltf")) {
     throw ModelError(path + ": unknown glTF file extension; use .glb (binary) or .gltf (JSON)");
   }
-  write_file_atomic(path, serialise(build_model(model, betas, options, path), binary, path));
+  tinygltf::Model g = build_model(model, betas, options, path);
+  if (!binary) return write_file_atomic(path, serialise(g, false, path));
+  const GlbPieces p = glb_pieces(g, path);
+  write_file_atomic(path, p.views());
 }
 
 // ---------------------------------------------------------------------------------------------
