@@ -7,11 +7,13 @@
 #include <cstdio>
 #include <limits>
 #include <string>
+#include <utility>
 
 #include "caliper/circumference.hpp"
 #include "caliper/errors.hpp"
 #include "caliper/volume.hpp"
 #include "caliper/weight.hpp"
+#include "smpl/evaluate.hpp"
 #include "smpl/text.hpp"
 
 namespace caliper {
@@ -275,22 +277,16 @@ smpl::Vertices shaped_vertices(const smpl::BodyModel& model, const Eigen::Vector
                             model.meta.name + "' has only " + std::to_string(model.num_betas()));
   }
   if (!betas.allFinite()) throw InvalidInputError("betas contain NaN or infinity");
-  smpl::Vertices v = model.v_template;
   // Trailing zero betas (an avatar's betas are the regressor's k padded with zeros to the
   // model's count) add nothing: their columns are not read (6 of the open models' 16 columns,
-  // 1.8 MB per body). The sum over the other columns runs in the same order, so the vertices are
-  // the same (a validated model's shape directions are finite).
+  // 1.8 MB per body). libsmpl's shape kernel then gives the same bits as the exporters' own
+  // smpl::shape() of the full betas (a validated model's shape directions are finite), so that
+  // an avatar file can be written from these vertices (smpl::ExportOptions::rest_vertices).
   Eigen::Index n = betas.size();
   while (n > 0 && betas[n - 1] == 0.0) --n;
-  if (n > 0) {
-    const Eigen::VectorXd d = model.shapedirs.leftCols(n) * betas.head(n);
-    for (Eigen::Index i = 0; i < v.rows(); ++i) {
-      v(i, 0) += d(3 * i);
-      v(i, 1) += d(3 * i + 1);
-      v(i, 2) += d(3 * i + 2);
-    }
-  }
-  return v;
+  smpl::Body body;
+  smpl::shape(model, betas.head(n), body);
+  return std::move(body.vertices);
 }
 
 // ---------------------------------------------------------------------------------------------

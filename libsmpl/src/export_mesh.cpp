@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <stdexcept>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -129,7 +130,31 @@ Body export_rest_body(const BodyModel& model, const Eigen::Ref<const Eigen::Vect
     throw ModelError(context + ": " + std::to_string(betas.size()) +
                      " betas given but the model has " + std::to_string(model.num_betas()));
   }
-  Body body = shape(model, betas);
+  Body body;
+  if (options.rest_vertices) {
+    if (options.rest_vertices->rows() != model.num_vertices()) {
+      throw std::invalid_argument(context + ": ExportOptions::rest_vertices has " +
+                                  std::to_string(options.rest_vertices->rows()) +
+                                  " vertices, the model " + std::to_string(model.num_vertices()));
+    }
+    body.vertices = *options.rest_vertices;
+    // J = J_regressor * v_shaped, as shape() computes it.
+    body.joints.resize(model.j_regressor.rows(), 3);
+    for (Eigen::Index k = 0; k < model.j_regressor.rows(); ++k) {
+      Eigen::RowVector3d j = Eigen::RowVector3d::Zero();
+      for (SparseMatrix::InnerIterator it(model.j_regressor, k); it; ++it)
+        j += it.value() * body.vertices.row(it.col());
+      body.joints.row(k) = j;
+    }
+    body.transforms.resize(static_cast<size_t>(model.j_regressor.rows()));
+    for (size_t k = 0; k < body.transforms.size(); ++k) {
+      body.transforms[k].setIdentity();
+      body.transforms[k].topRightCorner<3, 1>() =
+          body.joints.row(static_cast<Eigen::Index>(k)).transpose();
+    }
+  } else {
+    body = shape(model, betas);
+  }
   if (options.stand_on_floor && body.vertices.rows() > 0) {
     const double lift = -body.vertices.col(1).minCoeff();
     body.vertices.col(1).array() += lift;
