@@ -185,7 +185,16 @@ LandmarkTable landmarks_for(const smpl::BodyModel& model) {
 
 double floor_height(const smpl::Vertices& vertices) {
   if (vertices.rows() == 0) throw InvalidInputError("floor_height: the mesh has no vertices");
-  return vertices.col(1).minCoeff();
+  // Four running minima instead of one chain (a minimum does not depend on the order).
+  const double* y = vertices.data() + 1;
+  const Eigen::Index n = vertices.rows();
+  double m[4] = {y[0], y[0], y[0], y[0]};
+  Eigen::Index i = 0;
+  for (; i + 4 <= n; i += 4) {
+    for (int k = 0; k < 4; ++k) m[k] = std::min(m[k], y[3 * (i + k)]);
+  }
+  for (; i < n; ++i) m[0] = std::min(m[0], y[3 * i]);
+  return std::min(std::min(m[0], m[1]), std::min(m[2], m[3]));
 }
 
 bool is_available(const MeasurementDef& def, const LandmarkTable& landmarks) {
@@ -225,8 +234,17 @@ double measure(const smpl::Vertices& vertices, const LandmarkTable& landmarks,
 MeasurementMap measure(const smpl::Vertices& vertices, const LandmarkTable& landmarks,
                        const std::vector<MeasurementDef>& defs) {
   MeasurementMap out;
+  double floor = 0.0;  // the lowest vertex, found once for all heights
+  bool have_floor = false;
   for (const auto& d : defs) {
-    if (is_available(d, landmarks)) out[d.id] = measure(vertices, landmarks, d);
+    if (!is_available(d, landmarks)) continue;
+    if (d.kind != MeasurementKind::Height) {
+      out[d.id] = measure(vertices, landmarks, d);
+      continue;
+    }
+    if (!have_floor) floor = floor_height(vertices);
+    have_floor = true;
+    out[d.id] = landmark_point(vertices, lookup(landmarks, d.from, d.id)).y() - floor;
   }
   return out;
 }

@@ -46,8 +46,9 @@ const char* const kGenerator = "The Virtual Caliper (libsmpl glTF export)";
 int add_view(tinygltf::Model& g, const void* data, size_t bytes, int target) {
   auto& buf = g.buffers[0].data;
   const size_t offset = (buf.size() + 3) & ~size_t{3};
-  buf.resize(offset + bytes, 0);
-  if (bytes > 0) std::memcpy(buf.data() + offset, data, bytes);
+  buf.resize(offset, 0);  // padding only: the data is appended, not zeroed and then copied
+  const auto* p = static_cast<const unsigned char*>(data);
+  if (bytes > 0) buf.insert(buf.end(), p, p + bytes);
   tinygltf::BufferView view;
   view.buffer = 0;
   view.byteOffset = offset;
