@@ -57,7 +57,6 @@ void cut_faces(const smpl::Vertices& v, const smpl::Faces& faces,
   const Eigen::Index nv = v.rows();
   cut.assign(heights.size(), {});
   for (auto& c : cut) c.reserve(512);
-  const auto outside = [nv](int i) { return i < 0 || i >= nv; };
   std::vector<std::uint8_t> above(static_cast<std::size_t>(nv));
   for (std::size_t h0 = 0; h0 < heights.size(); h0 += 8) {
     const std::size_t n = std::min<std::size_t>(8, heights.size() - h0);
@@ -67,15 +66,17 @@ void cut_faces(const smpl::Vertices& v, const smpl::Faces& faces,
         bits |= static_cast<unsigned>(v(i, 1) - heights[h0 + h] >= 0.0) << h;
       above[static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(bits);
     }
-    for (Eigen::Index f = 0; f < faces.rows(); ++f) {
-      const int i0 = faces(f, 0), i1 = faces(f, 1), i2 = faces(f, 2);
-      if (outside(i0) || outside(i1) || outside(i2)) {
+    const std::int32_t* face = faces.data();
+    const auto unv = static_cast<std::uint64_t>(nv);
+    for (Eigen::Index f = 0; f < faces.rows(); ++f, face += 3) {
+      // A negative index becomes a huge unsigned one: one comparison per face.
+      const auto i0 = static_cast<std::uint32_t>(face[0]), i1 = static_cast<std::uint32_t>(face[1]),
+                 i2 = static_cast<std::uint32_t>(face[2]);
+      if (std::max(i0, std::max(i1, i2)) >= unv) {
         throw InvalidInputError("slice_mesh: face " + std::to_string(f) +
                                 " has a vertex index out of range");
       }
-      const unsigned a = above[static_cast<std::size_t>(i0)],
-                     b = above[static_cast<std::size_t>(i1)],
-                     c = above[static_cast<std::size_t>(i2)];
+      const unsigned a = above[i0], b = above[i1], c = above[i2];
       unsigned mixed = (a | b | c) & ~(a & b & c);  // planes with corners on both sides
       while (mixed) {
         const int h = __builtin_ctz(mixed);
