@@ -5,10 +5,16 @@
 /// --source makehuman, about 6 CPU minutes; figures in docs/models.md).
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
@@ -209,6 +215,58 @@ TEST(MakeHumanShape, RegisteredBodiesAndTheirPrincipalComponents) {
   const Registered& s = setup();
   check_residuals(s);
   check_principal_components(s);
+}
+
+// The cache of a fit (caliper-modelgen --fit-cache): a saved fit reads back bit for bit, a fit of
+// other inputs (one survey value changed) is not taken for it, and a foreign or cut file is an
+// error, not a fit. On a hand-made basis: no data needed.
+TEST(MakeHumanShape, FitCacheRoundTripAndFingerprint) {
+  mh::ShapeBasis basis;
+  basis.names = {"a", "b"};
+  basis.sex = {"female", "female"};
+  basis.female_mean = smpl::Vertices::Random(4, 3);
+  basis.male_mean = smpl::Vertices::Random(4, 3);
+  basis.dirs = Eigen::MatrixXd::Random(12, 2);
+  smpl::BodyModel tmpl;
+  tmpl.faces.resize(1, 3);
+  tmpl.faces << 0, 1, 2;
+  std::vector<mh::Subject> subjects(3);
+  for (mh::Subject& x : subjects) {
+    x.sex = "female";
+    x.source = "NHANES";
+    x.values = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(mh::fit_measures().size()),
+                                         std::nan(""));
+    x.values[0] = 1.6;
+  }
+  mh::FitResult fit;
+  fit.weights = Eigen::MatrixXd::Random(3, 2);
+  fit.residuals = Eigen::MatrixXd::Random(3, static_cast<Eigen::Index>(mh::fit_measures().size()));
+  fit.residuals(1, 4) = std::nan("");
+  const std::uint64_t key = mh::fit_fingerprint(basis, tmpl, subjects);
+  EXPECT_EQ(key, mh::fit_fingerprint(basis, tmpl, subjects));
+  const std::string path =
+      (std::filesystem::temp_directory_path() / ("mh_fit_cache_test_" + std::to_string(::getpid())))
+          .string();
+  std::remove(path.c_str());
+  EXPECT_FALSE(mh::load_fit(path, key, 3, 2).has_value());  // no file yet
+  mh::save_fit(path, key, fit);
+  std::optional<mh::FitResult> back = mh::load_fit(path, key, 3, 2);
+  ASSERT_TRUE(back.has_value());
+  EXPECT_EQ(back->weights, fit.weights);
+  EXPECT_TRUE(std::isnan(back->residuals(1, 4)));
+  back->residuals(1, 4) = fit.residuals(1, 4) = 0.0;
+  EXPECT_EQ(back->residuals, fit.residuals);
+  std::vector<mh::Subject> other = subjects;
+  other[2].values[0] = 1.61;
+  const std::uint64_t other_key = mh::fit_fingerprint(basis, tmpl, other);
+  EXPECT_NE(other_key, key);
+  EXPECT_FALSE(mh::load_fit(path, other_key, 3, 2).has_value());
+  EXPECT_FALSE(mh::load_fit(path, key, 4, 2).has_value());
+  std::filesystem::resize_file(path, std::filesystem::file_size(path) - 8);
+  EXPECT_THROW(mh::load_fit(path, key, 3, 2), std::runtime_error);
+  std::ofstream(path, std::ios::binary) << "not a fit file at all, but long enough to read";
+  EXPECT_THROW(mh::load_fit(path, key, 3, 2), std::runtime_error);
+  std::remove(path.c_str());
 }
 
 }  // namespace

@@ -6,7 +6,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <exception>
+#include <fstream>
 #include <functional>
 #include <limits>
 #include <map>
@@ -25,6 +27,7 @@
 #include "caliper/weight.hpp"
 #include "makehuman_landmarks.hpp"
 #include "makehuman_measures.hpp"
+#include "smpl/atomic_file.hpp"
 
 namespace modelgen::mh {
 
@@ -477,6 +480,133 @@ FitResult fit_subjects(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
       population.mean = mean;
     }
     run(partial, population);
+  }
+  return r;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Cache of a fit
+// ------------------------------------------------------------------------------------------------
+
+namespace {
+
+/// FNV-1a over bytes.
+struct Fnv {
+  std::uint64_t h = 14695981039346656037ull;
+  void bytes(const void* p, size_t n) {
+    const auto* c = static_cast<const unsigned char*>(p);
+    for (size_t i = 0; i < n; ++i) {
+      h ^= c[i];
+      h *= 1099511628211ull;
+    }
+  }
+  void text(const std::string& s) {
+    const std::uint64_t n = s.size();
+    bytes(&n, sizeof n);
+    bytes(s.data(), s.size());
+  }
+  template <typename Derived>
+  void matrix(const Eigen::DenseBase<Derived>& m) {
+    const std::int64_t r = m.rows(), c = m.cols();
+    bytes(&r, sizeof r);
+    bytes(&c, sizeof c);
+    for (Eigen::Index i = 0; i < m.rows(); ++i) {
+      for (Eigen::Index j = 0; j < m.cols(); ++j) {
+        const auto x = m(i, j);
+        bytes(&x, sizeof x);
+      }
+    }
+  }
+};
+
+/// The first 8 bytes of a fit file (the last two: the format's version).
+constexpr char kFitMagic[9] = "CMHFIT01";
+
+}  // namespace
+
+std::uint64_t fit_fingerprint(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
+                              const std::vector<Subject>& subjects) {
+  Fnv f;
+  for (const std::string& n : basis.names) f.text(n);
+  for (const std::string& s : basis.sex) f.text(s);
+  f.matrix(basis.female_mean);
+  f.matrix(basis.male_mean);
+  f.matrix(basis.dirs);
+  f.matrix(tmpl.faces);
+  for (const FitMeasure& m : fit_measures()) {
+    f.text(m.id);
+    f.bytes(&m.tolerance, sizeof m.tolerance);
+  }
+  for (const Subject& s : subjects) {
+    f.text(s.sex);
+    f.text(s.source);
+    // NaN (not measured) is hashed by its bit pattern, the same on every read of the surveys.
+    f.matrix(s.values);
+  }
+  return f.h;
+}
+
+void save_fit(const std::string& path, std::uint64_t fingerprint, const FitResult& fit) {
+  std::string out(kFitMagic, 8);
+  auto put = [&out](const void* p, size_t n) { out.append(static_cast<const char*>(p), n); };
+  put(&fingerprint, sizeof fingerprint);
+  const std::int64_t dims[3] = {fit.weights.rows(), fit.weights.cols(), fit.residuals.cols()};
+  put(dims, sizeof dims);
+  for (const Eigen::MatrixXd* m : {&fit.weights, &fit.residuals}) {
+    for (Eigen::Index i = 0; i < m->rows(); ++i) {
+      for (Eigen::Index j = 0; j < m->cols(); ++j) {
+        const double x = (*m)(i, j);
+        put(&x, sizeof x);
+      }
+    }
+  }
+  try {
+    smpl::write_file_atomic(path, out);
+  } catch (const std::exception& e) {
+    throw std::runtime_error("cannot write the fit cache " + path + ": " + e.what());
+  }
+}
+
+std::optional<FitResult> load_fit(const std::string& path, std::uint64_t fingerprint,
+                                  Eigen::Index rows, Eigen::Index cols) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  in.seekg(0, std::ios::beg);
+  std::string data(static_cast<size_t>(std::max<std::streamoff>(size, 0)), '\0');
+  if (!in.read(data.data(), static_cast<std::streamsize>(data.size()))) {
+    throw std::runtime_error("cannot read the fit cache " + path);
+  }
+  const std::int64_t m = static_cast<std::int64_t>(fit_measures().size());
+  const size_t header = 8 + sizeof(std::uint64_t) + 3 * sizeof(std::int64_t);
+  if (data.size() < header || data.compare(0, 8, kFitMagic, 8) != 0) {
+    throw std::runtime_error("fit cache " + path +
+                             " is not a fit file of this version (delete it to fit again)");
+  }
+  std::uint64_t stored = 0;
+  std::int64_t dims[3] = {0, 0, 0};
+  std::memcpy(&stored, data.data() + 8, sizeof stored);
+  std::memcpy(dims, data.data() + 16, sizeof dims);
+  if (stored != fingerprint || dims[0] != rows || dims[1] != cols || dims[2] != m)
+    return std::nullopt;
+  const size_t n = static_cast<size_t>(rows * cols + rows * m);
+  if (data.size() != header + n * sizeof(double)) {
+    throw std::runtime_error("fit cache " + path + " is truncated (" + std::to_string(data.size()) +
+                             " bytes, " + std::to_string(header + n * sizeof(double)) +
+                             " expected; delete it to fit again)");
+  }
+  FitResult r;
+  r.weights.resize(rows, cols);
+  r.residuals.resize(rows, m);
+  const char* p = data.data() + header;
+  for (Eigen::MatrixXd* mat : {&r.weights, &r.residuals}) {
+    for (Eigen::Index i = 0; i < mat->rows(); ++i) {
+      for (Eigen::Index j = 0; j < mat->cols(); ++j) {
+        std::memcpy(&(*mat)(i, j), p, sizeof(double));
+        p += sizeof(double);
+      }
+    }
   }
   return r;
 }

@@ -22,6 +22,8 @@
 /// kilograms.
 #pragma once
 
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -89,6 +91,25 @@ struct FitResult {
 /// it.
 FitResult fit_subjects(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
                        const std::vector<Subject>& subjects, int threads = 1);
+
+/// A fingerprint (64-bit FNV-1a) of the inputs fit_subjects() reads: the basis (names, sexes,
+/// both average bodies, the directions), the fit_measures() ids and tolerances, the subjects
+/// (sex, source, values, in order) and the template's faces. Not the fitting code: a cache of a
+/// fit must be deleted by hand when the code of the fit changes.
+std::uint64_t fit_fingerprint(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
+                              const std::vector<Subject>& subjects);
+
+/// Writes `fit` and its `fingerprint` to `path` (binary, the machine's doubles, deterministic to
+/// the byte; atomically; a cache on one machine, not an exchange format). Throws std::runtime_error
+/// naming the file when it cannot be written.
+void save_fit(const std::string& path, std::uint64_t fingerprint, const FitResult& fit);
+
+/// The fit saved at `path` by save_fit() when the file exists and its fingerprint and shape
+/// (`rows` subjects, `cols` basis directions, fit_measures().size() measurements) match;
+/// nullopt when the file does not exist or was made from other inputs. Throws
+/// std::runtime_error naming the file when it exists but is not a fit file or is truncated.
+std::optional<FitResult> load_fit(const std::string& path, std::uint64_t fingerprint,
+                                  Eigen::Index rows, Eigen::Index cols);
 
 /// An SMPL-structured model of `sex` ("female", "male", or "neutral": both sexes, each weighted
 /// to half) from the registered subjects: v_template the mean registered body, shapedirs the
