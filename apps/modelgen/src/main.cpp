@@ -37,6 +37,7 @@ struct Options {
   std::string source = "cage", makehuman_dir = "../shared/data/makehuman";
   std::string survey_dir = "../shared/data";
   std::string fit_cache;
+  std::string population = "pooled";
   int samples = 10000;
 };
 
@@ -50,7 +51,7 @@ void declare_options(CLI::App& cli, Options& o) {
         "caliper-modelgen --stats-from ANSUR_DIR --stats-out FILE",
         "caliper-modelgen --validate MODEL.npz --stats FILE [--samples N]",
         "caliper-modelgen --source makehuman [--makehuman DIR] [--surveys DIR] [--fit-cache FILE]",
-        "                 --out DIR"},
+        "                 [--shape-population pooled|general] --out DIR"},
        "Writes DIR/caliper-<gender>.npz. The statistics table defaults to\n"
        "DIR/ansur_stats.csv, else ./assets/models/ansur_stats.csv; --stats-from recomputes it\n"
        "from the ANSUR II survey files.\n"
@@ -91,13 +92,19 @@ void declare_options(CLI::App& cli, Options& o) {
                  "makehuman: reuse the registered subjects saved in FILE when it was made from the "
                  "same inputs, else fit them and save them there (keep it outside the repository; "
                  "delete it when the fitting code changes)");
+  app::add_value(cli, "--shape-population", o.population, "POP",
+                 "makehuman: what each sex's betas ~ N(0, I) stand for: pooled (every registered "
+                 "subject alike, about 2/3 ANSUR II soldiers for the men) or general (the general "
+                 "adult population: NHANES for what NHANES measures, ANSUR II's spread given "
+                 "those measurements for the rest)")
+      ->check(CLI::IsMember({"pooled", "general"}));
 }
 
 /// The shape models of the open model v2 (work in progress, issue 11): every survey subject
 /// registered to MakeHuman's targets, principal components per sex; prints the fit residuals.
 void write_makehuman_shape_models(const modelgen::mh::Assets& assets, const smpl::BodyModel& tmpl,
                                   const std::string& survey_dir, const std::string& fit_cache,
-                                  const std::string& out, bool quiet) {
+                                  bool general, const std::string& out, bool quiet) {
   namespace mh = modelgen::mh;
   auto seconds = [](std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -174,7 +181,9 @@ void write_makehuman_shape_models(const modelgen::mh::Assets& assets, const smpl
     }
   }
   for (const char* sex : {"female", "male", "neutral"}) {
-    const smpl::BodyModel m = mh::shape_model(basis, tmpl, subjects, fit, sex, 16);
+    mh::Population population;
+    population.general = general;
+    const smpl::BodyModel m = mh::shape_model(basis, tmpl, subjects, fit, sex, 16, population);
     const std::string path = out + "/caliper-makehuman-" + sex + ".npz";
     smpl::SaveOptions so;
     so.compress = true;
@@ -235,7 +244,8 @@ void write_makehuman_models(const Options& o) {
                 model.num_vertices(), model.num_faces(), model.num_betas(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
-  write_makehuman_shape_models(assets, model, o.survey_dir, o.fit_cache, o.out, o.quiet);
+  write_makehuman_shape_models(assets, model, o.survey_dir, o.fit_cache, o.population == "general",
+                               o.out, o.quiet);
 }
 
 }  // namespace
