@@ -37,7 +37,7 @@ struct Options {
   std::string source = "cage", makehuman_dir = "../shared/data/makehuman";
   std::string survey_dir = "../shared/data";
   std::string fit_cache;
-  std::string population = "pooled";
+  std::string population = "general";
   int samples = 10000;
 };
 
@@ -60,7 +60,8 @@ void declare_options(CLI::App& cli, Options& o) {
        "SMPL's 24 joints, merged weights, fitted joint regressor, the paper's landmarks), and\n"
        "DIR/caliper-makehuman-{female,male,neutral}.npz, its targets fitted to every ANSUR II\n"
        "and NHANES subject under --surveys (ansur2/, nhanes/; default ../shared/data) and\n"
-       "their principal components (about 2 minutes); it prints the fit residuals.\n"
+       "their principal components (about 5 CPU minutes; with --fit-cache a rerun on the\n"
+       "same inputs takes seconds); it prints the fit residuals.\n"
        "--makehuman defaults to ../shared/data/makehuman. The default --source cage\n"
        "writes the three open models.",
        "example:\n  caliper-modelgen --out assets/models --quiet\n\n"
@@ -93,10 +94,10 @@ void declare_options(CLI::App& cli, Options& o) {
                  "same inputs, else fit them and save them there (keep it outside the repository; "
                  "delete it when the fitting code changes)");
   app::add_value(cli, "--shape-population", o.population, "POP",
-                 "makehuman: what each sex's betas ~ N(0, I) stand for: pooled (every registered "
-                 "subject alike, about 2/3 ANSUR II soldiers for the men) or general (the general "
-                 "adult population: NHANES for what NHANES measures, ANSUR II's spread given "
-                 "those measurements for the rest)")
+                 "makehuman: what each sex's betas ~ N(0, I) stand for: general (the general adult "
+                 "population: NHANES for what NHANES measures, ANSUR II's spread given those "
+                 "measurements for the rest) or pooled (every registered subject alike, about 2/3 "
+                 "ANSUR II soldiers for the men)")
       ->check(CLI::IsMember({"pooled", "general"}));
 }
 

@@ -797,11 +797,13 @@ smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl
   // Measurer does), so that the model measures the waist it was fitted to; placed on this
   // model's mean body, the rule can pick another vertex (the general population's mean man:
   // vertex 10707 instead of the fit's 10772, 22 mm less girth at the mean; docs/evaluation.md).
-  // The neutral model, fitted through both sexes, takes the rule on its own mean body. The right
-  // one is the left's mirror vertex.
+  // The neutral model, fitted through both sexes, takes the rule on the mean of the two
+  // averages (on the general population's neutral mean body the knee rule finds no vertex).
+  // The right one is the left's mirror vertex.
+  const smpl::Vertices both = 0.5 * (basis.female_mean + basis.male_mean);
   const smpl::Vertices& rest = sex == "female" ? basis.female_mean
                                : sex == "male" ? basis.male_mean
-                                               : model.v_template;
+                                               : both;
   const SurveyVertices at =
       survey_vertices(rest, tmpl.faces, tmpl.j_regressor, caliper::landmarks_for(tmpl));
   model.landmarks["left_iliac_crest"] = {at.iliac_crest};
