@@ -275,6 +275,12 @@ void check_populations(const Registered& s) {
                          .iliac_crest;
   EXPECT_EQ(g.landmarks.at("left_iliac_crest").at(0), fitted);
   EXPECT_EQ(shared.landmarks.at("left_iliac_crest").at(0), fitted);
+  // The neutral model of the general population (the mixture of the sexes) builds and carries
+  // the waist landmarks (placed on the mean of the sexes' averages).
+  const smpl::BodyModel neutral =
+      mh::shape_model(s.basis, s.tmpl, s.subjects, s.fit, "neutral", 16, general);
+  EXPECT_TRUE(neutral.landmarks.count("left_iliac_crest") &&
+              neutral.landmarks.count("right_iliac_crest"));
   const smpl::BodyModel pooled = mh::shape_model(s.basis, s.tmpl, s.subjects, s.fit, "male", 16);
   auto betas_of = [](const smpl::BodyModel& m, const Eigen::VectorXd& f) {
     Eigen::VectorXd t(3 * m.v_template.rows());
