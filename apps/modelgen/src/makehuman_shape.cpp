@@ -704,6 +704,42 @@ Moments general_moments(const ShapeBasis& basis, const std::vector<Subject>& sub
   return g;
 }
 
+/// The pooled population of `sex` (Population::general false; "neutral": both sexes, each
+/// half): every registered subject of the sex alike, or each survey weighted to its share.
+Moments pooled_moments(const std::vector<Subject>& subjects, const FitResult& fit,
+                       const std::string& sex, const std::map<std::string, double>& survey_share) {
+  int n_female = 0, n_male = 0;
+  std::map<std::pair<std::string, std::string>, int> n_survey;  // (sex, source) -> subjects
+  for (const Subject& s : subjects) {
+    (s.sex == "male" ? n_male : n_female) += 1;
+    ++n_survey[{s.sex, s.source}];
+  }
+  // A subject's weight within its sex (the sexes' totals are 1 each).
+  auto within_sex = [&](const Subject& s) {
+    if (survey_share.empty()) return 1.0 / (s.sex == "male" ? n_male : n_female);
+    const auto it = survey_share.find(s.source);
+    if (it == survey_share.end()) {
+      throw std::invalid_argument("shape_model: no population share for the survey " + s.source);
+    }
+    return it->second / n_survey.at({s.sex, s.source});
+  };
+  std::vector<std::pair<Eigen::VectorXd, double>> rows;
+  for (size_t i = 0; i < subjects.size(); ++i) {
+    const Subject& s = subjects[i];
+    if (sex != "neutral" && s.sex != sex) continue;
+    // Without shares the arithmetic is the original one (1 per subject of a sex), so that the
+    // files stay the same to the byte.
+    const double weight = survey_share.empty() && sex != "neutral"
+                              ? 1.0
+                              : (sex != "neutral" ? 1.0 : 0.5) * within_sex(s);
+    rows.emplace_back(coordinates(subjects, fit, i), weight);
+  }
+  if (rows.size() < 2) {
+    throw std::invalid_argument("shape_model: too few subjects of sex " + sex);
+  }
+  return weighted_moments(rows);
+}
+
 }  // namespace
 
 smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
@@ -729,37 +765,7 @@ smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl
       cov = 0.5 * (f.cov + m.cov) + 0.25 * d * d.transpose();
     }
   } else {
-    const std::map<std::string, double>& survey_share = population.survey_share;
-    int n_female = 0, n_male = 0;
-    std::map<std::pair<std::string, std::string>, int> n_survey;  // (sex, source) -> subjects
-    for (const Subject& s : subjects) {
-      (s.sex == "male" ? n_male : n_female) += 1;
-      ++n_survey[{s.sex, s.source}];
-    }
-    // A subject's weight within its sex (the sexes' totals are 1 each).
-    auto within_sex = [&](const Subject& s) {
-      if (survey_share.empty()) return 1.0 / (s.sex == "male" ? n_male : n_female);
-      const auto it = survey_share.find(s.source);
-      if (it == survey_share.end()) {
-        throw std::invalid_argument("shape_model: no population share for the survey " + s.source);
-      }
-      return it->second / n_survey.at({s.sex, s.source});
-    };
-    std::vector<std::pair<Eigen::VectorXd, double>> rows;
-    for (size_t i = 0; i < subjects.size(); ++i) {
-      const Subject& s = subjects[i];
-      if (sex != "neutral" && s.sex != sex) continue;
-      // Without shares the arithmetic is the original one (1 per subject of a sex), so that the
-      // files stay the same to the byte.
-      const double weight = survey_share.empty() && sex != "neutral"
-                                ? 1.0
-                                : (sex != "neutral" ? 1.0 : 0.5) * within_sex(s);
-      rows.emplace_back(coordinates(subjects, fit, i), weight);
-    }
-    if (rows.size() < 2) {
-      throw std::invalid_argument("shape_model: too few subjects of sex " + sex);
-    }
-    Moments m = weighted_moments(rows);
+    Moments m = pooled_moments(subjects, fit, sex, population.survey_share);
     mean = std::move(m.mean);
     cov = std::move(m.cov);
   }
