@@ -52,16 +52,39 @@ Target read_asset_target(const Assets& assets, const std::string& relative) {
 // ------------------------------------------------------------------------------------------------
 
 const std::vector<std::string>& smpl_joint_bones() {
-  // SMPL order: pelvis, left_hip, right_hip, spine1, left_knee, right_knee, spine2, left_ankle,
-  // right_ankle, spine3, left_foot, right_foot, neck, left_collar, right_collar, head,
-  // left_shoulder, right_shoulder, left_elbow, right_elbow, left_wrist, right_wrist, left_hand,
-  // right_hand. MakeHuman's ".L" is the subject's left (+X). The spine joints are spaced as
-  // SMPL's: spine1 about 11 cm above the pelvis joint, spine3 at mid-chest, 16 cm below the neck.
-  static const std::vector<std::string> bones = {
-      "spine05",      "upperleg01.L", "upperleg01.R", "spine03", "lowerleg01.L", "lowerleg01.R",
-      "spine02",      "foot.L",       "foot.R",       "spine01", "toe3-1.L",     "toe3-1.R",
-      "neck01",       "clavicle.L",   "clavicle.R",   "head",    "upperarm01.L", "upperarm01.R",
-      "lowerarm01.L", "lowerarm01.R", "wrist.L",      "wrist.R", "finger3-1.L",  "finger3-1.R"};
+  // The MakeHuman bone at each SMPL joint, by name; the order comes from smpl_joint_names().
+  // MakeHuman's ".L" is the subject's left (+X). The spine joints are spaced as SMPL's: spine1
+  // about 11 cm above the pelvis joint, spine3 at mid-chest, 16 cm below the neck.
+  static const std::vector<std::string> bones = [] {
+    static const std::map<std::string, std::string> bone_of_joint = {
+        {"pelvis", "spine05"},
+        {"left_hip", "upperleg01.L"},
+        {"right_hip", "upperleg01.R"},
+        {"spine1", "spine03"},
+        {"left_knee", "lowerleg01.L"},
+        {"right_knee", "lowerleg01.R"},
+        {"spine2", "spine02"},
+        {"left_ankle", "foot.L"},
+        {"right_ankle", "foot.R"},
+        {"spine3", "spine01"},
+        {"left_foot", "toe3-1.L"},
+        {"right_foot", "toe3-1.R"},
+        {"neck", "neck01"},
+        {"left_collar", "clavicle.L"},
+        {"right_collar", "clavicle.R"},
+        {"head", "head"},
+        {"left_shoulder", "upperarm01.L"},
+        {"right_shoulder", "upperarm01.R"},
+        {"left_elbow", "lowerarm01.L"},
+        {"right_elbow", "lowerarm01.R"},
+        {"left_wrist", "wrist.L"},
+        {"right_wrist", "wrist.R"},
+        {"left_hand", "finger3-1.L"},
+        {"right_hand", "finger3-1.R"}};
+    std::vector<std::string> b;
+    for (const std::string& joint : smpl::smpl_joint_names()) b.push_back(bone_of_joint.at(joint));
+    return b;
+  }();
   return bones;
 }
 
