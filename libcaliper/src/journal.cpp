@@ -122,7 +122,7 @@ void check_journal_protocol(const JournalContents& contents, const std::string& 
                        "\"; resume with the same --protocol, or start a new session");
 }
 
-JournalWriter JournalWriter::create(const std::string& path, Json header) {
+JournalWriter JournalWriter::create(const std::string& path, const Json& header) {
   LineFile f(path, "wb");
   if (!f.is_open())
     throw JournalError(path + ": cannot create the session journal (is the folder writable?)");
