@@ -73,6 +73,17 @@ Eigen::Vector3d elbow_hinge(bool left) {
 }
 const Eigen::Vector3d kKneeHinge(1, 0, 0);
 
+/// The joints of one limb, from the body outwards: shoulder, elbow, wrist, hand or hip, knee,
+/// ankle, foot.
+struct Limb {
+  int root, mid, end, tip;
+};
+/// Arms and legs by side (0 = left, 1 = right).
+constexpr Limb kArms[2] = {{kLeftShoulder, kLeftElbow, kLeftWrist, kLeftHand},
+                           {kRightShoulder, kRightElbow, kRightWrist, kRightHand}};
+constexpr Limb kLegs[2] = {{kLeftHip, kLeftKnee, kLeftAnkle, kLeftFoot},
+                           {kRightHip, kRightKnee, kRightAnkle, kRightFoot}};
+
 /// Smallest distance between the ends of a two-bone chain bent by at most `max_bend`.
 double min_reach(double a, double b, double max_bend) {
   return std::sqrt(std::max(0.0, a * a + b * b + 2.0 * a * b * std::cos(max_bend)));
@@ -277,10 +288,9 @@ BodyIk::BodyIk(IkRig rig, BodyIkOptions options) : rig_(std::move(rig)), options
 }
 
 double BodyIk::arm_length(int side) const {
-  const int s = side == 0 ? kLeftShoulder : kRightShoulder;
-  const int e = side == 0 ? kLeftElbow : kRightElbow;
-  const int w = side == 0 ? kLeftWrist : kRightWrist;
-  return (rig_.rest[e] - rig_.rest[s]).norm() + (rig_.rest[w] - rig_.rest[e]).norm();
+  const Limb& arm = kArms[side == 0 ? 0 : 1];
+  return (rig_.rest[arm.mid] - rig_.rest[arm.root]).norm() +
+         (rig_.rest[arm.end] - rig_.rest[arm.mid]).norm();
 }
 
 void BodyIk::place(int j) {
@@ -290,10 +300,7 @@ void BodyIk::place(int j) {
 
 void BodyIk::solve_arm(int side, const IkInput& in) {
   const bool left = side == 0;
-  const int sh = left ? kLeftShoulder : kRightShoulder;
-  const int el = left ? kLeftElbow : kRightElbow;
-  const int wr = left ? kLeftWrist : kRightWrist;
-  const int hand = left ? kLeftHand : kRightHand;
+  const auto [sh, el, wr, hand] = kArms[left ? 0 : 1];
   const std::vector<Eigen::Vector3d>& r = rig_.rest;
   const Eigen::Quaterniond body = yaw_rotation(body_yaw_);
   const Eigen::Vector3d out = body * Eigen::Vector3d(left ? 1.0 : -1.0, 0.0, 0.0);
@@ -380,11 +387,7 @@ void BodyIk::pose_two_bones(int root, int mid, int end, const Eigen::Vector3d& h
 }
 
 void BodyIk::solve_leg(int side, const Eigen::Vector3d& ankle, double foot_yaw) {
-  const bool left = side == 0;
-  const int hip = left ? kLeftHip : kRightHip;
-  const int knee = left ? kLeftKnee : kRightKnee;
-  const int ank = left ? kLeftAnkle : kRightAnkle;
-  const int foot = left ? kLeftFoot : kRightFoot;
+  const auto [hip, knee, ank, foot] = kLegs[side == 0 ? 0 : 1];
   const std::vector<Eigen::Vector3d>& r = rig_.rest;
   const Eigen::Vector3d& H = pose_.joints[hip];
   const double a = (r[knee] - r[hip]).norm(), b = (r[ank] - r[knee]).norm();
@@ -495,10 +498,10 @@ const IkPose& BodyIk::solve(const IkInput& in) {
   const Eigen::Quaterniond body = yaw_rotation(body_yaw_);
   const Eigen::Vector3d spine_rest = r[kHead] - r[kPelvis];
   const auto ankle_rest = [&](int side) {
-    return Eigen::Vector3d(r[side == 0 ? kLeftAnkle : kRightAnkle] - r[kPelvis]);
+    return Eigen::Vector3d(r[kLegs[side == 0 ? 0 : 1].end] - r[kPelvis]);
   };
   const auto on_floor = [&](Eigen::Vector3d p, int side) {
-    p.y() = in.floor + r[side == 0 ? kLeftAnkle : kRightAnkle].y();
+    p.y() = in.floor + r[kLegs[side == 0 ? 0 : 1].end].y();
     return p;
   };
   if (!started_) {

@@ -7,8 +7,10 @@
 #include <nlohmann/json.hpp>
 
 #include "smpl/atomic_file.hpp"
+#include "smpl/enum_names.hpp"
 #include "smpl/text.hpp"
 
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
@@ -29,21 +31,10 @@ constexpr size_t kMaxDepth = 256;
 constexpr double kWriteAsIntegerBelow = 1e15;
 
 const char* type_name(Json::Type t) {
-  switch (t) {
-    case Json::Type::Null:
-      return "null";
-    case Json::Type::Bool:
-      return "a boolean";
-    case Json::Type::Number:
-      return "a number";
-    case Json::Type::String:
-      return "a string";
-    case Json::Type::Array:
-      return "an array";
-    case Json::Type::Object:
-      return "an object";
-  }
-  return "?";
+  static constexpr std::array<const char*, 6> kNames = {"null",     "a boolean", "a number",
+                                                        "a string", "an array",  "an object"};
+  static_assert(kNames.size() == static_cast<std::size_t>(Json::Type::Object) + 1);
+  return smpl::enum_name(t, kNames);
 }
 
 [[noreturn]] void type_error(const char* expected, Json::Type found) {
@@ -312,6 +303,12 @@ const Json& Json::at(const std::string& key) const {
   if (!v) throw JsonError("missing key '" + key + "'");
   return *v;
 }
+Json Json::object(std::initializer_list<std::pair<std::string, Json>> members) {
+  Json j = object();
+  for (const auto& [key, value] : members) j.set(key, value);
+  return j;
+}
+
 Json& Json::set(const std::string& key, Json value) {
   if (type_ == Type::Null) type_ = Type::Object;
   if (type_ != Type::Object) type_error("an object", type_);

@@ -159,15 +159,13 @@ Json MeasurementMapping::to_json() const {
   Json j = format_header("caliper-mapping");
   Json maps = Json::object();
   for (const auto& [id, m] : maps_) {
-    Json e = Json::object();
-    e.set("a", m.a);
-    e.set("b", m.b);
-    e.set("count", m.count);
-    e.set("fit_rms", m.fit_rms);
-    e.set("loo_mae", m.loo_mae);
-    e.set("loo_max", m.loo_max);
-    e.set("identity_mae", m.identity_mae);
-    maps.set(id, e);
+    maps.set(id, Json::object({{"a", m.a},
+                               {"b", m.b},
+                               {"count", m.count},
+                               {"fit_rms", m.fit_rms},
+                               {"loo_mae", m.loo_mae},
+                               {"loo_max", m.loo_max},
+                               {"identity_mae", m.identity_mae}}));
   }
   j.set("maps", maps);
   return j;

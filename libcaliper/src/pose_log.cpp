@@ -1,6 +1,7 @@
 // Pose log reader and writer (JSON Lines). Format: docs/pose-log-format.md.
 #include "caliper/pose_log.hpp"
 
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
@@ -8,6 +9,7 @@
 #include <sstream>
 
 #include "smpl/atomic_file.hpp"
+#include "smpl/enum_names.hpp"
 #include "smpl/text.hpp"
 
 namespace caliper {
@@ -170,16 +172,12 @@ double rounded(double v, int decimals) {
 
 }  // namespace
 
+namespace {
+constexpr std::array<const char*, kNumDevices> kDeviceNames = {"head", "left", "right"};
+}  // namespace
+
 const char* device_name(Device device) {
-  switch (device) {
-    case Device::Head:
-      return "head";
-    case Device::Left:
-      return "left";
-    case Device::Right:
-      return "right";
-  }
-  return "?";
+  return smpl::enum_name(device, kDeviceNames);
 }
 
 PoseLog parse_pose_log(const std::string& text, const std::string& name,
@@ -297,7 +295,7 @@ std::string pose_log_header_line(const PoseLogHeader& header) {
   j.set("role", header.role);
   j.set("frame_rate", header.frame_rate);
   Json devices = Json::array();
-  for (const char* d : {"head", "left", "right"}) devices.push_back(d);
+  for (const char* d : kDeviceNames) devices.push_back(d);
   j.set("devices", devices);
   j.set("source", header.source);
   if (header.weight) j.set("weight", *header.weight);

@@ -2,11 +2,13 @@
 #include "caliper/protocol_file.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <set>
 
 #include "caliper/json.hpp"
 #include "caliper/measurements.hpp"
+#include "smpl/enum_names.hpp"
 #include "smpl/text.hpp"
 
 namespace caliper {
@@ -30,11 +32,12 @@ double positive_number(const Json& j, const char* key, double fallback, const st
   return v->as_number();
 }
 
+constexpr std::array<const char*, 4> kStepKindNames = {"height", "distance", "typed_number",
+                                                       "typed_choice"};
+static_assert(kStepKindNames.size() == static_cast<std::size_t>(StepKind::TypedChoice) + 1);
+
 StepKind parse_kind(const std::string& s, const std::string& name, const std::string& where) {
-  if (s == "height") return StepKind::Height;
-  if (s == "distance") return StepKind::Distance;
-  if (s == "typed_number") return StepKind::TypedNumber;
-  if (s == "typed_choice") return StepKind::TypedChoice;
+  if (const auto kind = smpl::enum_from_name<StepKind>(s, kStepKindNames)) return *kind;
   fail(name, where,
        "unknown kind \"" + s + "\" (known: height, distance, typed_number, typed_choice)");
 }
@@ -42,17 +45,7 @@ StepKind parse_kind(const std::string& s, const std::string& name, const std::st
 }  // namespace
 
 const char* step_kind_name(StepKind kind) {
-  switch (kind) {
-    case StepKind::Height:
-      return "height";
-    case StepKind::Distance:
-      return "distance";
-    case StepKind::TypedNumber:
-      return "typed_number";
-    case StepKind::TypedChoice:
-      return "typed_choice";
-  }
-  return "?";
+  return smpl::enum_name(kind, kStepKindNames);
 }
 
 int Protocol::find_step(const std::string& id) const {

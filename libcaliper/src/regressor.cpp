@@ -4,6 +4,7 @@
 #include "caliper/regressor.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
@@ -14,6 +15,7 @@
 #include <Eigen/QR>
 
 #include "caliper/errors.hpp"
+#include "smpl/enum_names.hpp"
 #include "smpl/text.hpp"
 
 namespace caliper {
@@ -77,13 +79,11 @@ std::vector<std::string> json_strings(const Json& j) {
 }
 
 Json signature_json(const ModelSignature& s) {
-  Json j = Json::object();
-  j.set("name", s.name);
-  j.set("gender", s.gender);
-  j.set("num_vertices", s.num_vertices);
-  j.set("num_betas", s.num_betas);
-  j.set("fingerprint", s.fingerprint);
-  return j;
+  return Json::object({{"name", s.name},
+                       {"gender", s.gender},
+                       {"num_vertices", s.num_vertices},
+                       {"num_betas", s.num_betas},
+                       {"fingerprint", s.fingerprint}});
 }
 
 ModelSignature json_signature(const Json& j) {
@@ -98,11 +98,8 @@ ModelSignature json_signature(const Json& j) {
 }
 
 Json formula_json(const WeightFormula& f) {
-  Json j = Json::object();
-  j.set("name", f.name);
-  j.set("coefficient", f.coefficient);
-  j.set("intercept", f.intercept);
-  return j;
+  return Json::object(
+      {{"name", f.name}, {"coefficient", f.coefficient}, {"intercept", f.intercept}});
 }
 
 WeightFormula json_formula(const Json& j) {
@@ -145,17 +142,9 @@ void check_training(const TrainingSet& t, std::size_t inputs) {
 // Kinds and signatures
 
 std::string to_string(RegressorKind kind) {
-  switch (kind) {
-    case RegressorKind::R2:
-      return "R2";
-    case RegressorKind::R4:
-      return "R4";
-    case RegressorKind::R5:
-      return "R5";
-    case RegressorKind::R6:
-      return "R6";
-  }
-  return "R?";
+  static constexpr std::array<const char*, 4> kNames = {"R2", "R4", "R5", "R6"};
+  static_assert(kNames.size() == static_cast<std::size_t>(RegressorKind::R6) + 1);
+  return smpl::enum_name(kind, kNames, "R?");
 }
 
 std::optional<RegressorKind> parse_regressor_kind(const std::string& text) {

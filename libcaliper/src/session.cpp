@@ -3,12 +3,14 @@
 #include "caliper/session.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 
 #include "caliper/errors.hpp"
 #include "caliper/measurements.hpp"
 #include "caliper/protocol.hpp"
+#include "smpl/enum_names.hpp"
 #include "smpl/text.hpp"
 
 namespace caliper {
@@ -64,33 +66,13 @@ std::vector<Eigen::Vector3d> sample_means(const std::vector<std::vector<Eigen::V
 }  // namespace
 
 const char* event_type_name(EventType type) {
-  switch (type) {
-    case EventType::Started:
-      return "started";
-    case EventType::HoldStarted:
-      return "hold_started";
-    case EventType::SampleAccepted:
-      return "sample_accepted";
-    case EventType::SampleRejected:
-      return "sample_rejected";
-    case EventType::FloorCalibrated:
-      return "floor_calibrated";
-    case EventType::FloorRetry:
-      return "floor_retry";
-    case EventType::ThirdTakeRequested:
-      return "third_take_requested";
-    case EventType::StepCompleted:
-      return "step_completed";
-    case EventType::StepSkipped:
-      return "step_skipped";
-    case EventType::StepRedo:
-      return "step_redo";
-    case EventType::StepStarted:
-      return "step_started";
-    case EventType::SessionComplete:
-      return "session_complete";
-  }
-  return "?";
+  // In the order of EventType.
+  static constexpr std::array<const char*, 12> kNames = {
+      "started",          "hold_started", "sample_accepted",      "sample_rejected",
+      "floor_calibrated", "floor_retry",  "third_take_requested", "step_completed",
+      "step_skipped",     "step_redo",    "step_started",         "session_complete"};
+  static_assert(kNames.size() == static_cast<std::size_t>(EventType::SessionComplete) + 1);
+  return smpl::enum_name(type, kNames);
 }
 
 Eigen::Vector3d tip_position(const DevicePose& grip, const Eigen::Vector3d& offset) {

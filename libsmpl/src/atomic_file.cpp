@@ -41,11 +41,19 @@ int write_all(int fd, std::string_view bytes) {
   return 0;
 }
 
+/// Writes every piece in turn; returns 0 or the errno of the failing write.
+int write_all(int fd, const std::vector<std::string_view>& pieces) {
+  for (const std::string_view piece : pieces) {
+    if (const int err = write_all(fd, piece)) return err;
+  }
+  return 0;
+}
+
 /// Writes in place into an existing device or FIFO (which cannot be renamed over).
-void write_in_place(const std::string& path, std::string_view bytes) {
+void write_in_place(const std::string& path, const std::vector<std::string_view>& pieces) {
   const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
   if (fd < 0) fail(path, "cannot open for writing", errno);
-  int err = write_all(fd, bytes);
+  int err = write_all(fd, pieces);
   if (::close(fd) != 0 && err == 0) err = errno;
   if (err != 0) fail(path, "writing failed", err);
 }
@@ -54,7 +62,11 @@ std::atomic<unsigned> g_counter{0};
 
 }  // namespace
 
-void write_file_atomic(const std::string& path_in, std::string_view bytes) {
+void write_file_atomic(const std::string& path, std::string_view bytes) {
+  write_file_atomic(path, std::vector<std::string_view>{bytes});
+}
+
+void write_file_atomic(const std::string& path_in, const std::vector<std::string_view>& pieces) {
   namespace fs = std::filesystem;
   if (path_in.empty()) throw WriteError("cannot write a file with an empty name");
   std::string path = path_in;
@@ -63,7 +75,7 @@ void write_file_atomic(const std::string& path_in, std::string_view bytes) {
   struct stat st {};
   if (::stat(path.c_str(), &st) == 0) {  // follows symbolic links
     if (S_ISDIR(st.st_mode)) fail(path_in, "cannot write the file", EISDIR);
-    if (!S_ISREG(st.st_mode)) return write_in_place(path_in, bytes);
+    if (!S_ISREG(st.st_mode)) return write_in_place(path_in, pieces);
     mode = st.st_mode & 07777;
     keep_mode = true;
     struct stat lst {};
@@ -86,7 +98,7 @@ void write_file_atomic(const std::string& path_in, std::string_view bytes) {
     if (fd < 0 && errno != EEXIST) fail(path_in, "cannot create a temporary file beside it", errno);
   }
   if (fd < 0) fail(path_in, "cannot create a temporary file beside it", EEXIST);
-  int err = write_all(fd, bytes);
+  int err = write_all(fd, pieces);
   const char* what = "writing failed";
   if (err == 0 && keep_mode && ::fchmod(fd, mode) != 0) {
     err = errno;

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <stdexcept>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -72,12 +73,17 @@ std::string one_line(std::string s) {
 // ---------------------------------------------------------------------------------------------
 
 const std::vector<std::string>& smpl_fbx_bone_names() {
-  static const std::vector<std::string> names = {
-      "m_avg_Pelvis",  "m_avg_L_Hip",      "m_avg_R_Hip",      "m_avg_Spine1",   "m_avg_L_Knee",
-      "m_avg_R_Knee",  "m_avg_Spine2",     "m_avg_L_Ankle",    "m_avg_R_Ankle",  "m_avg_Spine3",
-      "m_avg_L_Foot",  "m_avg_R_Foot",     "m_avg_Neck",       "m_avg_L_Collar", "m_avg_R_Collar",
-      "m_avg_Head",    "m_avg_L_Shoulder", "m_avg_R_Shoulder", "m_avg_L_Elbow",  "m_avg_R_Elbow",
-      "m_avg_L_Wrist", "m_avg_R_Wrist",    "m_avg_L_Hand",     "m_avg_R_Hand"};
+  // "m_avg_" and the joint, in SMPL's joint order.
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> v;
+    for (const char* joint :
+         {"Pelvis",  "L_Hip",    "R_Hip",    "Spine1",  "L_Knee",     "R_Knee",
+          "Spine2",  "L_Ankle",  "R_Ankle",  "Spine3",  "L_Foot",     "R_Foot",
+          "Neck",    "L_Collar", "R_Collar", "Head",    "L_Shoulder", "R_Shoulder",
+          "L_Elbow", "R_Elbow",  "L_Wrist",  "R_Wrist", "L_Hand",     "R_Hand"})
+      v.push_back(std::string("m_avg_") + joint);
+    return v;
+  }();
   return names;
 }
 
@@ -129,7 +135,31 @@ Body export_rest_body(const BodyModel& model, const Eigen::Ref<const Eigen::Vect
     throw ModelError(context + ": " + std::to_string(betas.size()) +
                      " betas given but the model has " + std::to_string(model.num_betas()));
   }
-  Body body = shape(model, betas);
+  Body body;
+  if (options.rest_vertices) {
+    if (options.rest_vertices->rows() != model.num_vertices()) {
+      throw std::invalid_argument(context + ": ExportOptions::rest_vertices has " +
+                                  std::to_string(options.rest_vertices->rows()) +
+                                  " vertices, the model " + std::to_string(model.num_vertices()));
+    }
+    body.vertices = *options.rest_vertices;
+    // J = J_regressor * v_shaped, as shape() computes it.
+    body.joints.resize(model.j_regressor.rows(), 3);
+    for (Eigen::Index k = 0; k < model.j_regressor.rows(); ++k) {
+      Eigen::RowVector3d j = Eigen::RowVector3d::Zero();
+      for (SparseMatrix::InnerIterator it(model.j_regressor, k); it; ++it)
+        j += it.value() * body.vertices.row(it.col());
+      body.joints.row(k) = j;
+    }
+    body.transforms.resize(static_cast<size_t>(model.j_regressor.rows()));
+    for (size_t k = 0; k < body.transforms.size(); ++k) {
+      body.transforms[k].setIdentity();
+      body.transforms[k].topRightCorner<3, 1>() =
+          body.joints.row(static_cast<Eigen::Index>(k)).transpose();
+    }
+  } else {
+    body = shape(model, betas);
+  }
   if (options.stand_on_floor && body.vertices.rows() > 0) {
     const double lift = -body.vertices.col(1).minCoeff();
     body.vertices.col(1).array() += lift;
@@ -162,19 +192,37 @@ Vertices from_up_axis(const Vertices& vertices, UpAxis up) {
 
 Vertices vertex_normals(const Vertices& vertices, const Faces& faces) {
   Vertices n = Vertices::Zero(vertices.rows(), 3);
-  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
-    const Eigen::RowVector3d a = vertices.row(faces(f, 0));
-    const Eigen::RowVector3d b = vertices.row(faces(f, 1));
-    const Eigen::RowVector3d c = vertices.row(faces(f, 2));
-    const Eigen::RowVector3d area2 = (b - a).cross(c - a);  // |.| = twice the area
-    for (int i = 0; i < 3; ++i) n.row(faces(f, i)) += area2;
+  // On the raw row-major arrays (Eigen's row blocks cost twice as much here); the same
+  // arithmetic in the same order as (b - a).cross(c - a) and row().norm(), so the same bits.
+  const double* v = vertices.data();
+  double* out = n.data();
+  const std::int32_t* f = faces.data();
+  for (Eigen::Index i = 0; i < faces.rows(); ++i, f += 3) {
+    const double* a = v + 3 * static_cast<std::ptrdiff_t>(f[0]);
+    const double* b = v + 3 * static_cast<std::ptrdiff_t>(f[1]);
+    const double* c = v + 3 * static_cast<std::ptrdiff_t>(f[2]);
+    const double u0 = b[0] - a[0], u1 = b[1] - a[1], u2 = b[2] - a[2];
+    const double w0 = c[0] - a[0], w1 = c[1] - a[1], w2 = c[2] - a[2];
+    const double x = u1 * w2 - u2 * w1, y = u2 * w0 - u0 * w2,
+                 z = u0 * w1 - u1 * w0;  // |.| = 2 area
+    for (int k = 0; k < 3; ++k) {
+      double* o = out + 3 * static_cast<std::ptrdiff_t>(f[k]);
+      o[0] += x;
+      o[1] += y;
+      o[2] += z;
+    }
   }
-  for (Eigen::Index v = 0; v < n.rows(); ++v) {
-    const double len = n.row(v).norm();
+  for (Eigen::Index i = 0; i < n.rows(); ++i) {
+    double* o = out + 3 * i;
+    const double len = std::sqrt(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
     if (len > 0.0) {
-      n.row(v) /= len;
+      o[0] /= len;
+      o[1] /= len;
+      o[2] /= len;
     } else {
-      n.row(v) << 0.0, 1.0, 0.0;  // isolated or degenerate vertex: any unit vector will do
+      o[0] = 0.0;  // isolated or degenerate vertex: any unit vector will do
+      o[1] = 1.0;
+      o[2] = 0.0;
     }
   }
   return n;

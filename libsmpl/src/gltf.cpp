@@ -20,6 +20,7 @@
 #include <filesystem>
 #include <limits>
 #include <sstream>
+#include <string_view>
 #include <unordered_map>
 
 #include <tiny_gltf.h>
@@ -45,8 +46,9 @@ const char* const kGenerator = "The Virtual Caliper (libsmpl glTF export)";
 int add_view(tinygltf::Model& g, const void* data, size_t bytes, int target) {
   auto& buf = g.buffers[0].data;
   const size_t offset = (buf.size() + 3) & ~size_t{3};
-  buf.resize(offset + bytes, 0);
-  if (bytes > 0) std::memcpy(buf.data() + offset, data, bytes);
+  buf.resize(offset, 0);  // padding only: the data is appended, not zeroed and then copied
+  const auto* p = static_cast<const unsigned char*>(data);
+  if (bytes > 0) buf.insert(buf.end(), p, p + bytes);
   tinygltf::BufferView view;
   view.buffer = 0;
   view.byteOffset = offset;
@@ -176,18 +178,27 @@ int add_texcoords(tinygltf::Model& g, const SeamSplit& split) {
       TINYGLTF_COMPONENT_TYPE_FLOAT, out_v, TINYGLTF_TYPE_VEC2);
 }
 
-// The triangles' unsigned int indices.
+// The triangles' indices: unsigned short when every index is below 65535 (glTF reserves each
+// type's largest value), as for the open models' ~12,000-vertex meshes: half the bytes of
+// unsigned int, which larger meshes get.
 int add_indices(tinygltf::Model& g, const Faces& faces) {
-  std::vector<std::uint32_t> indices(static_cast<size_t>(faces.size()));
-  for (Eigen::Index i = 0; i < faces.size(); ++i) {
-    indices[static_cast<size_t>(i)] = static_cast<std::uint32_t>(faces.data()[i]);
+  const int lo = faces.size() ? faces.minCoeff() : 0, hi = faces.size() ? faces.maxCoeff() : 0;
+  const auto n = static_cast<size_t>(faces.size());
+  int view = -1, component = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+  if (hi < 65535) {
+    std::vector<std::uint16_t> indices(n);
+    for (size_t i = 0; i < n; ++i) indices[i] = static_cast<std::uint16_t>(faces.data()[i]);
+    view = add_view(g, indices.data(), n * sizeof(std::uint16_t),
+                    TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+    component = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+  } else {
+    std::vector<std::uint32_t> indices(n);
+    for (size_t i = 0; i < n; ++i) indices[i] = static_cast<std::uint32_t>(faces.data()[i]);
+    view = add_view(g, indices.data(), n * sizeof(std::uint32_t),
+                    TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
   }
-  return add_accessor(g,
-                      add_view(g, indices.data(), indices.size() * sizeof(std::uint32_t),
-                               TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
-                      TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, indices.size(), TINYGLTF_TYPE_SCALAR,
-                      {static_cast<double>(faces.size() ? faces.minCoeff() : 0)},
-                      {static_cast<double>(faces.size() ? faces.maxCoeff() : 0)});
+  return add_accessor(g, view, component, n, TINYGLTF_TYPE_SCALAR, {static_cast<double>(lo)},
+                      {static_cast<double>(hi)});
 }
 
 // JOINTS_0 and WEIGHTS_0 (the model's own four strongest influences unless options.skin_weights
@@ -436,14 +447,81 @@ std::string serialise(const tinygltf::Model& g, bool binary, const std::string& 
   return out.str();
 }
 
+void append_u32(std::string& out, std::uint32_t x) {
+  for (int i = 0; i < 4; ++i) out.push_back(static_cast<char>((x >> (8 * i)) & 0xffu));
+}
+
+std::uint32_t read_u32(const std::string& s, size_t at) {
+  std::uint32_t x = 0;
+  for (int i = 0; i < 4; ++i)
+    x |= static_cast<std::uint32_t>(static_cast<unsigned char>(s[at + static_cast<size_t>(i)]))
+         << (8 * i);
+  return x;
+}
+
+// A GLB as pieces written one after the other: `head` (the 12-byte header, the JSON chunk and
+// the BIN chunk's 8-byte header) and `bin` (buffer 0, moved out of the model), padded to 4
+// bytes. The JSON is tinygltf's for the model with an empty buffer, its byteLength then set to
+// the buffer's: the same bytes as tinygltf's GLB of the whole model (WriteBinaryGltfStream)
+// without copying the buffer through tinygltf's copy, its stream and two strings (the largest
+// cost of writing many avatars).
+struct GlbPieces {
+  std::string head;
+  std::vector<unsigned char> bin;
+  std::vector<std::string_view> views() const {
+    static const char zeros[4] = {0, 0, 0, 0};
+    return {head, std::string_view(reinterpret_cast<const char*>(bin.data()), bin.size()),
+            std::string_view(zeros, (4 - bin.size() % 4) % 4)};
+  }
+};
+
+GlbPieces glb_pieces(tinygltf::Model& g, const std::string& context) {
+  GlbPieces p;
+  if (!g.buffers.empty()) {
+    p.bin = std::move(g.buffers[0].data);
+    g.buffers[0].data.clear();
+  }
+  const std::string empty = serialise(g, true, context);  // header, JSON chunk, no BIN chunk
+  if (p.bin.empty()) {
+    p.head = empty;
+    return p;
+  }
+  std::string json = empty.substr(20, read_u32(empty, 12));
+  while (!json.empty() && json.back() == ' ') json.pop_back();  // the chunk's padding
+  const std::string from = "\"buffers\":[{\"byteLength\":0}]";
+  const size_t at = json.find(from);
+  if (at == std::string::npos || json.find(from, at + 1) != std::string::npos) {
+    throw ModelError(context + ": internal error: the GLB's buffer entry was not found");
+  }
+  json.replace(at, from.size(),
+               "\"buffers\":[{\"byteLength\":" + std::to_string(p.bin.size()) + "}]");
+  const size_t json_chunk = (json.size() + 3) & ~size_t{3};
+  const size_t bin_chunk = (p.bin.size() + 3) & ~size_t{3};
+  const size_t total = 12 + 8 + json_chunk + 8 + bin_chunk;
+  if (total > 0xffffffffu) throw ModelError(context + ": the avatar is too large for a GLB");
+  p.head.reserve(12 + 8 + json_chunk + 8);
+  p.head = "glTF";
+  append_u32(p.head, 2);
+  append_u32(p.head, static_cast<std::uint32_t>(total));
+  append_u32(p.head, static_cast<std::uint32_t>(json_chunk));
+  append_u32(p.head, 0x4E4F534Au);  // "JSON"
+  p.head += json;
+  p.head.append(json_chunk - json.size(), ' ');
+  append_u32(p.head, static_cast<std::uint32_t>(bin_chunk));
+  append_u32(p.head, 0x004E4942u);  // "BIN\0"
+  return p;
+}
+
 }  // namespace
 
 std::vector<std::uint8_t> glb_bytes(const BodyModel& model,
                                     const Eigen::Ref<const Eigen::VectorXd>& betas,
                                     const GltfOptions& options) {
-  const std::string s =
-      serialise(build_model(model, betas, options, "glb_bytes"), true, "glb_bytes");
-  return std::vector<std::uint8_t>(s.begin(), s.end());
+  tinygltf::Model g = build_model(model, betas, options, "glb_bytes");
+  const GlbPieces p = glb_pieces(g, "glb_bytes");
+  std::vector<std::uint8_t> out;
+  for (const std::string_view v : p.views()) out.insert(out.end(), v.begin(), v.end());
+  return out;
 }
 
 void write_gltf(const std::string& path, const BodyModel& model,
@@ -452,7 +530,10 @@ void write_gltf(const std::string& path, const BodyModel& model,
   if (!binary && !ends_with_ci(path, ".gltf")) {
     throw ModelError(path + ": unknown glTF file extension; use .glb (binary) or .gltf (JSON)");
   }
-  write_file_atomic(path, serialise(build_model(model, betas, options, path), binary, path));
+  tinygltf::Model g = build_model(model, betas, options, path);
+  if (!binary) return write_file_atomic(path, serialise(g, false, path));
+  const GlbPieces p = glb_pieces(g, path);
+  write_file_atomic(path, p.views());
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -3,6 +3,7 @@
 // count is bounded by the bytes that follow, every value is checked before it is converted.
 #include "smpl/mesh_read.hpp"
 
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -13,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "smpl/enum_names.hpp"
 #include "smpl/export.hpp"
 #include "smpl/npz.hpp"
 #include "smpl/text.hpp"
@@ -113,27 +115,18 @@ namespace {
 
 enum class PlyType { kInt8, kUint8, kInt16, kUint16, kInt32, kUint32, kFloat32, kFloat64 };
 
+// The names of PlyType's values, in its order: PLY's original ones and the sized ones.
+constexpr std::array<const char*, 8> kPlyTypeNames = {"char", "uchar", "short", "ushort",
+                                                      "int",  "uint",  "float", "double"};
+constexpr std::array<const char*, 8> kPlySizedTypeNames = {"int8",  "uint8",  "int16",   "uint16",
+                                                           "int32", "uint32", "float32", "float64"};
+static_assert(kPlyTypeNames.size() == static_cast<std::size_t>(PlyType::kFloat64) + 1);
+
 bool ply_type(const std::string& t, PlyType& out) {
-  if (t == "char" || t == "int8") {
-    out = PlyType::kInt8;
-  } else if (t == "uchar" || t == "uint8") {
-    out = PlyType::kUint8;
-  } else if (t == "short" || t == "int16") {
-    out = PlyType::kInt16;
-  } else if (t == "ushort" || t == "uint16") {
-    out = PlyType::kUint16;
-  } else if (t == "int" || t == "int32") {
-    out = PlyType::kInt32;
-  } else if (t == "uint" || t == "uint32") {
-    out = PlyType::kUint32;
-  } else if (t == "float" || t == "float32") {
-    out = PlyType::kFloat32;
-  } else if (t == "double" || t == "float64") {
-    out = PlyType::kFloat64;
-  } else {
-    return false;
-  }
-  return true;
+  auto type = enum_from_name<PlyType>(t, kPlyTypeNames);
+  if (!type) type = enum_from_name<PlyType>(t, kPlySizedTypeNames);
+  if (type) out = *type;
+  return type.has_value();
 }
 
 std::size_t ply_size(PlyType t) {

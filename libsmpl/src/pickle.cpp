@@ -9,11 +9,13 @@
 // fixed-size object records themselves are bounded by kMaxObjects.
 //
 // Sections: objects and whitelist | the machine (opcodes) | REDUCE / NEWOBJ / BUILD | conversion.
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <unordered_map>
 
+#include "smpl/enum_names.hpp"
 #include "smpl/pickle.hpp"
 
 namespace smpl {
@@ -57,39 +59,12 @@ enum class Type {
 };
 
 const char* type_name(Type t) {
-  switch (t) {
-    case Type::kNone:
-      return "None";
-    case Type::kBool:
-      return "bool";
-    case Type::kInt:
-      return "int";
-    case Type::kFloat:
-      return "float";
-    case Type::kStr:
-      return "str";
-    case Type::kBytes:
-      return "bytes";
-    case Type::kTuple:
-      return "tuple";
-    case Type::kList:
-      return "list";
-    case Type::kDict:
-      return "dict";
-    case Type::kSet:
-      return "set";
-    case Type::kGlobal:
-      return "class";
-    case Type::kNdarray:
-      return "ndarray";
-    case Type::kDtype:
-      return "dtype";
-    case Type::kSparse:
-      return "sparse matrix";
-    case Type::kChumpy:
-      return "chumpy.ch.Ch";
-  }
-  return "?";
+  // In the order of Type.
+  static constexpr std::array<const char*, 15> kNames = {
+      "None", "bool", "int",   "float",   "str",   "bytes",         "tuple",       "list",
+      "dict", "set",  "class", "ndarray", "dtype", "sparse matrix", "chumpy.ch.Ch"};
+  static_assert(kNames.size() == static_cast<std::size_t>(Type::kChumpy) + 1);
+  return enum_name(t, kNames);
 }
 
 struct Obj {

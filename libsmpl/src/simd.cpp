@@ -3,8 +3,11 @@
 #include "smpl/simd.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cstdlib>
 #include <stdexcept>
+
+#include "smpl/enum_names.hpp"
 
 namespace smpl {
 namespace {
@@ -39,15 +42,9 @@ SimdLevel detect() {
 }  // namespace
 
 const char* simd_level_name(SimdLevel level) {
-  switch (level) {
-    case SimdLevel::kAvx2:
-      return "avx2";
-    case SimdLevel::kAvx512:
-      return "avx512";
-    case SimdLevel::kBaseline:
-      break;
-  }
-  return "baseline";
+  static constexpr std::array<const char*, 3> kNames = {"baseline", "avx2", "avx512"};
+  static_assert(kNames.size() == static_cast<std::size_t>(SimdLevel::kAvx512) + 1);
+  return enum_name(level, kNames, "baseline");
 }
 
 SimdLevel parse_simd_level(const std::string& name) {

@@ -225,6 +225,15 @@ TEST(Circumference, CylinderSliceIsTheRingPerimeter) {
   EXPECT_TRUE(slice_mesh(m.v, m.f, 2.0).empty());
 }
 
+TEST(Circumference, FaceIndicesOutOfRangeAreRefused) {
+  const Mesh m = test::make_prism(test::circle(8, 0.2), 0.0, 1.0, 2);
+  for (const int bad : {-1, static_cast<int>(m.v.rows())}) {
+    smpl::Faces f = m.f;
+    f(f.rows() - 1, 2) = bad;
+    EXPECT_THROW(slice_mesh(m.v, f, 0.37), InvalidInputError) << bad;
+  }
+}
+
 TEST(Circumference, TapeSpansConcavities) {
   // A star prism: 8 outer points at 0.2 m and 8 inner at 0.1 m.
   std::vector<Eigen::Vector2d> star;

@@ -5,17 +5,25 @@
 /// --source makehuman, about 6 CPU minutes; figures in docs/models.md).
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 
 #include "caliper/circumference.hpp"
 #include "caliper/measurements.hpp"
+#include "makehuman_measures.hpp"
 #include "makehuman_rig.hpp"
 #include "makehuman_shape.hpp"
 
@@ -201,6 +209,106 @@ void check_principal_components(const Registered& s) {
   }
 }
 
+/// The flattened registered body of subject `i`.
+Eigen::VectorXd registered_body(const Registered& s, size_t i) {
+  const smpl::Vertices v =
+      s.basis.body(s.subjects[i].sex, s.fit.weights.row(static_cast<Eigen::Index>(i)).transpose());
+  Eigen::VectorXd f(3 * v.rows());
+  for (Eigen::Index r = 0; r < v.rows(); ++r) {
+    for (int c = 0; c < 3; ++c) f[3 * r + c] = v(r, c);
+  }
+  return f;
+}
+
+/// Largest |template - body| over the coordinates.
+double template_offset(const smpl::BodyModel& m, const Eigen::VectorXd& body) {
+  double worst = 0.0;
+  for (Eigen::Index r = 0; r < m.v_template.rows(); ++r) {
+    for (int c = 0; c < 3; ++c)
+      worst = std::max(worst, std::abs(m.v_template(r, c) - body[3 * r + c]));
+  }
+  return worst;
+}
+
+// The populations a model may stand for (mh::Population), on the men: survey shares weight the
+// surveys' means; the general population's template is the NHANES men's mean body, and the
+// NHANES men are part of it: their betas average 0 and vary at most as much as the population
+// (covariance <= I), while the soldiers' average is away from 0 (the pooled model's NHANES men
+// are not centred: the check that the option changes something).
+void check_populations(const Registered& s) {
+  Eigen::VectorXd mean_a, mean_n;
+  std::vector<Eigen::VectorXd> nhanes;
+  int na = 0;
+  for (size_t i = 0; i < s.subjects.size(); ++i) {
+    if (s.subjects[i].sex != "male") continue;
+    const Eigen::VectorXd f = registered_body(s, i);
+    if (s.subjects[i].source == "NHANES") {
+      nhanes.push_back(f);
+      mean_n = mean_n.size() ? Eigen::VectorXd(mean_n + f) : f;
+    } else {
+      mean_a = mean_a.size() ? Eigen::VectorXd(mean_a + f) : f;
+      ++na;
+    }
+  }
+  mean_a /= na;
+  mean_n /= static_cast<double>(nhanes.size());
+  constexpr double kExact = 1e-9;  // m: the same sums in another order
+  mh::Population shares;
+  shares.survey_share = {{"ANSUR II", 0.25}, {"NHANES", 0.75}};
+  const smpl::BodyModel shared =
+      mh::shape_model(s.basis, s.tmpl, s.subjects, s.fit, "male", 16, shares);
+  EXPECT_LT(template_offset(shared, 0.25 * mean_a + 0.75 * mean_n), kExact);
+  shares.survey_share.erase("NHANES");
+  EXPECT_THROW(mh::shape_model(s.basis, s.tmpl, s.subjects, s.fit, "male", 16, shares),
+               std::invalid_argument);
+  mh::Population general;
+  general.general = true;
+  const smpl::BodyModel g =
+      mh::shape_model(s.basis, s.tmpl, s.subjects, s.fit, "male", 16, general);
+  EXPECT_EQ(g.num_betas(), 16);
+  EXPECT_LT(template_offset(g, mean_n), kExact);
+  // The waist landmark is the vertex the fit measured the men at (the rule on MakeHuman's
+  // average man), whichever population: on the general population's mean man the rule alone
+  // picks another vertex (10707 instead of 10772 on the whole surveys, 22 mm less girth).
+  const int fitted = mh::survey_vertices(s.basis.male_mean, s.tmpl.faces, s.tmpl.j_regressor,
+                                         caliper::landmarks_for(s.tmpl))
+                         .iliac_crest;
+  EXPECT_EQ(g.landmarks.at("left_iliac_crest").at(0), fitted);
+  EXPECT_EQ(shared.landmarks.at("left_iliac_crest").at(0), fitted);
+  // The neutral model of the general population (the mixture of the sexes) builds and carries
+  // the waist landmarks (placed on the mean of the sexes' averages).
+  const smpl::BodyModel neutral =
+      mh::shape_model(s.basis, s.tmpl, s.subjects, s.fit, "neutral", 16, general);
+  EXPECT_TRUE(neutral.landmarks.count("left_iliac_crest") &&
+              neutral.landmarks.count("right_iliac_crest"));
+  const smpl::BodyModel pooled = mh::shape_model(s.basis, s.tmpl, s.subjects, s.fit, "male", 16);
+  auto betas_of = [](const smpl::BodyModel& m, const Eigen::VectorXd& f) {
+    Eigen::VectorXd t(3 * m.v_template.rows());
+    for (Eigen::Index r = 0; r < m.v_template.rows(); ++r) {
+      for (int c = 0; c < 3; ++c) t[3 * r + c] = m.v_template(r, c);
+    }
+    const Eigen::MatrixXd gram = m.shapedirs.transpose() * m.shapedirs;
+    return Eigen::VectorXd(gram.ldlt().solve(m.shapedirs.transpose() * (f - t)));
+  };
+  Eigen::VectorXd sum_g = Eigen::VectorXd::Zero(16), sum_p = Eigen::VectorXd::Zero(16);
+  Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(16, 16);
+  for (const Eigen::VectorXd& f : nhanes) {
+    const Eigen::VectorXd b = betas_of(g, f);
+    sum_g += b;
+    cov += b * b.transpose();
+    sum_p += betas_of(pooled, f);
+  }
+  const double n = static_cast<double>(nhanes.size());
+  constexpr double kCentred = 1e-6;  // betas (SD units)
+  EXPECT_LT((sum_g / n).norm(), kCentred) << "the NHANES men are not the general population's mean";
+  EXPECT_GT((sum_p / n).norm(), 0.1) << "the pooled model already centres the NHANES men";
+  cov /= n;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(cov);
+  EXPECT_LT(eig.eigenvalues().maxCoeff(), 1.0 + kCentred)
+      << "the NHANES men vary more than the population they belong to";
+  EXPECT_GT(betas_of(g, mean_a).norm(), 0.1) << "the soldiers' mean is the population's";
+}
+
 // One test for both: the registration of the 242 subjects is most of the time (about 15 s of
 // CPU in Release, over two minutes under AddressSanitizer), and each test runs in a process of
 // its own.
@@ -209,6 +317,59 @@ TEST(MakeHumanShape, RegisteredBodiesAndTheirPrincipalComponents) {
   const Registered& s = setup();
   check_residuals(s);
   check_principal_components(s);
+  check_populations(s);
+}
+
+// The cache of a fit (caliper-modelgen --fit-cache): a saved fit reads back bit for bit, a fit of
+// other inputs (one survey value changed) is not taken for it, and a foreign or cut file is an
+// error, not a fit. On a hand-made basis: no data needed.
+TEST(MakeHumanShape, FitCacheRoundTripAndFingerprint) {
+  mh::ShapeBasis basis;
+  basis.names = {"a", "b"};
+  basis.sex = {"female", "female"};
+  basis.female_mean = smpl::Vertices::Random(4, 3);
+  basis.male_mean = smpl::Vertices::Random(4, 3);
+  basis.dirs = Eigen::MatrixXd::Random(12, 2);
+  smpl::BodyModel tmpl;
+  tmpl.faces.resize(1, 3);
+  tmpl.faces << 0, 1, 2;
+  std::vector<mh::Subject> subjects(3);
+  for (mh::Subject& x : subjects) {
+    x.sex = "female";
+    x.source = "NHANES";
+    x.values = Eigen::VectorXd::Constant(static_cast<Eigen::Index>(mh::fit_measures().size()),
+                                         std::nan(""));
+    x.values[0] = 1.6;
+  }
+  mh::FitResult fit;
+  fit.weights = Eigen::MatrixXd::Random(3, 2);
+  fit.residuals = Eigen::MatrixXd::Random(3, static_cast<Eigen::Index>(mh::fit_measures().size()));
+  fit.residuals(1, 4) = std::nan("");
+  const std::uint64_t key = mh::fit_fingerprint(basis, tmpl, subjects);
+  EXPECT_EQ(key, mh::fit_fingerprint(basis, tmpl, subjects));
+  const std::string path =
+      (std::filesystem::temp_directory_path() / ("mh_fit_cache_test_" + std::to_string(::getpid())))
+          .string();
+  std::remove(path.c_str());
+  EXPECT_FALSE(mh::load_fit(path, key, 3, 2).has_value());  // no file yet
+  mh::save_fit(path, key, fit);
+  std::optional<mh::FitResult> back = mh::load_fit(path, key, 3, 2);
+  ASSERT_TRUE(back.has_value());
+  EXPECT_EQ(back->weights, fit.weights);
+  EXPECT_TRUE(std::isnan(back->residuals(1, 4)));
+  back->residuals(1, 4) = fit.residuals(1, 4) = 0.0;
+  EXPECT_EQ(back->residuals, fit.residuals);
+  std::vector<mh::Subject> other = subjects;
+  other[2].values[0] = 1.61;
+  const std::uint64_t other_key = mh::fit_fingerprint(basis, tmpl, other);
+  EXPECT_NE(other_key, key);
+  EXPECT_FALSE(mh::load_fit(path, other_key, 3, 2).has_value());
+  EXPECT_FALSE(mh::load_fit(path, key, 4, 2).has_value());
+  std::filesystem::resize_file(path, std::filesystem::file_size(path) - 8);
+  EXPECT_THROW(mh::load_fit(path, key, 3, 2), std::runtime_error);
+  std::ofstream(path, std::ios::binary) << "not a fit file at all, but long enough to read";
+  EXPECT_THROW(mh::load_fit(path, key, 3, 2), std::runtime_error);
+  std::remove(path.c_str());
 }
 
 }  // namespace

@@ -122,6 +122,32 @@ TEST(Gltf, PrecomputedSkinWeightsGiveTheSameBytes) {
   EXPECT_THROW(smpl::glb_bytes(m, betas, o), std::invalid_argument);
 }
 
+TEST(Gltf, GivenRestVerticesGiveTheSameBytesAndAreUsed) {
+  const auto& m = model24();
+  const Eigen::VectorXd betas = caliper::test::random_betas(4, 1.0, 6);
+  const smpl::Vertices rest = smpl::shape(m, betas).vertices;
+  smpl::GltfOptions o;
+  o.rest_vertices = &rest;
+  EXPECT_EQ(smpl::glb_bytes(m, betas, o), smpl::glb_bytes(m, betas));
+  // They are what is written: moved vertices come back moved (and the joints with them).
+  smpl::Vertices moved = rest;
+  moved.col(0).array() += 0.25;
+  o.rest_vertices = &moved;
+  const auto bytes = smpl::glb_bytes(m, betas, o);
+  const smpl::GltfAvatar a = smpl::read_gltf_from_memory(bytes.data(), bytes.size(), "moved.glb");
+  smpl::Body body = smpl::shape(m, betas);
+  body.vertices.col(0).array() += 0.25;
+  body.joints.col(0).array() += 0.25;
+  const double lift = -body.vertices.col(1).minCoeff();
+  body.vertices.col(1).array() += lift;
+  body.joints.col(1).array() += lift;
+  EXPECT_MATRIX_NEAR(a.vertices, body.vertices, kFloatTol);
+  EXPECT_MATRIX_NEAR(a.joints, body.joints, kFloatTol);
+  const smpl::Vertices few = rest.topRows(rest.rows() - 1);
+  o.rest_vertices = &few;
+  EXPECT_THROW(smpl::glb_bytes(m, betas, o), std::invalid_argument);
+}
+
 TEST(Gltf, MorphTargetsArePoseCorrectives) {
   auto m = make_random_model(2, 4, true, 12);  // 4 joints: 27 targets keep the file small
   const fs::path file = out_dir() / "morph.glb";

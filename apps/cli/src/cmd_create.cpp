@@ -37,18 +37,21 @@ const app::HelpText kHelp{
 
 namespace {
 
+/// The six measurement inputs: option, measurement id, whether the value is a mass (else a
+/// length) and the option's help line.
 struct InputOption {
   const char* option;
   const char* id;
   bool mass;
+  const char* help;
 };
 constexpr InputOption kInputOptions[] = {
-    {"height", "height", false},
-    {"weight", "weight", true},
-    {"arm-span", "arm_span_fingertips", false},
-    {"inseam", "inseam_height", false},
-    {"hip-width", "hip_width", false},
-    {"arm-length", "arm_length", false},
+    {"height", "height", false, "overall height, e.g. 168cm, 1.68m, 66in, 5ft6in"},
+    {"weight", "weight", true, "body weight, e.g. 62kg or 137lb"},
+    {"arm-span", "arm_span_fingertips", false, "arm span, fingertip to fingertip"},
+    {"inseam", "inseam_height", false, "inseam height (crotch above the floor)"},
+    {"hip-width", "hip_width", false, "hip width (widest, at the trochanters)"},
+    {"arm-length", "arm_length", false, "arm length, shoulder (acromion) to wrist"},
 };
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
@@ -58,14 +61,12 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 }  // namespace
 
 const std::vector<OptionSpec>& measurement_options() {
-  static const std::vector<OptionSpec> specs = {
-      {"height", "", "LENGTH", "overall height, e.g. 168cm, 1.68m, 66in, 5ft6in", false},
-      {"weight", "", "MASS", "body weight, e.g. 62kg or 137lb", false},
-      {"arm-span", "", "LENGTH", "arm span, fingertip to fingertip", false},
-      {"inseam", "", "LENGTH", "inseam height (crotch above the floor)", false},
-      {"hip-width", "", "LENGTH", "hip width (widest, at the trochanters)", false},
-      {"arm-length", "", "LENGTH", "arm length, shoulder (acromion) to wrist", false},
-  };
+  static const std::vector<OptionSpec> specs = [] {
+    std::vector<OptionSpec> s;
+    for (const auto& o : kInputOptions)
+      s.push_back({o.option, "", o.mass ? "MASS" : "LENGTH", o.help});
+    return s;
+  }();
   return specs;
 }
 
@@ -315,7 +316,7 @@ Json create_report_json(const CreateResult& r, const std::string& regressor) {
   j.set("model", model);
   j.set("regressor", regressor);
   j.set("units",
-        json_object({{"length", Json("m")}, {"weight", Json("kg")}, {"volume", Json("m3")}}));
+        Json::object({{"length", Json("m")}, {"weight", Json("kg")}, {"volume", Json("m3")}}));
   j.set("input", measurements_json(avatar.input));
   if (r.mapping) j.set("mapped_input", measurements_json(avatar.mapped));
   j.set("achieved", measurements_json(avatar.achieved));
@@ -337,11 +338,11 @@ Json create_report_json(const CreateResult& r, const std::string& regressor) {
   Json files = Json::array();
   for (const auto& s : r.written) files.push_back(s);
   j.set("written", files);
-  j.set("timing_seconds", json_object({{"load_model", Json(r.bundle->load_seconds)},
-                                       {"train_regressors", Json(r.bundle->train_seconds)},
-                                       {"create", Json(r.create_s)},
-                                       {"write_avatar", Json(r.write_s)},
-                                       {"total", Json(r.total_s)}}));
+  j.set("timing_seconds", Json::object({{"load_model", Json(r.bundle->load_seconds)},
+                                        {"train_regressors", Json(r.bundle->train_seconds)},
+                                        {"create", Json(r.create_s)},
+                                        {"write_avatar", Json(r.write_s)},
+                                        {"total", Json(r.total_s)}}));
   return j;
 }
 

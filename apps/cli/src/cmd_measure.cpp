@@ -184,7 +184,7 @@ int write_measure_report(const MeasureCommand& c, const MeasureResult& r, Io& io
     if (!c.model) j.set("model_chosen_by", r.sex_from);
     if (r.betas.size() > 0) j.set("betas", betas_json(r.betas));
     j.set("units",
-          json_object({{"length", Json("m")}, {"weight", Json("kg")}, {"volume", Json("m3")}}));
+          Json::object({{"length", Json("m")}, {"weight", Json("kg")}, {"volume", Json("m3")}}));
     j.set("measurements", measurements_json(r.measurements));
     Json jn = Json::array(), jw = Json::array();
     for (const auto& n : r.notes) jn.push_back(n);

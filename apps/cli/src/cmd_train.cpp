@@ -126,10 +126,10 @@ Json training_set_stats(const TrainResult& r, std::ostream& text) {
                   label_of(id).c_str(), mean * f, unit.c_str(), sd * f, unit.c_str(),
                   c.minCoeff() * f, unit.c_str(), c.maxCoeff() * f, unit.c_str());
     text << buf;
-    stats.set(id, json_object({{"mean", Json(mean)},
-                               {"sd", Json(sd)},
-                               {"min", Json(c.minCoeff())},
-                               {"max", Json(c.maxCoeff())}}));
+    stats.set(id, Json::object({{"mean", Json(mean)},
+                                {"sd", Json(sd)},
+                                {"min", Json(c.minCoeff())},
+                                {"max", Json(c.maxCoeff())}}));
   }
   return stats;
 }
@@ -212,11 +212,11 @@ int write_train_report(const TrainCommand& c, const TrainResult& r, Io& io) {
   Json j = Json::object();
   j.set("command", "train");
   j.set("model", r.path);
-  j.set("training_set", json_object({{"bodies", Json(r.set.size())},
-                                     {"betas", Json(opt.num_betas)},
-                                     {"kind", Json(opt.gaussian ? "gaussian" : "corners")},
-                                     {"weight_formula", Json(r.set.weight_formula.name)},
-                                     {"inputs", Json(stats)}}));
+  j.set("training_set", Json::object({{"bodies", Json(r.set.size())},
+                                      {"betas", Json(opt.num_betas)},
+                                      {"kind", Json(opt.gaussian ? "gaussian" : "corners")},
+                                      {"weight_formula", Json(r.set.weight_formula.name)},
+                                      {"inputs", Json(stats)}}));
   j.set("linear", regs_json);
   if (r.regressors.noise_aware) j.set("noise_aware", na);
   j.set("seconds", r.seconds);

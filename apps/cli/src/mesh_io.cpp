@@ -106,12 +106,13 @@ void write_avatar(const std::string& path, const smpl::BodyModel& model,
 }
 
 void write_avatar(const std::string& path, const smpl::BodyModel& model,
-                  const Eigen::VectorXd& betas, const smpl::Vertices& /*rest_vertices*/,
+                  const Eigen::VectorXd& betas, const smpl::Vertices& rest_vertices,
                   const std::map<std::string, std::string>& extras,
                   const smpl::GltfSkinWeights* skin_weights) {
   smpl::ExportOptions o;
   o.extras = extras;
   o.skin_weights = skin_weights;
+  o.rest_vertices = &rest_vertices;
   write_avatar(path, model, betas, o);
 }
 

@@ -49,8 +49,9 @@ void put_in_model_order(MeshFile& mesh, const smpl::Faces& faces, const std::str
 void write_avatar(const std::string& path, const smpl::BodyModel& model,
                   const Eigen::VectorXd& betas, const smpl::ExportOptions& options);
 
-/// The same with default options and `extras` as metadata (the rest pose's vertices come from
-/// the model; `rest_vertices` is accepted for callers that have them and is not needed).
+/// The same with default options and `extras` as metadata; `rest_vertices` are the avatar's
+/// rest-pose vertices of `betas` (caliper::shaped_vertices: the exporters do not compute them
+/// again, smpl::ExportOptions::rest_vertices).
 /// `skin_weights`: smpl::gltf_skin_weights(model) computed once for many avatars of `model`, or
 /// null.
 void write_avatar(const std::string& path, const smpl::BodyModel& model,

@@ -174,24 +174,16 @@ Json measurements_json(const MeasurementMap& values) {
 }
 
 Json plausibility_json(const Plausibility& p) {
-  Json j = Json::object();
-  j.set("mahalanobis", p.mahalanobis);
-  j.set("dof", p.dof);
-  j.set("chi_square_cdf", p.cdf);
-  j.set("p_value", p.p_value);
   Json b2 = Json::array(), b3 = Json::array();
   for (int i : p.beyond_2sd) b2.push_back(i);
   for (int i : p.beyond_3sd) b3.push_back(i);
-  j.set("beyond_2sd", b2);
-  j.set("beyond_3sd", b3);
-  j.set("plausible", p.plausible);
-  return j;
-}
-
-Json json_object(std::initializer_list<std::pair<std::string, Json>> members) {
-  Json j = Json::object();
-  for (const auto& [k, v] : members) j.set(k, v);
-  return j;
+  return Json::object({{"mahalanobis", p.mahalanobis},
+                       {"dof", p.dof},
+                       {"chi_square_cdf", p.cdf},
+                       {"p_value", p.p_value},
+                       {"beyond_2sd", b2},
+                       {"beyond_3sd", b3},
+                       {"plausible", p.plausible}});
 }
 
 Json betas_json(const Eigen::VectorXd& betas) {

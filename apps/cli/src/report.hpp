@@ -54,9 +54,6 @@ Json plausibility_json(const Plausibility& p);
 /// JSON array of betas.
 Json betas_json(const Eigen::VectorXd& betas);
 
-/// A JSON object with `members` in order (Json::set returns the member, so it does not chain).
-Json json_object(std::initializer_list<std::pair<std::string, Json>> members);
-
 /// Display unit and factor from SI for an id: ("cm", 100), ("kg", 1), ("L", 1000).
 std::pair<std::string, double> display_unit(const std::string& id);
 

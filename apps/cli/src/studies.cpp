@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <sstream>
 
 #include <Eigen/QR>
@@ -26,6 +27,16 @@ namespace caliper::cli {
 // ---------------------------------------------------------------------------------------------
 
 namespace {
+
+/// A Markdown table's header row and its |---| rule, one column a name ("" for an empty cell).
+std::string markdown_header(std::initializer_list<const char*> columns) {
+  std::string head = "|", rule = "|";
+  for (const char* c : columns) {
+    head += *c ? std::string(" ") + c + " |" : std::string(" |");
+    rule += "---|";
+  }
+  return head + "\n" + rule + "\n";
+}
 
 const std::vector<std::string>& study_regressors() {
   static const std::vector<std::string> r = {"R2", "R4", "R5", "R6", "noise-aware"};
@@ -157,7 +168,7 @@ Table1Result table1_study(const ModelBundle& bundle, int n, std::uint64_t seed, 
 
 std::string table1_markdown(const Table1Result& r, bool with_paper) {
   std::ostringstream s;
-  s << "| | H | W (kg) | AS | I | HW | AL |\n|---|---|---|---|---|---|---|\n";
+  s << markdown_header({"", "H", "W (kg)", "AS", "I", "HW", "AL"});
   for (size_t k = 0; k < r.regressors.size(); ++k) {
     const auto& name = r.regressors[k];
     const std::vector<std::string>& used =
@@ -177,8 +188,8 @@ std::string table1_markdown(const Table1Result& r, bool with_paper) {
   }
   if (with_paper) {
     s << "\nThe paper's Table 1 (real self/other inputs, SMPL): \n\n"
-         "| | H | W (kg) | AS | I | HW | AL |\n|---|---|---|---|---|---|---|\n"
-         "| R2 Mean | 0.00 | 0.11 | **4.26** | **2.53** | **1.48** | **1.43** |\n"
+      << markdown_header({"", "H", "W (kg)", "AS", "I", "HW", "AL"})
+      << "| R2 Mean | 0.00 | 0.11 | **4.26** | **2.53** | **1.48** | **1.43** |\n"
          "| R2 Max | 0.00 | 0.51 | **9.76** | **5.29** | **7.29** | **3.41** |\n"
          "| R4 Mean | 0.00 | 0.13 | 0.00 | 0.00 | **1.78** | **1.49** |\n"
          "| R4 Max | 0.00 | 0.59 | 0.00 | 0.00 | **6.90** | **5.40** |\n"
@@ -238,8 +249,8 @@ std::vector<SimulationRow> simulation_study(const ModelBundle& bundle, int n, st
 
 std::string simulation_markdown(const std::vector<SimulationRow>& rows) {
   std::ostringstream s;
-  s << "| input | regressor | mean v2v (mm) | 90th pct (mm) | avatars beyond 3 SD | beyond 3 SD "
-       "where the true body is within 2 SD |\n|---|---|---|---|---|---|\n";
+  s << markdown_header({"input", "regressor", "mean v2v (mm)", "90th pct (mm)",
+                        "avatars beyond 3 SD", "beyond 3 SD where the true body is within 2 SD"});
   for (const auto& r : rows) {
     s << "| " << r.condition << " | " << r.regressor << " | "
       << smpl::format_fixed(r.mean_v2v_mm, 2) << " | " << smpl::format_fixed(r.p90_v2v_mm, 2)
@@ -371,8 +382,8 @@ std::vector<AnsurRow> ansur_study(
 
 std::string ansur_markdown(const std::vector<AnsurRow>& rows) {
   std::ostringstream s;
-  s << "| sex | method | subjects | chest | waist | buttock/hip | thigh | biacromial |\n"
-       "|---|---|---|---|---|---|---|---|\n";
+  s << markdown_header(
+      {"sex", "method", "subjects", "chest", "waist", "buttock/hip", "thigh", "biacromial"});
   for (const auto& r : rows) {
     s << "| " << r.sex << " | " << r.method << " | " << r.subjects;
     if (r.failed) s << " (" << r.failed << " failed)";
@@ -569,10 +580,9 @@ std::vector<NhanesRow> nhanes_study(const std::vector<NhanesGroup>& groups, int 
 
 std::string nhanes_markdown(const std::vector<NhanesRow>& rows) {
   std::ostringstream s;
-  s << "| sex | BMI | people | hip bias | hip MAE | hip baseline MAE | hip ratio | waist bias | "
-       "waist MAE | waist baseline MAE | waist ratio | weight mean abs (kg) | weight max abs "
-       "(kg) | beyond 3 SD | misses |\n"
-       "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  s << markdown_header({"sex", "BMI", "people", "hip bias", "hip MAE", "hip baseline MAE",
+                        "hip ratio", "waist bias", "waist MAE", "waist baseline MAE", "waist ratio",
+                        "weight mean abs (kg)", "weight max abs (kg)", "beyond 3 SD", "misses"});
   const auto mm = [](double v, bool sign) {
     return (sign && v >= 0 ? "+" : "") + smpl::format_fixed(v, 1);
   };

@@ -7,13 +7,16 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <exception>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "ansur_stats.hpp"
@@ -33,6 +36,8 @@ struct Options {
   std::string validate;
   std::string source = "cage", makehuman_dir = "../shared/data/makehuman";
   std::string survey_dir = "../shared/data";
+  std::string fit_cache;
+  std::string population = "general";
   int samples = 10000;
 };
 
@@ -45,7 +50,8 @@ void declare_options(CLI::App& cli, Options& o) {
         "                 [--population N] [--components K] [--quiet]",
         "caliper-modelgen --stats-from ANSUR_DIR --stats-out FILE",
         "caliper-modelgen --validate MODEL.npz --stats FILE [--samples N]",
-        "caliper-modelgen --source makehuman [--makehuman DIR] [--surveys DIR] --out DIR"},
+        "caliper-modelgen --source makehuman [--makehuman DIR] [--surveys DIR] [--fit-cache FILE]",
+        "                 [--shape-population pooled|general] --out DIR"},
        "Writes DIR/caliper-<gender>.npz. The statistics table defaults to\n"
        "DIR/ansur_stats.csv, else ./assets/models/ansur_stats.csv; --stats-from recomputes it\n"
        "from the ANSUR II survey files.\n"
@@ -54,7 +60,8 @@ void declare_options(CLI::App& cli, Options& o) {
        "SMPL's 24 joints, merged weights, fitted joint regressor, the paper's landmarks), and\n"
        "DIR/caliper-makehuman-{female,male,neutral}.npz, its targets fitted to every ANSUR II\n"
        "and NHANES subject under --surveys (ansur2/, nhanes/; default ../shared/data) and\n"
-       "their principal components (about 2 minutes); it prints the fit residuals.\n"
+       "their principal components (about 5 CPU minutes; with --fit-cache a rerun on the\n"
+       "same inputs takes seconds); it prints the fit residuals.\n"
        "--makehuman defaults to ../shared/data/makehuman. The default --source cage\n"
        "writes the three open models.",
        "example:\n  caliper-modelgen --out assets/models --quiet\n\n"
@@ -82,13 +89,23 @@ void declare_options(CLI::App& cli, Options& o) {
   app::add_value(cli, "--makehuman", o.makehuman_dir, "DIR", "MakeHuman's CC0 assets");
   app::add_value(cli, "--surveys", o.survey_dir, "DIR",
                  "the folder that holds ansur2/ and nhanes/");
+  app::add_value(cli, "--fit-cache", o.fit_cache, "FILE",
+                 "makehuman: reuse the registered subjects saved in FILE when it was made from the "
+                 "same inputs, else fit them and save them there (keep it outside the repository; "
+                 "delete it when the fitting code changes)");
+  app::add_value(cli, "--shape-population", o.population, "POP",
+                 "makehuman: what each sex's betas ~ N(0, I) stand for: general (the general adult "
+                 "population: NHANES for what NHANES measures, ANSUR II's spread given those "
+                 "measurements for the rest) or pooled (every registered subject alike, about 2/3 "
+                 "ANSUR II soldiers for the men)")
+      ->check(CLI::IsMember({"pooled", "general"}));
 }
 
 /// The shape models of the open model v2 (work in progress, issue 11): every survey subject
 /// registered to MakeHuman's targets, principal components per sex; prints the fit residuals.
 void write_makehuman_shape_models(const modelgen::mh::Assets& assets, const smpl::BodyModel& tmpl,
-                                  const std::string& survey_dir, const std::string& out,
-                                  bool quiet) {
+                                  const std::string& survey_dir, const std::string& fit_cache,
+                                  bool general, const std::string& out, bool quiet) {
   namespace mh = modelgen::mh;
   auto seconds = [](std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -108,11 +125,28 @@ void write_makehuman_shape_models(const modelgen::mh::Assets& assets, const smpl
                 subjects.size(), seconds(t0));
   }
   const auto t1 = std::chrono::steady_clock::now();
-  const mh::FitResult fit = mh::fit_subjects(
-      basis, tmpl, subjects, static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+  const std::uint64_t fingerprint =
+      fit_cache.empty() ? 0 : mh::fit_fingerprint(basis, tmpl, subjects);
+  std::optional<mh::FitResult> cached;
+  if (!fit_cache.empty()) {
+    cached = mh::load_fit(fit_cache, fingerprint, static_cast<Eigen::Index>(subjects.size()),
+                          static_cast<Eigen::Index>(basis.names.size()));
+  }
+  const bool reused = cached.has_value();
+  const mh::FitResult fit =
+      reused
+          ? *std::move(cached)
+          : mh::fit_subjects(basis, tmpl, subjects,
+                             static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+  if (!fit_cache.empty() && !reused) mh::save_fit(fit_cache, fingerprint, fit);
   if (!quiet) {
-    std::printf("fitted in %.1f s; residual (fitted body minus survey): mean / RMS / max |.|\n",
-                seconds(t1));
+    if (reused) {
+      std::printf("registered subjects read from %s (%.1f s)\n", fit_cache.c_str(), seconds(t1));
+    } else {
+      std::printf("fitted in %.1f s%s%s\n", seconds(t1), fit_cache.empty() ? "" : ", saved to ",
+                  fit_cache.c_str());
+    }
+    std::printf("residual (fitted body minus survey): mean / RMS / max |.|\n");
     for (const char* source : {"ANSUR II", "NHANES"}) {
       for (const char* sex : {"female", "male"}) {
         for (size_t j = 0; j < mh::fit_measures().size(); ++j) {
@@ -148,7 +182,9 @@ void write_makehuman_shape_models(const modelgen::mh::Assets& assets, const smpl
     }
   }
   for (const char* sex : {"female", "male", "neutral"}) {
-    const smpl::BodyModel m = mh::shape_model(basis, tmpl, subjects, fit, sex, 16);
+    mh::Population population;
+    population.general = general;
+    const smpl::BodyModel m = mh::shape_model(basis, tmpl, subjects, fit, sex, 16, population);
     const std::string path = out + "/caliper-makehuman-" + sex + ".npz";
     smpl::SaveOptions so;
     so.compress = true;
@@ -209,7 +245,8 @@ void write_makehuman_models(const Options& o) {
                 model.num_vertices(), model.num_faces(), model.num_betas(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
-  write_makehuman_shape_models(assets, model, o.survey_dir, o.out, o.quiet);
+  write_makehuman_shape_models(assets, model, o.survey_dir, o.fit_cache, o.population == "general",
+                               o.out, o.quiet);
 }
 
 }  // namespace

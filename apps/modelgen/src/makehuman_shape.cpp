@@ -6,7 +6,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <exception>
+#include <fstream>
 #include <functional>
 #include <limits>
 #include <map>
@@ -25,6 +27,7 @@
 #include "caliper/weight.hpp"
 #include "makehuman_landmarks.hpp"
 #include "makehuman_measures.hpp"
+#include "smpl/atomic_file.hpp"
 
 namespace modelgen::mh {
 
@@ -483,43 +486,290 @@ FitResult fit_subjects(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
 }
 
 // ------------------------------------------------------------------------------------------------
+// Cache of a fit
+// ------------------------------------------------------------------------------------------------
+
+namespace {
+
+/// FNV-1a over bytes.
+struct Fnv {
+  std::uint64_t h = 14695981039346656037ull;
+  void bytes(const void* p, size_t n) {
+    const auto* c = static_cast<const unsigned char*>(p);
+    for (size_t i = 0; i < n; ++i) {
+      h ^= c[i];
+      h *= 1099511628211ull;
+    }
+  }
+  void text(const std::string& s) {
+    const std::uint64_t n = s.size();
+    bytes(&n, sizeof n);
+    bytes(s.data(), s.size());
+  }
+  template <typename Derived>
+  void matrix(const Eigen::DenseBase<Derived>& m) {
+    const std::int64_t r = m.rows(), c = m.cols();
+    bytes(&r, sizeof r);
+    bytes(&c, sizeof c);
+    for (Eigen::Index i = 0; i < m.rows(); ++i) {
+      for (Eigen::Index j = 0; j < m.cols(); ++j) {
+        const auto x = m(i, j);
+        bytes(&x, sizeof x);
+      }
+    }
+  }
+};
+
+/// The first 8 bytes of a fit file (the last two: the format's version).
+constexpr char kFitMagic[9] = "CMHFIT01";
+
+}  // namespace
+
+std::uint64_t fit_fingerprint(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
+                              const std::vector<Subject>& subjects) {
+  Fnv f;
+  for (const std::string& n : basis.names) f.text(n);
+  for (const std::string& s : basis.sex) f.text(s);
+  f.matrix(basis.female_mean);
+  f.matrix(basis.male_mean);
+  f.matrix(basis.dirs);
+  f.matrix(tmpl.faces);
+  for (const FitMeasure& m : fit_measures()) {
+    f.text(m.id);
+    f.bytes(&m.tolerance, sizeof m.tolerance);
+  }
+  for (const Subject& s : subjects) {
+    f.text(s.sex);
+    f.text(s.source);
+    // NaN (not measured) is hashed by its bit pattern, the same on every read of the surveys.
+    f.matrix(s.values);
+  }
+  return f.h;
+}
+
+void save_fit(const std::string& path, std::uint64_t fingerprint, const FitResult& fit) {
+  std::string out(kFitMagic, 8);
+  auto put = [&out](const void* p, size_t n) { out.append(static_cast<const char*>(p), n); };
+  put(&fingerprint, sizeof fingerprint);
+  const std::int64_t dims[3] = {fit.weights.rows(), fit.weights.cols(), fit.residuals.cols()};
+  put(dims, sizeof dims);
+  for (const Eigen::MatrixXd* m : {&fit.weights, &fit.residuals}) {
+    for (Eigen::Index i = 0; i < m->rows(); ++i) {
+      for (Eigen::Index j = 0; j < m->cols(); ++j) {
+        const double x = (*m)(i, j);
+        put(&x, sizeof x);
+      }
+    }
+  }
+  try {
+    smpl::write_file_atomic(path, out);
+  } catch (const std::exception& e) {
+    throw std::runtime_error("cannot write the fit cache " + path + ": " + e.what());
+  }
+}
+
+std::optional<FitResult> load_fit(const std::string& path, std::uint64_t fingerprint,
+                                  Eigen::Index rows, Eigen::Index cols) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  in.seekg(0, std::ios::beg);
+  std::string data(static_cast<size_t>(std::max<std::streamoff>(size, 0)), '\0');
+  if (!in.read(data.data(), static_cast<std::streamsize>(data.size()))) {
+    throw std::runtime_error("cannot read the fit cache " + path);
+  }
+  const std::int64_t m = static_cast<std::int64_t>(fit_measures().size());
+  const size_t header = 8 + sizeof(std::uint64_t) + 3 * sizeof(std::int64_t);
+  if (data.size() < header || data.compare(0, 8, kFitMagic, 8) != 0) {
+    throw std::runtime_error("fit cache " + path +
+                             " is not a fit file of this version (delete it to fit again)");
+  }
+  std::uint64_t stored = 0;
+  std::int64_t dims[3] = {0, 0, 0};
+  std::memcpy(&stored, data.data() + 8, sizeof stored);
+  std::memcpy(dims, data.data() + 16, sizeof dims);
+  if (stored != fingerprint || dims[0] != rows || dims[1] != cols || dims[2] != m)
+    return std::nullopt;
+  const size_t n = static_cast<size_t>(rows * cols + rows * m);
+  if (data.size() != header + n * sizeof(double)) {
+    throw std::runtime_error("fit cache " + path + " is truncated (" + std::to_string(data.size()) +
+                             " bytes, " + std::to_string(header + n * sizeof(double)) +
+                             " expected; delete it to fit again)");
+  }
+  FitResult r;
+  r.weights.resize(rows, cols);
+  r.residuals.resize(rows, m);
+  const char* p = data.data() + header;
+  for (Eigen::MatrixXd* mat : {&r.weights, &r.residuals}) {
+    for (Eigen::Index i = 0; i < mat->rows(); ++i) {
+      for (Eigen::Index j = 0; j < mat->cols(); ++j) {
+        std::memcpy(&(*mat)(i, j), p, sizeof(double));
+        p += sizeof(double);
+      }
+    }
+  }
+  return r;
+}
+
+// ------------------------------------------------------------------------------------------------
 // Principal components
 // ------------------------------------------------------------------------------------------------
 
-/// Variance below this fraction of the largest component's is numerical noise.
+namespace {
+
+/// Mean and covariance of a population over z = (w, female?) (K + 1).
+struct Moments {
+  Eigen::VectorXd mean;
+  Eigen::MatrixXd cov;
+};
+
+/// Weighted moments of the rows of `z` (one subject per row) with weights `wt`.
+Moments weighted_moments(const std::vector<std::pair<Eigen::VectorXd, double>>& rows) {
+  const Eigen::Index n = rows.front().first.size();
+  double total = 0.0;
+  Moments m{Eigen::VectorXd::Zero(n), Eigen::MatrixXd::Zero(n, n)};
+  for (const auto& [z, wt] : rows) {
+    m.mean += wt * z;
+    total += wt;
+  }
+  m.mean /= total;
+  for (const auto& [z, wt] : rows) m.cov += wt * (z - m.mean) * (z - m.mean).transpose();
+  m.cov /= total;
+  return m;
+}
+
+/// The coordinates z = (w, female?) of subject `i`.
+Eigen::VectorXd coordinates(const std::vector<Subject>& subjects, const FitResult& fit, size_t i) {
+  const Eigen::Index kall = fit.weights.cols();
+  Eigen::VectorXd z(kall + 1);
+  z.head(kall) = fit.weights.row(static_cast<Eigen::Index>(i)).transpose();
+  z[kall] = subjects[i].sex == "female" ? 1.0 : 0.0;
+  return z;
+}
+
+/// Variance below this fraction of the largest is numerical noise (also: the rank of the NHANES
+/// subjects' spread).
 constexpr double kRankTolerance = 1e-9;
+
+/// The general adult population of one sex (Population::general): the NHANES subjects' moments
+/// plus the ANSUR II subjects' covariance given the NHANES measurements. The NHANES subjects
+/// were fitted with the ANSUR II population P (covariance plus the prior floor) as their prior,
+/// so their weights lie in mean + span(P C') for the linearised NHANES measurements C: the span
+/// D of their spread gives C' up to a change of basis, C' ~ P^-1 D, and the ANSUR II covariance S
+/// given C z is S - S C' (C S C')^-1 C S.
+Moments general_moments(const ShapeBasis& basis, const std::vector<Subject>& subjects,
+                        const FitResult& fit, const std::string& sex) {
+  std::vector<std::pair<Eigen::VectorXd, double>> ansur, nhanes;
+  for (size_t i = 0; i < subjects.size(); ++i) {
+    if (subjects[i].sex != sex) continue;
+    (subjects[i].source == "NHANES" ? nhanes : ansur)
+        .emplace_back(coordinates(subjects, fit, i), 1.0);
+  }
+  if (ansur.size() < 2 || nhanes.size() < 2) {
+    throw std::invalid_argument("shape_model: the general population of sex " + sex +
+                                " needs ANSUR II and NHANES subjects (" +
+                                std::to_string(ansur.size()) + " and " +
+                                std::to_string(nhanes.size()) + ")");
+  }
+  std::vector<Eigen::Index> cols;  // the sex's directions
+  for (size_t k = 0; k < basis.sex.size(); ++k) {
+    if (basis.sex[k] == sex) cols.push_back(static_cast<Eigen::Index>(k));
+  }
+  const Eigen::Index k = static_cast<Eigen::Index>(cols.size());
+  const Moments a = weighted_moments(ansur);
+  Moments g = weighted_moments(nhanes);
+  Eigen::MatrixXd S(k, k), N(k, k);
+  for (Eigen::Index r = 0; r < k; ++r) {
+    for (Eigen::Index c = 0; c < k; ++c) {
+      S(r, c) = a.cov(cols[r], cols[c]);
+      N(r, c) = g.cov(cols[r], cols[c]);
+    }
+  }
+  Eigen::MatrixXd P = S;
+  for (Eigen::Index j = 0; j < k; ++j) {
+    const double floor = kPriorFloor * prior_sd(basis.names[static_cast<size_t>(cols[j])]);
+    P(j, j) += floor * floor;
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> spread(N);
+  const double largest = spread.eigenvalues()[k - 1];
+  Eigen::Index rank = 0;
+  while (rank < k && spread.eigenvalues()[k - 1 - rank] > kRankTolerance * largest) ++rank;
+  const Eigen::MatrixXd D = spread.eigenvectors().rightCols(rank);
+  const Eigen::MatrixXd Ct = P.ldlt().solve(D);  // k x rank
+  const Eigen::MatrixXd SC = S * Ct;
+  const Eigen::MatrixXd given = S - SC * (Ct.transpose() * SC).ldlt().solve(SC.transpose());
+  for (Eigen::Index r = 0; r < k; ++r) {
+    for (Eigen::Index c = 0; c < k; ++c) g.cov(cols[r], cols[c]) += given(r, c);
+  }
+  return g;
+}
+
+/// The pooled population of `sex` (Population::general false; "neutral": both sexes, each
+/// half): every registered subject of the sex alike, or each survey weighted to its share.
+Moments pooled_moments(const std::vector<Subject>& subjects, const FitResult& fit,
+                       const std::string& sex, const std::map<std::string, double>& survey_share) {
+  int n_female = 0, n_male = 0;
+  std::map<std::pair<std::string, std::string>, int> n_survey;  // (sex, source) -> subjects
+  for (const Subject& s : subjects) {
+    (s.sex == "male" ? n_male : n_female) += 1;
+    ++n_survey[{s.sex, s.source}];
+  }
+  // A subject's weight within its sex (the sexes' totals are 1 each).
+  auto within_sex = [&](const Subject& s) {
+    if (survey_share.empty()) return 1.0 / (s.sex == "male" ? n_male : n_female);
+    const auto it = survey_share.find(s.source);
+    if (it == survey_share.end()) {
+      throw std::invalid_argument("shape_model: no population share for the survey " + s.source);
+    }
+    return it->second / n_survey.at({s.sex, s.source});
+  };
+  std::vector<std::pair<Eigen::VectorXd, double>> rows;
+  for (size_t i = 0; i < subjects.size(); ++i) {
+    const Subject& s = subjects[i];
+    if (sex != "neutral" && s.sex != sex) continue;
+    // Without shares the arithmetic is the original one (1 per subject of a sex), so that the
+    // files stay the same to the byte.
+    const double weight = survey_share.empty() && sex != "neutral"
+                              ? 1.0
+                              : (sex != "neutral" ? 1.0 : 0.5) * within_sex(s);
+    rows.emplace_back(coordinates(subjects, fit, i), weight);
+  }
+  if (rows.size() < 2) {
+    throw std::invalid_argument("shape_model: too few subjects of sex " + sex);
+  }
+  return weighted_moments(rows);
+}
+
+}  // namespace
 
 smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
                             const std::vector<Subject>& subjects, const FitResult& fit,
-                            const std::string& sex, int num_betas) {
+                            const std::string& sex, int num_betas, const Population& population) {
   const Eigen::Index kall = static_cast<Eigen::Index>(basis.names.size());
   // Coordinates z = (w, female?) of every body: body = male_mean + A z, A = [dirs | f - m].
   Eigen::MatrixXd A(basis.dirs.rows(), kall + 1);
   A.leftCols(kall) = basis.dirs;
   A.col(kall) = flat(basis.female_mean) - flat(basis.male_mean);
-  int n_female = 0, n_male = 0;
-  for (const Subject& s : subjects) (s.sex == "male" ? n_male : n_female) += 1;
-  std::vector<std::pair<Eigen::VectorXd, double>> rows;
-  for (size_t i = 0; i < subjects.size(); ++i) {
-    const Subject& s = subjects[i];
-    if (sex != "neutral" && s.sex != sex) continue;
-    Eigen::VectorXd z(kall + 1);
-    z.head(kall) = fit.weights.row(static_cast<Eigen::Index>(i)).transpose();
-    z[kall] = s.sex == "female" ? 1.0 : 0.0;
-    const double weight = sex != "neutral" ? 1.0 : 0.5 / (s.sex == "male" ? n_male : n_female);
-    rows.emplace_back(z, weight);
+  Eigen::VectorXd mean;
+  Eigen::MatrixXd cov;
+  if (population.general) {
+    if (sex != "neutral") {
+      Moments m = general_moments(basis, subjects, fit, sex);
+      mean = std::move(m.mean);
+      cov = std::move(m.cov);
+    } else {  // the mixture of the sexes, each half
+      const Moments f = general_moments(basis, subjects, fit, "female");
+      const Moments m = general_moments(basis, subjects, fit, "male");
+      mean = 0.5 * (f.mean + m.mean);
+      const Eigen::VectorXd d = f.mean - m.mean;
+      cov = 0.5 * (f.cov + m.cov) + 0.25 * d * d.transpose();
+    }
+  } else {
+    Moments m = pooled_moments(subjects, fit, sex, population.survey_share);
+    mean = std::move(m.mean);
+    cov = std::move(m.cov);
   }
-  if (rows.size() < 2) throw std::invalid_argument("shape_model: too few subjects of sex " + sex);
-  double total = 0.0;
-  Eigen::VectorXd mean = Eigen::VectorXd::Zero(kall + 1);
-  for (const auto& [z, wt] : rows) {
-    mean += wt * z;
-    total += wt;
-  }
-  mean /= total;
-  Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(kall + 1, kall + 1);
-  for (const auto& [z, wt] : rows) cov += wt * (z - mean) * (z - mean).transpose();
-  cov /= total;
   const Eigen::HouseholderQR<Eigen::MatrixXd> qr(A);
   const Eigen::MatrixXd R = qr.matrixQR().topRows(kall + 1).triangularView<Eigen::Upper>();
   const Eigen::MatrixXd Q = qr.householderQ() * Eigen::MatrixXd::Identity(A.rows(), kall + 1);
@@ -549,13 +799,22 @@ smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl
     model.shapedirs.col(b) = dir;
   }
   model.posedirs = Eigen::MatrixXd::Zero(A.rows(), 0);
-  // The iliac crest (the NHANES and WHO waist level) as landmarks, by the rule the fit measured
-  // people with, placed on this model's mean body; the right one is the left's mirror vertex.
-  const SurveyVertices at = survey_vertices(model.v_template, model.faces, model.j_regressor,
-                                            caliper::landmarks_for(model));
+  // The iliac crest (the NHANES and WHO waist level) as landmarks: the vertex the fit measured
+  // every subject of the sex at (the rule placed on the sex's MakeHuman average, as the fit's
+  // Measurer does), so that the model measures the waist it was fitted to; placed on this
+  // model's mean body, the rule can pick another vertex (the general population's mean man:
+  // vertex 10707 instead of the fit's 10772, 22 mm less girth at the mean; docs/evaluation.md).
+  // The neutral model, fitted through both sexes, takes the rule on the mean of the two
+  // averages (on the general population's neutral mean body the knee rule finds no vertex).
+  // The right one is the left's mirror vertex.
+  const smpl::Vertices both = 0.5 * (basis.female_mean + basis.male_mean);
+  const smpl::Vertices& rest = sex == "female" ? basis.female_mean
+                               : sex == "male" ? basis.male_mean
+                                               : both;
+  const SurveyVertices at =
+      survey_vertices(rest, tmpl.faces, tmpl.j_regressor, caliper::landmarks_for(tmpl));
   model.landmarks["left_iliac_crest"] = {at.iliac_crest};
-  model.landmarks["right_iliac_crest"] = {
-      mirror_vertex(model.v_template, at.iliac_crest, at.midline_x)};
+  model.landmarks["right_iliac_crest"] = {mirror_vertex(rest, at.iliac_crest, at.midline_x)};
   model.meta.name = "caliper-makehuman-" + sex;
   model.meta.gender = sex;
   model.meta.source =

@@ -22,6 +22,9 @@
 /// kilograms.
 #pragma once
 
+#include <cstdint>
+#include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -90,14 +93,52 @@ struct FitResult {
 FitResult fit_subjects(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
                        const std::vector<Subject>& subjects, int threads = 1);
 
+/// A fingerprint (64-bit FNV-1a) of the inputs fit_subjects() reads: the basis (names, sexes,
+/// both average bodies, the directions), the fit_measures() ids and tolerances, the subjects
+/// (sex, source, values, in order) and the template's faces. Not the fitting code: a cache of a
+/// fit must be deleted by hand when the code of the fit changes.
+std::uint64_t fit_fingerprint(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
+                              const std::vector<Subject>& subjects);
+
+/// Writes `fit` and its `fingerprint` to `path` (binary, the machine's doubles, deterministic to
+/// the byte; atomically; a cache on one machine, not an exchange format). Throws std::runtime_error
+/// naming the file when it cannot be written.
+void save_fit(const std::string& path, std::uint64_t fingerprint, const FitResult& fit);
+
+/// The fit saved at `path` by save_fit() when the file exists and its fingerprint and shape
+/// (`rows` subjects, `cols` basis directions, fit_measures().size() measurements) match;
+/// nullopt when the file does not exist or was made from other inputs. Throws
+/// std::runtime_error naming the file when it exists but is not a fit file or is truncated.
+std::optional<FitResult> load_fit(const std::string& path, std::uint64_t fingerprint,
+                                  Eigen::Index rows, Eigen::Index cols);
+
+/// Which population a model's betas ~ N(0, I) stand for (each sex; the neutral model: both
+/// sexes, each weighted to half).
+struct Population {
+  /// false: the registered subjects of the sex, pooled (each survey in proportion to its
+  /// size, or to `survey_share`). true: the general adult population, "NHANES for what NHANES
+  /// measures, ANSUR II for the rest": the mean and covariance of the NHANES subjects' weights
+  /// (they vary only along the directions their four measurements move the fit, through the
+  /// ANSUR II prior) plus the covariance of the ANSUR II subjects' weights given those four
+  /// measurements (their population covariance minus the part the measurements explain
+  /// linearly). Needs subjects of both surveys of the sex, else std::invalid_argument.
+  bool general = false;
+  /// Pooled only (ignored when empty): the share of the sex's population each survey
+  /// (Subject::source) stands for, e.g. {{"ANSUR II", 0.5}, {"NHANES", 0.5}}; every subject of a
+  /// survey is weighted share / count of that survey and sex. A survey with subjects of the sex
+  /// and no share throws std::invalid_argument.
+  std::map<std::string, double> survey_share;
+};
+
 /// An SMPL-structured model of `sex` ("female", "male", or "neutral": both sexes, each weighted
-/// to half) from the registered subjects: v_template the mean registered body, shapedirs the
-/// first `num_betas` principal components of the registered bodies' vertices, scaled so that
-/// betas ~ N(0, I) over the population (fewer when the population varies along fewer
-/// directions: a subject measured on m values is registered within an m-dimensional family);
-/// faces, weights, regressor, texture coordinates and landmarks from `tmpl`.
+/// to half) from the registered subjects: v_template the mean body of `population`, shapedirs
+/// the first `num_betas` principal components of its bodies' vertices, scaled so that betas ~
+/// N(0, I) over it (fewer when the population varies along fewer directions: a subject
+/// measured on m values is registered within an m-dimensional family); faces, weights,
+/// regressor, texture coordinates and landmarks from `tmpl`.
 smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
                             const std::vector<Subject>& subjects, const FitResult& fit,
-                            const std::string& sex, int num_betas);
+                            const std::string& sex, int num_betas,
+                            const Population& population = {});
 
 }  // namespace modelgen::mh

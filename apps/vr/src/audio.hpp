@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "smpl/non_copyable.hpp"
+
 namespace caliper::vr {
 
 class AudioError : public std::runtime_error {
@@ -29,12 +31,9 @@ struct ToneSpec {
 /// The tone as mono 16-bit samples followed by the gap (what is queued per confirmation).
 std::vector<short> tone_samples(const ToneSpec& spec);
 
-class Audio {
+class Audio : smpl::NonCopyable {
  public:
   virtual ~Audio() = default;
-  Audio() = default;
-  Audio(const Audio&) = delete;
-  Audio& operator=(const Audio&) = delete;
   /// Plays one confirmation tone (queued after any that are still playing).
   virtual void confirm() = 0;
   /// Blocks until every queued tone has played (end of a replay), at most `timeout_s`.

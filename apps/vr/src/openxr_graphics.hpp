@@ -14,15 +14,13 @@
 
 #include "render/renderer.hpp"
 #include "render/scene.hpp"
+#include "smpl/non_copyable.hpp"
 
 namespace caliper::vr {
 
-class XrGraphicsPlugin {
+class XrGraphicsPlugin : smpl::NonCopyable {
  public:
   virtual ~XrGraphicsPlugin() = default;
-  XrGraphicsPlugin() = default;
-  XrGraphicsPlugin(const XrGraphicsPlugin&) = delete;
-  XrGraphicsPlugin& operator=(const XrGraphicsPlugin&) = delete;
 
   /// The instance extensions this API needs (e.g. XR_KHR_opengl_enable).
   virtual std::vector<std::string> instance_extensions() const = 0;

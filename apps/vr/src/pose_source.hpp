@@ -11,6 +11,7 @@
 
 #include "caliper/pose_log.hpp"
 #include "caliper/protocol_file.hpp"
+#include "smpl/non_copyable.hpp"
 
 namespace caliper::vr {
 
@@ -22,12 +23,9 @@ class PoseSourceLost : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-class PoseSource {
+class PoseSource : smpl::NonCopyable {
  public:
   virtual ~PoseSource() = default;
-  PoseSource() = default;
-  PoseSource(const PoseSource&) = delete;
-  PoseSource& operator=(const PoseSource&) = delete;
 
   /// The next frame's poses, or std::nullopt when the source has ended (end of the log, or the
   /// runtime asked the app to quit). Throws PoseSourceLost when the source was lost.

@@ -62,6 +62,10 @@ class Json {
     j.type_ = Type::Object;
     return j;
   }
+  /// An object with `members` in order, as set() one after the other (a repeated key: the last
+  /// one wins). Json::set returns the member, so it does not chain; this builds a whole object in
+  /// one expression.
+  static Json object(std::initializer_list<std::pair<std::string, Json>> members);
   static Json array() {
     Json j;
     j.type_ = Type::Array;

@@ -141,6 +141,13 @@ py::array matrix_view(const M& mat, py::handle base) {
   return readonly_view<T>(mat.data(), {mat.rows(), mat.cols()}, {mat.cols() * s, s}, base);
 }
 
+/// Blend shapes kept as a (3V, N) column-major matrix (shapedirs, posedirs) as a (V, 3, N) view
+/// (V, 3, 0 for a model without pose blend shapes, whose posedirs is empty).
+py::array blend_shapes_view(const Eigen::MatrixXd& dirs, py::ssize_t v, py::handle base) {
+  const py::ssize_t n = dirs.cols(), s = sizeof(double);
+  return readonly_view<double>(dirs.data(), {v, 3, n}, {3 * s, s, 3 * v * s}, base);
+}
+
 /// A freshly allocated (rows, cols) float64 copy of a row-major matrix.
 template <class M>
 py::array_t<double> matrix_copy(const M& mat) {
@@ -661,9 +668,7 @@ void bind_model(py::module_& m) {
           "shapedirs",
           [](const py::object& self) {
             const auto& md = model_of(self);
-            const py::ssize_t v = md.num_vertices(), b = md.num_betas(), s = sizeof(double);
-            return readonly_view<double>(md.shapedirs.data(), {v, 3, b}, {3 * s, s, 3 * v * s},
-                                         self);
+            return blend_shapes_view(md.shapedirs, md.num_vertices(), self);
           },
           "(V, 3, B) float64 shape blend shapes (one standard deviation per component), metres. "
           "smplx: shapedirs (same layout).")
@@ -671,9 +676,7 @@ void bind_model(py::module_& m) {
           "posedirs",
           [](const py::object& self) {
             const auto& md = model_of(self);
-            const py::ssize_t v = md.num_vertices(), p = md.num_pose_features(), s = sizeof(double);
-            return readonly_view<double>(md.posedirs.data(), {v, 3, p}, {3 * s, s, 3 * v * s},
-                                         self);
+            return blend_shapes_view(md.posedirs, md.num_vertices(), self);
           },
           "(V, 3, P) float64 pose blend shapes, P = 9 (K - 1) (or 0). smplx keeps "
           "posedirs.reshape(-1, P).T, i.e. (P, 3V).")

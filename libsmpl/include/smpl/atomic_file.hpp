@@ -7,6 +7,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "smpl/body_model.hpp"
 
@@ -29,5 +30,9 @@ class WriteError : public ModelError {
 /// /dev/full, a FIFO) is written in place, since it cannot be replaced; every error is still
 /// reported. Thread-safe (distinct temporary names per call).
 void write_file_atomic(const std::string& path, std::string_view bytes);
+
+/// write_file_atomic() of the concatenation of `pieces`, without concatenating them (a GLB's
+/// header, JSON and binary chunk are written from where they are).
+void write_file_atomic(const std::string& path, const std::vector<std::string_view>& pieces);
 
 }  // namespace smpl

@@ -60,6 +60,11 @@ struct ExportOptions {
   /// call), or null to compute them; other formats ignore it. Wrong sizes throw
   /// std::invalid_argument.
   const GltfSkinWeights* skin_weights = nullptr;
+  /// The rest-pose vertices of `betas` when the caller already has them (shape(model,
+  /// betas).vertices before any lift onto the floor; not owned, must outlive the call), so that
+  /// the exporters do not compute them again; null to compute them. Wrong sizes throw
+  /// std::invalid_argument.
+  const Vertices* rest_vertices = nullptr;
 };
 
 /// Bone names of `model` under `naming`. Throws ModelError when `naming` is Smpl and the model
@@ -75,8 +80,9 @@ void check_pose(const BodyModel& model, const ExportOptions& options);
 /// being written) and ": ".
 void check_pose(const BodyModel& model, const ExportOptions& options, const std::string& context);
 
-/// The exported rest-pose body: shape(model, betas) lifted onto the floor when
-/// options.stand_on_floor. Throws ModelError for too many betas.
+/// The exported rest-pose body: shape(model, betas) (its vertices options.rest_vertices when
+/// given, the joints regressed from them) lifted onto the floor when options.stand_on_floor.
+/// Throws ModelError for too many betas.
 Body export_rest_body(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& betas,
                       const ExportOptions& options, const std::string& context);
 

@@ -8,16 +8,14 @@
 
 #include "render/gl_functions.hpp"
 #include "render/image.hpp"
+#include "smpl/non_copyable.hpp"
 
 namespace caliper::render {
 
 /// One OpenGL 3.3 core context with a default framebuffer of width() x height() pixels.
-class GlContext {
+class GlContext : smpl::NonCopyable {
  public:
   virtual ~GlContext() = default;
-  GlContext() = default;
-  GlContext(const GlContext&) = delete;
-  GlContext& operator=(const GlContext&) = delete;
 
   /// Makes this context current on the calling thread.
   virtual void make_current() = 0;
