@@ -68,11 +68,12 @@ int main(int argc, char** argv) {
     if (pose) {
       Eigen::VectorXd theta = Eigen::VectorXd::Zero(3 * model.num_joints());
       betas.setZero();
-      theta.segment<3>(3 * 18) = Eigen::Vector3d(0, -1.5708, 0);  // left elbow bent forward
-      theta.segment<3>(3 * 19) = Eigen::Vector3d(0, 1.5708, 0);   // right elbow
-      theta.segment<3>(3 * 4) = Eigen::Vector3d(1.5708, 0, 0);    // left knee
-      theta.segment<3>(3 * 2) = Eigen::Vector3d(-1.5708, 0, 0);   // right hip flexed
-      theta.segment<3>(3 * 16) = Eigen::Vector3d(0, 0, -1.2);     // left shoulder down
+      const auto joint = [&theta](Eigen::Index k) { return theta.segment<3>(3 * k); };
+      joint(18) = Eigen::Vector3d(0, -1.5708, 0);  // left elbow bent forward
+      joint(19) = Eigen::Vector3d(0, 1.5708, 0);   // right elbow
+      joint(4) = Eigen::Vector3d(1.5708, 0, 0);    // left knee
+      joint(2) = Eigen::Vector3d(-1.5708, 0, 0);   // right hip flexed
+      joint(16) = Eigen::Vector3d(0, 0, -1.2);     // left shoulder down
       const smpl::Body b = smpl::evaluate(model, betas, theta);
       for (const char* view : {"front", "three_quarter"}) {
         o.view = view;
