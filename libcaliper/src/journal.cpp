@@ -135,8 +135,8 @@ JournalWriter JournalWriter::create(const std::string& path, const Json& header)
 }
 
 JournalWriter JournalWriter::resume(const std::string& path, const JournalContents& contents,
-                                    Json header) {
-  if (!contents.has_header) return create(path, std::move(header));
+                                    const Json& header) {
+  if (!contents.has_header) return create(path, header);
   if (truncate(path.c_str(), static_cast<off_t>(contents.valid_bytes)) != 0)
     throw JournalError(path + ": cannot cut the torn last line off the session journal");
   LineFile f(path, "ab");

@@ -84,7 +84,7 @@ class JournalWriter {
   /// Continues an existing journal: cuts the torn tail (contents.valid_bytes) off, writes a
   /// header first if the file had none, then appends.
   static JournalWriter resume(const std::string& path, const JournalContents& contents,
-                              Json header);
+                              const Json& header);
 
   JournalWriter(JournalWriter&&) noexcept = default;
   JournalWriter& operator=(JournalWriter&&) noexcept = default;
