@@ -7,7 +7,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(
-  build-essential cmake ninja-build pkg-config git clang clang-format libclang-rt-14-dev
+  build-essential cmake ninja-build pkg-config git clang clang-format clang-tidy libclang-rt-14-dev
   libeigen3-dev zlib1g-dev libminizip-dev libtinygltf-dev nlohmann-json3-dev libstb-dev
   libassimp-dev libgtest-dev libgmock-dev libbenchmark-dev python3 python3-numpy python3-scipy
   python3-dev libpython3.11-dev python3-pytest pybind11-dev libcli11-dev libcsv-dev

@@ -276,7 +276,8 @@ std::vector<LimitViolation> check_limits(const IkRig& rig, const IkPose& pose,
 // ---------------------------------------------------------------------------------------------
 // Body solver
 
-BodyIk::BodyIk(IkRig rig, BodyIkOptions options) : rig_(std::move(rig)), options_(options) {
+BodyIk::BodyIk(IkRig rig, BodyIkOptions options)
+    : rig_(std::move(rig)), options_(std::move(options)) {
   if (static_cast<int>(rig_.rest.size()) != kCount ||
       static_cast<int>(rig_.parents.size()) != kCount)
     throw IkError("the IK rig needs SMPL's 24 joints");

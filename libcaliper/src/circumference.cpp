@@ -298,6 +298,7 @@ MeasurementMap circumferences(const smpl::Vertices& vertices, const smpl::Faces&
   MeasurementMap out;
   if (levels.empty()) return out;
   std::vector<double> heights;
+  heights.reserve(levels.size());
   for (const auto& l : levels) heights.push_back(l.height);
   std::vector<std::vector<int>> cut;
   cut_faces(vertices, faces, heights, cut);

@@ -122,7 +122,7 @@ void check_journal_protocol(const JournalContents& contents, const std::string& 
                        "\"; resume with the same --protocol, or start a new session");
 }
 
-JournalWriter JournalWriter::create(const std::string& path, Json header) {
+JournalWriter JournalWriter::create(const std::string& path, const Json& header) {
   LineFile f(path, "wb");
   if (!f.is_open())
     throw JournalError(path + ": cannot create the session journal (is the folder writable?)");
@@ -135,8 +135,8 @@ JournalWriter JournalWriter::create(const std::string& path, Json header) {
 }
 
 JournalWriter JournalWriter::resume(const std::string& path, const JournalContents& contents,
-                                    Json header) {
-  if (!contents.has_header) return create(path, std::move(header));
+                                    const Json& header) {
+  if (!contents.has_header) return create(path, header);
   if (truncate(path.c_str(), static_cast<off_t>(contents.valid_bytes)) != 0)
     throw JournalError(path + ": cannot cut the torn last line off the session journal");
   LineFile f(path, "ab");

@@ -33,6 +33,8 @@ constexpr double kSmallAngle = 1e-3;
 #define SMPL_KERNEL_BODY   \
   template <int kVecBytes> \
   inline __attribute__((always_inline))
+// NOLINTBEGIN(bugprone-macro-parentheses): args is a parenthesised argument list, name##_body<16>
+// args
 #define SMPL_KERNEL_VARIANTS(name, params, args)                 \
   void name##_baseline params {                                  \
     name##_body<16> args;                                        \
@@ -56,6 +58,7 @@ constexpr double kSmallAngle = 1e-3;
     }                                                            \
     name##_baseline args;                                        \
   }
+// NOLINTEND(bugprone-macro-parentheses)
 #else
 // Other architectures (AArch64 NEON, ...): one variant with 16-byte vectors.
 #define SMPL_KERNEL_BODY   \
@@ -66,6 +69,8 @@ constexpr double kSmallAngle = 1e-3;
     name##_body<16> args;                        \
   }
 #endif
+
+constexpr size_t kFloatBytes = sizeof(float);
 
 // A GCC/Clang vector of kBytes / sizeof(T) lanes of T.
 template <typename T, int kBytes>
@@ -81,7 +86,7 @@ SMPL_KERNEL_BODY
 void blend_body(const double* t, const double* S, Eigen::Index ld, Eigen::Index rows,
                 const double* beta, Eigen::Index nb, double* out) {
   typedef typename Vec<double, kVecBytes>::type V;
-  constexpr int kLanes = kVecBytes / 8;
+  constexpr Eigen::Index kLanes = kVecBytes / 8;
   constexpr int kAcc = 8;
   constexpr Eigen::Index kRows = kAcc * kLanes;
   Eigen::Index r0 = 0;
@@ -164,7 +169,7 @@ void skin_body(const double* A, const int* outer, const int* nnz, const int* inn
     for (int e = begin; e < end; ++e) {
       const double w = values[e];
       Row4 a0, a1, a2;
-      const double* a = A + 12 * inner[e];
+      const double* a = A + 12 * static_cast<Eigen::Index>(inner[e]);
       std::memcpy(&a0, a, sizeof a0);
       std::memcpy(&a1, a + 4, sizeof a1);
       std::memcpy(&a2, a + 8, sizeof a2);
@@ -224,7 +229,7 @@ inline __attribute__((always_inline)) void pose_step_f64(const double* P, Eigen:
   T acc[G];
 #pragma GCC unroll 8
   for (int g = 0; g < G; ++g) std::memcpy(&acc[g], v + g * vstride + r, sizeof(T));
-  for (int run = 0; run < nruns; ++run) {
+  for (Eigen::Index run = 0; run < nruns; ++run) {
     const Eigen::Index c0 = runs[2 * run], end = c0 + runs[2 * run + 1];
     Eigen::Index c = c0;
     for (; c + 4 <= end; c += 4) {
@@ -258,8 +263,8 @@ inline __attribute__((always_inline)) void pose_step_f32(const float* P, Eigen::
                                                          const float* F, Eigen::Index fstride,
                                                          const Eigen::Index* runs, int nruns,
                                                          double* v, Eigen::Index vstride) {
-  constexpr int kLanes = static_cast<int>(sizeof(T) / sizeof(float));
-  for (int run = 0; run < nruns; ++run) {
+  constexpr int kLanes = static_cast<int>(sizeof(T) / kFloatBytes);
+  for (Eigen::Index run = 0; run < nruns; ++run) {
     const Eigen::Index c0 = runs[2 * run], end = c0 + runs[2 * run + 1];
     T acc[G][M];
 #pragma GCC unroll 8
@@ -270,7 +275,8 @@ inline __attribute__((always_inline)) void pose_step_f32(const float* P, Eigen::
     for (Eigen::Index c = c0; c < end; ++c) {
       T p[M];
 #pragma GCC unroll 4
-      for (int m = 0; m < M; ++m) std::memcpy(&p[m], P + c * ld + pr + m * kLanes, sizeof(T));
+      for (Eigen::Index m = 0; m < M; ++m)
+        std::memcpy(&p[m], P + c * ld + pr + m * kLanes, sizeof(T));
 #pragma GCC unroll 8
       for (int g = 0; g < G; ++g) {
         const float f = F[g * fstride + c];
@@ -296,8 +302,8 @@ constexpr Eigen::Index kMinPackedBatch = 4;
 // Rows per block of posedirs: the block (all columns) stays in a 256 KB share of the L2 cache
 // while every body passes over it.
 inline Eigen::Index pose_block_rows(Eigen::Index cols, size_t scalar_bytes) {
-  const Eigen::Index fit =
-      static_cast<Eigen::Index>((256 * 1024) / (std::max<Eigen::Index>(cols, 1) * scalar_bytes));
+  const Eigen::Index fit = static_cast<Eigen::Index>(
+      (256 * size_t{1024}) / (std::max<Eigen::Index>(cols, 1) * scalar_bytes));
   return std::max<Eigen::Index>(64, fit / 64 * 64);
 }
 
@@ -312,15 +318,17 @@ inline __attribute__((always_inline)) void pose_batch_rows(
     const Eigen::Index* runs, int nruns, Eigen::Index nbodies, double* v, Eigen::Index vstride) {
   static_assert(kRowVecs == 1 || !std::is_same_v<S, double>, "double steps take one vector");
   typedef typename Vec<S, kVecBytes>::type V;
-  constexpr Eigen::Index kLanes = kVecBytes * kRowVecs / static_cast<Eigen::Index>(sizeof(S));
+  constexpr Eigen::Index kLanes =
+      Eigen::Index{kVecBytes} * kRowVecs / static_cast<Eigen::Index>(sizeof(S));
   Eigen::Index cols = 0;
-  for (int run = 0; run < nruns; ++run) cols = std::max(cols, runs[2 * run] + runs[2 * run + 1]);
+  for (Eigen::Index run = 0; run < nruns; ++run)
+    cols = std::max(cols, runs[2 * run] + runs[2 * run + 1]);
   const Eigen::Index block = pose_block_rows(cols, sizeof(S));
   std::vector<S> packed(static_cast<size_t>(block * cols));
   for (Eigen::Index rb = r0; rb < r1; rb += block) {
     const Eigen::Index re = std::min(r1, rb + block);
     const Eigen::Index steps = (re - rb) / kLanes, rs = rb + steps * kLanes;
-    for (int run = 0; run < nruns; ++run) {
+    for (Eigen::Index run = 0; run < nruns; ++run) {
       for (Eigen::Index c = runs[2 * run]; c < runs[2 * run] + runs[2 * run + 1]; ++c) {
         const S* col = P + c * ld + rb;
         for (Eigen::Index st = 0; st < steps; ++st) {
@@ -437,7 +445,7 @@ void add_pose_blend_shapes(
     }
     int end = k + 1;
     while (end < K && !rot[static_cast<size_t>(end)].isIdentity(0.0)) ++end;
-    const Eigen::Index c0 = 9 * (k - 1), nc = 9 * (end - k);
+    const Eigen::Index c0 = 9 * Eigen::Index{k - 1}, nc = 9 * Eigen::Index{end - k};
     if constexpr (std::is_same_v<Scalar, double>) {
       pose_blend_f64(posedirs.data(), posedirs.rows(), posedirs.rows(), feature.data(), c0, nc,
                      v.data());
@@ -467,12 +475,13 @@ void chain_and_skin(const BodyModel& model, const double* rest, const double* x,
     Eigen::Matrix4d local = Eigen::Matrix4d::Identity();
     local.topLeftCorner<3, 3>() = ws.rotations[ks];
     const int p = model.parents[ks];
-    const Eigen::Vector3d jk = Eigen::Map<const Eigen::Vector3d>(rest + 3 * k);
+    const Eigen::Vector3d jk = Eigen::Map<const Eigen::Vector3d>(rest + 3 * ks);
     if (p < 0) {
       local.topRightCorner<3, 1>() = jk;
       G[ks] = local;
     } else {
-      local.topRightCorner<3, 1>() = jk - Eigen::Map<const Eigen::Vector3d>(rest + 3 * p);
+      local.topRightCorner<3, 1>() =
+          jk - Eigen::Map<const Eigen::Vector3d>(rest + 3 * static_cast<size_t>(p));
       G[ks] = G[static_cast<size_t>(p)] * local;
     }
     // 7. Remove the rest pose: A_k = G_k * translation(-J_k).
@@ -504,7 +513,7 @@ void chain_and_skin(const BodyModel& model, const double* rest, const double* x,
 void rotations_and_features(const BodyModel& model, const double* pose, bool has_pose,
                             Eigen::Matrix3d* rot, double* feature) {
   const int K = model.num_joints();
-  for (int k = 0; k < K; ++k) {
+  for (Eigen::Index k = 0; k < K; ++k) {
     rot[k] = has_pose ? rodrigues(Eigen::Map<const Eigen::Vector3d>(pose + 3 * k))
                       : Eigen::Matrix3d::Identity();
   }
@@ -573,7 +582,7 @@ void shape_rows(const BodyModel& model, const Eigen::Ref<const RowMatrixXd>& bet
   const Eigen::Index K = model.j_regressor.rows();
   const SparseMatrix& J = model.j_regressor;
   const Eigen::Index block = std::max<Eigen::Index>(
-      64, (96 * 1024) / (24 * std::max<Eigen::Index>(nb, 1)) / 64 * 64);  // vertices
+      64, (96 * Eigen::Index{1024}) / (24 * std::max<Eigen::Index>(nb, 1)) / 64 * 64);  // vertices
   std::vector<Eigen::Index> cursor(static_cast<size_t>(K)), end(static_cast<size_t>(K));
   for (Eigen::Index k = 0; k < K; ++k) {
     cursor[static_cast<size_t>(k)] = J.outerIndexPtr()[k];
@@ -657,7 +666,7 @@ void evaluate(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& b
               const Eigen::Ref<const Eigen::VectorXd>& pose, const Eigen::Vector3d& translation,
               Workspace& ws, Body& out) {
   const int K = model.num_joints();
-  if (pose.size() != 0 && pose.size() != 3 * K) {
+  if (pose.size() != 0 && pose.size() != 3 * Eigen::Index{K}) {
     throw std::invalid_argument("smpl::evaluate: pose has " + std::to_string(pose.size()) +
                                 " values, expected 0 (rest pose) or 3 x " + std::to_string(K) +
                                 " = " + std::to_string(3 * K) + " axis-angle values");
@@ -720,7 +729,7 @@ namespace {
 void check_batch_inputs(const Eigen::Ref<const RowMatrixXd>& poses,
                         const Eigen::Ref<const RowMatrixXd>& translations, Eigen::Index N, int K) {
   const bool has_pose = poses.cols() != 0;
-  if (has_pose && poses.cols() != 3 * K) {
+  if (has_pose && poses.cols() != 3 * Eigen::Index{K}) {
     throw std::invalid_argument("smpl::evaluate_batch: poses have " + std::to_string(poses.cols()) +
                                 " columns, expected 0 (rest pose) "
                                 "or 3 x " +
@@ -760,8 +769,8 @@ std::vector<Eigen::Index> rotated_runs(
     }
     int e = k + 1;
     while (e < K && rotated(e)) ++e;
-    runs.push_back(9 * (k - 1));
-    runs.push_back(9 * (e - k));
+    runs.push_back(9 * Eigen::Index{k - 1});
+    runs.push_back(9 * Eigen::Index{e - k});
     k = e;
   }
   return runs;
@@ -784,7 +793,7 @@ void batch_pose_blend(const BodyModel& model, const RowMatrixXd& feature,
         const Eigen::Index r0 = std::min(rows, 64 * b0), r1 = std::min(rows, 64 * b1);
         if (N < kMinPackedBatch) {
           for (Eigen::Index n = 0; n < N; ++n) {
-            for (int run = 0; run < nruns; ++run) {
+            for (Eigen::Index run = 0; run < nruns; ++run) {
               blend(posedirs + r0, rows, r1 - r0, f.row(n).data(), runs[2 * run], runs[2 * run + 1],
                     out.vertices.row(n).data() + r0);
             }
@@ -820,7 +829,7 @@ void evaluate_batch(const BodyModel& model, const Eigen::Ref<const RowMatrixXd>&
   const bool has_pose = poses.cols() != 0;
   check_batch_inputs(poses, translations, N, K);
   out.vertices.resize(N, 3 * V);
-  out.joints.resize(N, 3 * K);
+  out.joints.resize(N, 3 * Eigen::Index{K});
   // Rotations and pose features of every body; vertices and rest joints of every body.
   std::vector<Eigen::Matrix3d, Eigen::aligned_allocator<Eigen::Matrix3d>> rot(
       static_cast<size_t>(N * K));

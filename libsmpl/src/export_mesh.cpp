@@ -112,7 +112,7 @@ std::vector<std::string> bone_names(const BodyModel& model, BoneNames naming) {
 void check_pose(const BodyModel& model, const ExportOptions& options) {
   const auto n = options.pose.size();
   if (n == 0) return;
-  if (n != 3 * model.num_joints()) {
+  if (n != 3 * Eigen::Index{model.num_joints()}) {
     throw ModelError("the pose has " + std::to_string(n) + " numbers but the model's " +
                      std::to_string(model.num_joints()) + " joints need " +
                      std::to_string(3 * model.num_joints()) +

@@ -274,7 +274,7 @@ void add_morph_targets(tinygltf::Model& g, const BodyModel& model,
       const int r = static_cast<int>((p % 9) / 3), c = static_cast<int>(p % 3);
       double w = 0.0;
       if (options.pose.size() > 0) {
-        const Eigen::Matrix3d R = rodrigues(options.pose.segment<3>(3 * k));
+        const Eigen::Matrix3d R = rodrigues(options.pose.segment<3>(3 * Eigen::Index{k}));
         w = R(r, c) - (r == c ? 1.0 : 0.0);
       }
       mesh.weights.push_back(w);
@@ -306,11 +306,11 @@ void add_skeleton(tinygltf::Model& g, const BodyModel& model, const Body& body,
     if (p >= 0) t -= body.joints.row(p).transpose();
     joint.translation = {t.x(), t.y(), t.z()};
     if (options.pose.size() > 0) {
-      const Eigen::Vector3d aa = options.pose.segment<3>(3 * k);
+      const Eigen::Vector3d aa = options.pose.segment<3>(3 * Eigen::Index{k});
       if (aa.squaredNorm() > 0.0) joint.rotation = gltf_quaternion(rodrigues(aa));
     }
     g.nodes.push_back(std::move(joint));
-    if (p >= 0) g.nodes[static_cast<size_t>(p + 1)].children.push_back(k + 1);
+    if (p >= 0) g.nodes[static_cast<size_t>(p) + 1].children.push_back(k + 1);
     skin_def.joints.push_back(k + 1);
     // Inverse bind matrix = translation(-J_k), column-major.
     float* m = ibm.data() + 16 * ks;
@@ -885,7 +885,7 @@ Eigen::MatrixXd read_accessor(const tinygltf::Model& g, int index, const std::st
   for (size_t i = 0; i < a.count; ++i) {
     const unsigned char* p = data.data() + start + i * ustride;
     for (int c = 0; c < comps; ++c) {
-      const unsigned char* q = p + c * size;
+      const unsigned char* q = p + static_cast<size_t>(c) * static_cast<size_t>(size);
       double x = 0.0;
       switch (a.componentType) {
         case TINYGLTF_COMPONENT_TYPE_FLOAT: {

@@ -884,9 +884,12 @@ PickleValue Unpickler::convert(std::size_t id, const std::string& key, int depth
         }
         if (!found) fail("sparse matrix '" + key + "' has no '" + field + "'");
         NpyArray a = array_of(fid, key + "." + field, depth + 1);
-        if (std::string(field) == "data") s.data = std::move(a);
-        if (std::string(field) == "indices") s.indices = std::move(a);
-        if (std::string(field) == "indptr") s.indptr = std::move(a);
+        if (std::string(field) == "data")
+          s.data = std::move(a);
+        else if (std::string(field) == "indices")
+          s.indices = std::move(a);
+        else if (std::string(field) == "indptr")
+          s.indptr = std::move(a);
       }
       break;
     }

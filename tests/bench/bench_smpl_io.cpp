@@ -17,7 +17,7 @@ namespace {
 
 const std::string& data_dir() {
   static const std::string dir = [] {
-    const std::string d = CALIPER_BENCH_DATA_DIR;
+    std::string d = CALIPER_BENCH_DATA_DIR;
     if (!std::ifstream(d + "/STAMP")) {
       const std::string cmd = std::string("mkdir -p '") + d + "' && '" + CALIPER_SYSTEM_PYTHON +
                               "' '" + CALIPER_IO_FIXTURE_SCRIPT + "' '" + d + "'";

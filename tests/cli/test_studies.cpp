@@ -101,7 +101,7 @@ std::string nhanes_test_dir() {
 }
 
 std::string write_file(const std::string& name, const std::string& text) {
-  const std::string path = nhanes_test_dir() + "/" + name;
+  std::string path = nhanes_test_dir() + "/" + name;
   std::ofstream(path, std::ios::binary) << text;
   return path;
 }

@@ -18,7 +18,7 @@ std::string temp_path(const std::string& name) {
   return std::string(CALIPER_TEST_DATA_DIR) + "/editor_files_" + name;
 }
 std::string write(const std::string& name, const std::string& text) {
-  const std::string path = temp_path(name);
+  std::string path = temp_path(name);
   std::ofstream(path) << text;
   return path;
 }

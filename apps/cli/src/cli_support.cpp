@@ -193,7 +193,7 @@ void Progress::update(std::int64_t done) {
     if (!end && since_last < 0.1) return;
     const int width = 30;
     const double frac = total_ > 0 ? static_cast<double>(done) / static_cast<double>(total_) : 1.0;
-    const int filled = static_cast<int>(frac * width + 0.5);
+    const int filled = static_cast<int>(std::lround(frac * width));
     err_ << "\r[" << std::string(static_cast<size_t>(filled), '#')
          << std::string(static_cast<size_t>(width - filled), '.') << "] " << done << "/" << total_;
     if (elapsed > 0) err_ << "  " << static_cast<long>(static_cast<double>(done) / elapsed) << "/s";

@@ -92,7 +92,7 @@ std::string open_model_sex(const MeasureCommand& c, const MeshFile* mesh, std::s
   const auto it = mesh->extras.find("open_model_sex");
   if (it == mesh->extras.end()) return "neutral";
   try {
-    const std::string sex = normalise_sex(it->second);
+    std::string sex = normalise_sex(it->second);
     from = "the avatar file";
     return sex;
   } catch (const UsageError&) {

@@ -24,7 +24,7 @@ const std::vector<OptionSpec>& export_option_specs() {
 
 Eigen::VectorXd read_pose_file(const std::string& path, int num_joints) {
   if (!file_exists(path)) throw RuntimeError(path + ": pose file not found");
-  const auto n = static_cast<size_t>(3 * num_joints);
+  const size_t n = 3 * static_cast<size_t>(num_joints);
   std::vector<double> values;
   if (extension_of(path) == ".npy") {
     try {

@@ -29,7 +29,7 @@ std::string resolve_model_path(const std::optional<std::string>& model_file,
                        " was not found: no assets folder (tried " + tried_assets_dirs() +
                        "). Set CALIPER_ASSETS=/path/to/assets or pass --model FILE");
   }
-  const std::string path =
+  std::string path =
       default_model_path((std::filesystem::path(*assets) / "models").string(), model_sex);
   if (!file_exists(path)) {
     throw RuntimeError("the open default model " + path +

@@ -77,7 +77,7 @@ std::vector<float> implausible_displacement(const smpl::BodyModel& m, const Eige
   if (excess.cwiseAbs().maxCoeff() > 0) {
     const Eigen::VectorXd d = m.shapedirs.leftCols(k) * excess;
     for (int v = 0; v < m.num_vertices(); ++v) {
-      out[static_cast<size_t>(v)] = static_cast<float>(d.segment<3>(3 * v).norm());
+      out[static_cast<size_t>(v)] = static_cast<float>(d.segment<3>(3 * Eigen::Index{v}).norm());
     }
   }
   return out;
@@ -88,7 +88,7 @@ std::vector<float> uncertainty(const smpl::BodyModel& m, const Eigen::MatrixXd& 
   const Eigen::Index k = s.rows();
   std::vector<float> out(static_cast<size_t>(m.num_vertices()), 0.0f);
   for (int v = 0; v < m.num_vertices(); ++v) {
-    const auto block = m.shapedirs.block(3 * v, 0, 3, k);
+    const auto block = m.shapedirs.block(3 * Eigen::Index{v}, 0, 3, k);
     const double trace = (block * s * block.transpose()).trace();
     out[static_cast<size_t>(v)] = static_cast<float>(std::sqrt(std::max(0.0, trace)));
   }

@@ -317,7 +317,8 @@ void place_labels(std::vector<render::Label>& labels, const render::View& view) 
     // Try positions moving away from the anchor, alternately down and up.
     float best = y;
     for (int step = 0; step < 200; ++step) {
-      const float dy = static_cast<float>((step + 1) / 2) * 3.0f * (step % 2 == 1 ? 1.0f : -1.0f);
+      const int distance = (step + 1) / 2;  // 0, 1, 1, 2, 2, ...: each distance up and down
+      const float dy = static_cast<float>(distance) * 3.0f * (step % 2 == 1 ? 1.0f : -1.0f);
       const float cand = step == 0 ? y : y + dy;
       if (!overlaps(cand)) {
         best = cand;

@@ -163,7 +163,7 @@ std::optional<fs::path> FileDialog::draw(UiProbe& probe) {
     open_ = false;  // closed by ImGui (e.g. the popup stack was cleared)
     return std::nullopt;
   }
-  const std::optional<fs::path> chosen =
+  std::optional<fs::path> chosen =
       confirm_overwrite_ ? draw_overwrite_question(probe) : draw_browser(probe);
   if (!open_) ImGui::CloseCurrentPopup();
   ImGui::EndPopup();

@@ -6,6 +6,14 @@
 #include "render/shader_sources.hpp"
 
 namespace caliper::editor {
+namespace {
+
+/// A byte offset into the bound buffer, as GL takes it (glVertexAttribPointer, glDrawElements).
+const void* gl_offset(std::uintptr_t bytes) {
+  return reinterpret_cast<const void*>(bytes);  // NOLINT(performance-no-int-to-ptr): GL's API
+}
+
+}  // namespace
 
 ImGuiGl::ImGuiGl(const render::GlFunctions& gl) : gl_(gl) {
   program_ =
@@ -22,12 +30,10 @@ ImGuiGl::ImGuiGl(const render::GlFunctions& gl) : gl_(gl) {
   gl.EnableVertexAttribArray(0);
   gl.EnableVertexAttribArray(1);
   gl.EnableVertexAttribArray(2);
-  gl.VertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, stride,
-                         reinterpret_cast<const void*>(IM_OFFSETOF(ImDrawVert, pos)));
-  gl.VertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, stride,
-                         reinterpret_cast<const void*>(IM_OFFSETOF(ImDrawVert, uv)));
+  gl.VertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, stride, gl_offset(IM_OFFSETOF(ImDrawVert, pos)));
+  gl.VertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, stride, gl_offset(IM_OFFSETOF(ImDrawVert, uv)));
   gl.VertexAttribPointer(2, 4, GL_UNSIGNED_BYTE, GL_TRUE, stride,
-                         reinterpret_cast<const void*>(IM_OFFSETOF(ImDrawVert, col)));
+                         gl_offset(IM_OFFSETOF(ImDrawVert, col)));
   gl.BindVertexArray(0);
 
   ImGuiIO& io = ImGui::GetIO();
@@ -41,6 +47,7 @@ ImGuiGl::ImGuiGl(const render::GlFunctions& gl) : gl_(gl) {
   gl.TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   gl.PixelStorei(GL_UNPACK_ALIGNMENT, 1);
   gl.TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, pixels);
+  // NOLINTNEXTLINE(performance-no-int-to-ptr): ImGui carries the GL texture name as its pointer
   io.Fonts->SetTexID(reinterpret_cast<ImTextureID>(static_cast<std::uintptr_t>(font_texture_)));
   gl.check("ImGui renderer setup");
 }
@@ -82,12 +89,12 @@ void ImGuiGl::render(const ImDrawData* data) {
     gl.BindBuffer(GL_ARRAY_BUFFER, vbo_);
     gl.BufferData(
         GL_ARRAY_BUFFER,
-        static_cast<GLsizeiptr>(list->VtxBuffer.Size * static_cast<int>(sizeof(ImDrawVert))),
+        static_cast<GLsizeiptr>(list->VtxBuffer.Size) * static_cast<GLsizeiptr>(sizeof(ImDrawVert)),
         list->VtxBuffer.Data, GL_STREAM_DRAW);
     gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, ebo_);
     gl.BufferData(
         GL_ELEMENT_ARRAY_BUFFER,
-        static_cast<GLsizeiptr>(list->IdxBuffer.Size * static_cast<int>(sizeof(ImDrawIdx))),
+        static_cast<GLsizeiptr>(list->IdxBuffer.Size) * static_cast<GLsizeiptr>(sizeof(ImDrawIdx)),
         list->IdxBuffer.Data, GL_STREAM_DRAW);
     for (int c = 0; c < list->CmdBuffer.Size; ++c) {
       const ImDrawCmd& cmd = list->CmdBuffer[c];
@@ -104,7 +111,7 @@ void ImGuiGl::render(const ImDrawData* data) {
                      static_cast<GLuint>(reinterpret_cast<std::uintptr_t>(cmd.GetTexID())));
       gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(cmd.ElemCount),
                       sizeof(ImDrawIdx) == 2 ? GL_UNSIGNED_SHORT : GL_UNSIGNED_INT,
-                      reinterpret_cast<const void*>(cmd.IdxOffset * sizeof(ImDrawIdx)));
+                      gl_offset(cmd.IdxOffset * sizeof(ImDrawIdx)));
     }
   }
   gl.Disable(GL_SCISSOR_TEST);

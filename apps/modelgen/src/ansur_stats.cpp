@@ -179,7 +179,7 @@ SurveyStats read_stats_table(const std::string& path) {
     const std::vector<std::string>& f = t.rows[r];
     const std::string where =
         "statistics table '" + path + "' line " + std::to_string(t.line_numbers[r]);
-    if (f.size() != static_cast<std::size_t>(5 + kNumDims)) {
+    if (f.size() != 5 + static_cast<std::size_t>(kNumDims)) {
       throw std::runtime_error(where + ": expected " + std::to_string(5 + kNumDims) +
                                " fields, found " + std::to_string(f.size()));
     }

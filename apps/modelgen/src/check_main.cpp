@@ -65,6 +65,7 @@ std::string where_triangles(const smpl::BodyModel& m, const std::vector<int>& tr
     ++count[m.joint_names[static_cast<std::size_t>(modelgen::dominant_joint(m, t))]];
   }
   std::vector<std::pair<int, std::string>> sorted;
+  sorted.reserve(count.size());
   for (const auto& [k, n] : count) {
     sorted.emplace_back(-n, k);
   }

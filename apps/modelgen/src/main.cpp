@@ -252,22 +252,22 @@ void write_makehuman_models(const Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  Options o;
-  CLI::App cli("", "caliper-modelgen");
-  declare_options(cli, o);
   try {
-    const caliper::app::CommandLine line =
-        caliper::app::parse_command_line(cli, std::vector<std::string>(argv + 1, argv + argc));
-    if (line.help) {
-      std::cout << cli.help();
-      return 0;
+    Options o;
+    CLI::App cli("", "caliper-modelgen");
+    declare_options(cli, o);
+    try {
+      const caliper::app::CommandLine line =
+          caliper::app::parse_command_line(cli, std::vector<std::string>(argv + 1, argv + argc));
+      if (line.help) {
+        std::cout << cli.help();
+        return 0;
+      }
+      caliper::app::no_positional(line);
+    } catch (const caliper::app::CommandLineError& e) {
+      std::cerr << caliper::app::usage_error_line("caliper-modelgen", e.what());
+      return 2;
     }
-    caliper::app::no_positional(line);
-  } catch (const caliper::app::CommandLineError& e) {
-    std::cerr << caliper::app::usage_error_line("caliper-modelgen", e.what());
-    return 2;
-  }
-  try {
     const std::string& out = o.out;
     const std::string &stats_from = o.stats_from, &stats_out = o.stats_out;
     std::string stats_path = o.stats_path;

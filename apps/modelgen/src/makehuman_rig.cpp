@@ -387,7 +387,7 @@ smpl::SparseMatrix merged_weights(const Assets& assets, int smoothing_passes) {
       if (x < -kMidlineBand) {
         o[static_cast<std::size_t>(l)] = true;
       } else if (x > kMidlineBand) {
-        o[static_cast<std::size_t>(l + 1)] = true;
+        o[static_cast<std::size_t>(l) + 1] = true;
       }
     }
     for (int k = 0; k < 24; ++k) {

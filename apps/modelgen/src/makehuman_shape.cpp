@@ -396,6 +396,7 @@ void fit_one(const ShapeBasis& basis, const Measurer& measure, const Surrogate& 
 void parallel_for(const std::vector<size_t>& items, int threads,
                   const std::function<void(size_t)>& job) {
   std::vector<std::thread> pool;
+  pool.reserve(static_cast<size_t>(threads));
   std::vector<std::exception_ptr> errors(static_cast<size_t>(threads));
   for (int t = 0; t < threads; ++t) {
     pool.emplace_back([&, t] {

@@ -310,8 +310,8 @@ const std::vector<TestPose>& test_poses() {
     };
     std::vector<TestPose> out;
     for (const One& o : ones) {
-      Eigen::VectorXd theta = Eigen::VectorXd::Zero(3 * 24);
-      theta.segment<3>(3 * o.joint) = o.axis_angle;
+      Eigen::VectorXd theta = Eigen::VectorXd::Zero(3 * Eigen::Index{24});
+      theta.segment<3>(3 * Eigen::Index{o.joint}) = o.axis_angle;
       out.push_back({o.name, theta});
     }
     return out;

@@ -49,7 +49,7 @@ int main(int argc, char** argv) {
     o.width = 1200;
     o.height = 560;
     for (int k = 0; k < components && k < model.num_betas(); ++k) {
-      const int nv = model.num_vertices(), nf = model.num_faces();
+      const Eigen::Index nv = model.num_vertices(), nf = model.num_faces();
       smpl::Vertices v(3 * nv, 3);
       smpl::Faces f(3 * nf, 3);
       for (int s = -1; s <= 1; ++s) {
@@ -57,22 +57,23 @@ int main(int argc, char** argv) {
         betas[k] = 2.0 * s;
         smpl::Vertices b = smpl::shape(model, betas).vertices;
         b.col(0).array() += 1.9 * s;
-        const int slot = s + 1;
+        const Eigen::Index slot = s + 1;
         v.middleRows(slot * nv, nv) = b;
-        f.middleRows(slot * nf, nf) = model.faces.array() + slot * nv;
+        f.middleRows(slot * nf, nf) = model.faces.array() + static_cast<int>(slot * nv);
       }
       caliper::render::render_mesh_png(v, f, prefix + "-pc" + std::to_string(k + 1) + ".png", o);
     }
     o.width = 480;
     o.height = 640;
     if (pose) {
-      Eigen::VectorXd theta = Eigen::VectorXd::Zero(3 * model.num_joints());
+      Eigen::VectorXd theta = Eigen::VectorXd::Zero(3 * Eigen::Index{model.num_joints()});
       betas.setZero();
-      theta.segment<3>(3 * 18) = Eigen::Vector3d(0, -1.5708, 0);  // left elbow bent forward
-      theta.segment<3>(3 * 19) = Eigen::Vector3d(0, 1.5708, 0);   // right elbow
-      theta.segment<3>(3 * 4) = Eigen::Vector3d(1.5708, 0, 0);    // left knee
-      theta.segment<3>(3 * 2) = Eigen::Vector3d(-1.5708, 0, 0);   // right hip flexed
-      theta.segment<3>(3 * 16) = Eigen::Vector3d(0, 0, -1.2);     // left shoulder down
+      const auto joint = [&theta](Eigen::Index k) { return theta.segment<3>(3 * k); };
+      joint(18) = Eigen::Vector3d(0, -1.5708, 0);  // left elbow bent forward
+      joint(19) = Eigen::Vector3d(0, 1.5708, 0);   // right elbow
+      joint(4) = Eigen::Vector3d(1.5708, 0, 0);    // left knee
+      joint(2) = Eigen::Vector3d(-1.5708, 0, 0);   // right hip flexed
+      joint(16) = Eigen::Vector3d(0, 0, -1.2);     // left shoulder down
       const smpl::Body b = smpl::evaluate(model, betas, theta);
       for (const char* view : {"front", "three_quarter"}) {
         o.view = view;

@@ -141,6 +141,7 @@ Camera frame_points_tight(const std::vector<Vec3>& points, float azimuth_degrees
 Camera frame_box_tight(const Vec3& lo, const Vec3& hi, float azimuth_degrees, float aspect,
                        float elevation_degrees, float margin) {
   std::vector<Vec3> corners;
+  corners.reserve(8);
   for (int i = 0; i < 8; ++i)
     corners.emplace_back((i & 1) ? hi.x() : lo.x(), (i & 2) ? hi.y() : lo.y(),
                          (i & 4) ? hi.z() : lo.z());

@@ -8,7 +8,7 @@ namespace caliper::render {
 void GlFunctions::load(GlProcLoader loader, void* user) {
 #define CALIPER_GL_LOAD(type, name)                                                        \
   name = reinterpret_cast<type>(loader("gl" #name, user));                                 \
-  if (name == nullptr) {                                                                   \
+  if ((name) == nullptr) {                                                                 \
     throw RenderError("OpenGL entry point gl" #name                                        \
                       " is missing: the context must support OpenGL 3.3 core (Mesa 20+)"); \
   }

@@ -32,10 +32,10 @@ std::vector<float> vertex_normals(const std::vector<float>& positions,
                                   const std::vector<std::uint32_t>& indices) {
   std::vector<float> n(positions.size(), 0.0f);
   for (size_t f = 0; f + 2 < indices.size(); f += 3) {
-    const std::uint32_t i0 = indices[f], i1 = indices[f + 1], i2 = indices[f + 2];
+    const size_t i0 = indices[f], i1 = indices[f + 1], i2 = indices[f + 2];
     const Vec3 a(&positions[3 * i0]), b(&positions[3 * i1]), c(&positions[3 * i2]);
     const Vec3 fn = (b - a).cross(c - a);  // length = 2 area: area weighting
-    for (std::uint32_t i : {i0, i1, i2}) {
+    for (size_t i : {i0, i1, i2}) {
       n[3 * i] += fn.x();
       n[3 * i + 1] += fn.y();
       n[3 * i + 2] += fn.z();
@@ -151,8 +151,8 @@ void winding_for_culling(GpuMesh& g, const std::vector<float>& positions,
   }
   double volume6 = 0;
   for (size_t f = 0; f + 2 < indices.size(); f += 3) {
-    const Vec3 a(&positions[3 * indices[f]]), b(&positions[3 * indices[f + 1]]),
-        c(&positions[3 * indices[f + 2]]);
+    const Vec3 a(&positions[3 * size_t{indices[f]}]), b(&positions[3 * size_t{indices[f + 1]}]),
+        c(&positions[3 * size_t{indices[f + 2]}]);
     volume6 += static_cast<double>(a.dot(b.cross(c)));
   }
   if (volume6 == 0.0 || !std::isfinite(volume6)) return;
@@ -216,8 +216,10 @@ void setup_interleaved(const GlFunctions& gl, GLuint vao, GLuint vbo,
   for (int s : sizes) stride += s;
   int offset = 0, index = 0;
   for (int s : sizes) {
-    gl.VertexAttribPointer(static_cast<GLuint>(index), s, GL_FLOAT, GL_FALSE, stride * 4,
-                           reinterpret_cast<const void*>(static_cast<std::uintptr_t>(offset * 4)));
+    gl.VertexAttribPointer(
+        static_cast<GLuint>(index), s, GL_FLOAT, GL_FALSE, stride * 4,
+        // NOLINTNEXTLINE(performance-no-int-to-ptr): GL takes the byte offset as a pointer
+        reinterpret_cast<const void*>(static_cast<std::uintptr_t>(offset * 4)));
     gl.EnableVertexAttribArray(static_cast<GLuint>(index));
     offset += s;
     ++index;

@@ -36,7 +36,8 @@ void text_triangles(const std::string& text, float x, float y, float scale,
   const int quads =
       stb_easy_font_print(0, 0, s.data(), nullptr, buffer.data(), static_cast<int>(buffer.size()));
   auto vx = [&](int q, int k) {
-    const float* v = reinterpret_cast<const float*>(buffer.data() + (4 * q + k) * 16);
+    const float* v =
+        reinterpret_cast<const float*>(buffer.data() + static_cast<size_t>(4 * q + k) * 16);
     return std::pair<float, float>(x + v[0] * scale, y + v[1] * scale);
   };
   out_xy.reserve(out_xy.size() + static_cast<size_t>(quads) * 12);

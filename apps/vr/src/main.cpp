@@ -816,14 +816,14 @@ int run_live(const Args& a) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  Args args;
   try {
-    if (!parse_args(argc, argv, args)) return 0;
-  } catch (const caliper::app::CommandLineError& e) {
-    std::cerr << caliper::app::usage_error_line("caliper-vr", e.what());
-    return kExitUsage;
-  }
-  try {
+    Args args;
+    try {
+      if (!parse_args(argc, argv, args)) return 0;
+    } catch (const caliper::app::CommandLineError& e) {
+      std::cerr << caliper::app::usage_error_line("caliper-vr", e.what());
+      return kExitUsage;
+    }
     if (args.has("--simulate")) return run_simulate(args);
     if (args.has("--replay") && args.has("--calibrate-tip")) return run_pivot_replay(args);
     if (args.has("--replay")) return run_replay(args);

@@ -80,11 +80,11 @@ class JournalWriter {
  public:
   /// Starts a new journal at `path` (truncating it) with `header` (an object; "format" and
   /// "version" are added).
-  static JournalWriter create(const std::string& path, Json header);
+  static JournalWriter create(const std::string& path, const Json& header);
   /// Continues an existing journal: cuts the torn tail (contents.valid_bytes) off, writes a
   /// header first if the file had none, then appends.
   static JournalWriter resume(const std::string& path, const JournalContents& contents,
-                              Json header);
+                              const Json& header);
 
   JournalWriter(JournalWriter&&) noexcept = default;
   JournalWriter& operator=(JournalWriter&&) noexcept = default;

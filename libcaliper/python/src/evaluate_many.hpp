@@ -31,10 +31,10 @@ template <class Out>
 void evaluate_many(const smpl::BodyModel& model, const BatchInput& in, Out* vertices, Out* joints) {
   smpl::Workspace ws;
   smpl::Body body;
-  const Eigen::Index k3 = 3 * model.num_joints();
+  const Eigen::Index k3 = 3 * Eigen::Index{model.num_joints()};
   const Eigen::Index v3 = 3 * static_cast<Eigen::Index>(model.num_vertices());
   const Eigen::VectorXd rest_pose;
-  for (int i = 0; i < in.count; ++i) {
+  for (Eigen::Index i = 0; i < in.count; ++i) {
     const Eigen::Map<const Eigen::VectorXd> betas(in.betas + i * Eigen::Index{in.num_betas},
                                                   in.num_betas);
     const Eigen::Vector3d t =

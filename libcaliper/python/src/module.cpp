@@ -93,6 +93,7 @@ void register_errors(py::module_& m) {
       g_errors.error);
   g_errors.json =
       new_error(m, "JsonError", "A malformed JSON document (regressors, mapping).", g_errors.error);
+  // NOLINTNEXTLINE(performance-unnecessary-value-param): pybind11 takes void(*)(exception_ptr)
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
@@ -414,7 +415,7 @@ py::ssize_t batch_size(const smpl::BodyModel& model, const InArray& betas, const
   if (nb > model.num_betas())
     invalid("betas: " + std::to_string(nb) + " values per body, but the model has " +
             std::to_string(model.num_betas()) + " shape components");
-  const py::ssize_t k3 = 3 * model.num_joints();
+  const py::ssize_t k3 = 3 * py::ssize_t{model.num_joints()};
   if (poses) {
     const bool ok = single
                         ? (poses->ndim() == 1 && poses->shape(0) == k3) ||
@@ -658,14 +659,14 @@ void bind_model(py::module_& m) {
       "copies) unless noted. Load with load_model() or open_model().")
       .def_property_readonly(
           "v_template",
-          [](py::object self) { return matrix_view(model_of(self).v_template, self); },
+          [](const py::object& self) { return matrix_view(model_of(self).v_template, self); },
           "(V, 3) float64 template vertices (rest T-pose, mean shape), metres. smplx: v_template.")
       .def_property_readonly(
-          "faces", [](py::object self) { return matrix_view(model_of(self).faces, self); },
+          "faces", [](const py::object& self) { return matrix_view(model_of(self).faces, self); },
           "(F, 3) int32 triangles (0-based, counter-clockwise from outside). smplx: faces.")
       .def_property_readonly(
           "shapedirs",
-          [](py::object self) {
+          [](const py::object& self) {
             const auto& md = model_of(self);
             return blend_shapes_view(md.shapedirs, md.num_vertices(), self);
           },
@@ -673,7 +674,7 @@ void bind_model(py::module_& m) {
           "smplx: shapedirs (same layout).")
       .def_property_readonly(
           "posedirs",
-          [](py::object self) {
+          [](const py::object& self) {
             const auto& md = model_of(self);
             return blend_shapes_view(md.posedirs, md.num_vertices(), self);
           },
@@ -681,12 +682,14 @@ void bind_model(py::module_& m) {
           "posedirs.reshape(-1, P).T, i.e. (P, 3V).")
       .def_property_readonly(
           "j_regressor",
-          [](py::object self) { return matrix_copy(Eigen::MatrixXd(model_of(self).j_regressor)); },
+          [](const py::object& self) {
+            return matrix_copy(Eigen::MatrixXd(model_of(self).j_regressor));
+          },
           "(K, V) float64 joint regressor (a dense copy of the sparse matrix). smplx: "
           "J_regressor.")
       .def_property_readonly(
           "weights",
-          [](py::object self) {
+          [](const py::object& self) {
             using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
             return matrix_copy(RowMajor(model_of(self).weights));
           },
@@ -904,7 +907,7 @@ void bind_avatar(py::module_& m) {
           "(k,) posterior SD of the betas (noise-aware regressor), else None.")
       .def_property_readonly(
           "vertices",
-          [](py::object self) {
+          [](const py::object& self) {
             return matrix_view(self.cast<const PyAvatar&>().avatar.vertices, self);
           },
           "(V, 3) float64 rest-pose vertices, metres (read-only view).")
