@@ -490,7 +490,7 @@ Eigen::MatrixXd sample_population(std::vector<Sampler>& samplers,
     const Eigen::RowVector3d pelvis = pelvis_row * p;
     p.rowwise() -= pelvis;
     for (int v = 0; v < nc; ++v) {
-      x.block(b, 3 * v, 1, 3) = p.row(v);
+      x.block(b, 3 * Eigen::Index{v}, 1, 3) = p.row(v);
     }
   }
   return x;
@@ -498,7 +498,7 @@ Eigen::MatrixXd sample_population(std::vector<Sampler>& samplers,
 
 // S3 = S (x) I3: the subdivision matrix acting on x, y, z rows (3V x 3C).
 RowSparse subdivision_xyz(const RowSparse& subdivision, int nv, int nc) {
-  RowSparse s3(3 * nv, 3 * nc);
+  RowSparse s3(3 * Eigen::Index{nv}, 3 * Eigen::Index{nc});
   std::vector<Eigen::Triplet<double>> tr;
   for (int r = 0; r < nv; ++r) {
     for (RowSparse::InnerIterator it(subdivision, r); it; ++it) {
@@ -557,7 +557,7 @@ Components principal_components(const Eigen::MatrixXd& x, const ModelTopology& t
   for (int b = 0; b < n; ++b) {
     Eigen::MatrixXd p(nc, 3);
     for (int v = 0; v < nc; ++v) {
-      p.row(v) = x.block(b, 3 * v, 1, 3);
+      p.row(v) = x.block(b, 3 * Eigen::Index{v}, 1, 3);
     }
     total += (topo.subdivision * p).squaredNorm();
   }
@@ -590,7 +590,7 @@ smpl::BodyModel assemble_model(const ModelTopology& topo, const Eigen::RowVector
   smpl::BodyModel model;
   Eigen::MatrixXd mean_cage_pos(nc, 3);
   for (int v = 0; v < nc; ++v) {
-    mean_cage_pos.row(v) = mean.segment(3 * v, 3);
+    mean_cage_pos.row(v) = mean.segment(3 * Eigen::Index{v}, 3);
   }
   model.v_template = topo.subdivision * mean_cage_pos;
   model.faces = topo.faces;
@@ -617,7 +617,8 @@ smpl::BodyModel assemble_model(const ModelTopology& topo, const Eigen::RowVector
 
 DeterministicNumerics::DeterministicNumerics()
     : l1_(Eigen::l1CacheSize()), l2_(Eigen::l2CacheSize()), l3_(Eigen::l3CacheSize()) {
-  Eigen::setCpuCacheSizes(32 * 1024, 512 * 1024, 4 * 1024 * 1024);
+  Eigen::setCpuCacheSizes(std::ptrdiff_t{32} * 1024, std::ptrdiff_t{512} * 1024,
+                          std::ptrdiff_t{4} * 1024 * 1024);
 }
 
 DeterministicNumerics::~DeterministicNumerics() {
