@@ -406,36 +406,11 @@ ArmRoot arm_root(const Eigen::VectorXd& d, const BodyLevels& lv, double bulk) {
 /// The arm root point (0..9) that torso vertex (ring `r`, index `i` on the left half, 0..8)
 /// becomes, or -1 if it stays a torso point.
 int arm_root_index(int r, int i) {
-  if (r == 9 && i == 4) {
-    return 0;
-  }
-  if (r == 9 && i == 3) {
-    return 1;
-  }
-  if (r == 8 && i == 3) {
-    return 2;
-  }
-  if (r == 7 && i == 3) {
-    return 3;
-  }
-  if (r == 6 && i == 3) {
-    return 4;
-  }
-  if (r == 6 && i == 4) {
-    return 5;
-  }
-  if (r == 6 && i == 5) {
-    return 6;
-  }
-  if (r == 7 && i == 5) {
-    return 7;
-  }
-  if (r == 8 && i == 5) {
-    return 8;
-  }
-  if (r == 9 && i == 5) {
-    return 9;
-  }
+  // Arm root point k sits at torso ring kArmRoot[k][0], left-half index kArmRoot[k][1].
+  static constexpr int kArmRoot[10][2] = {{9, 4}, {9, 3}, {8, 3}, {7, 3}, {6, 3},
+                                          {6, 4}, {6, 5}, {7, 5}, {8, 5}, {9, 5}};
+  for (int k = 0; k < 10; ++k)
+    if (kArmRoot[k][0] == r && kArmRoot[k][1] == i) return k;
   return -1;
 }
 
