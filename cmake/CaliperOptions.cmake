@@ -98,4 +98,7 @@ function(caliper_embed_files output)
     DEPENDS ${arg_FILES} ${CALIPER_EMBED_SCRIPT}
     COMMENT "${arg_COMMENT}"
     VERBATIM)
+  # Compiled on its own in a unity build: generated code stays out of the batches that
+  # clang-tidy reads as the project's sources (.ci/clang-tidy.py).
+  set_source_files_properties(${output} PROPERTIES SKIP_UNITY_BUILD_INCLUSION ON)
 endfunction()

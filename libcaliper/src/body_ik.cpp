@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "smoothstep.hpp"
 #include "smpl/constants.hpp"
 #include "smpl/evaluate.hpp"
 
@@ -47,10 +48,7 @@ Eigen::Quaterniond fraction(const Eigen::Quaterniond& q, double t) {
   return Eigen::Quaterniond::Identity().slerp(t, q);
 }
 
-double smoothstep(double x) {
-  x = std::clamp(x, 0.0, 1.0);
-  return x * x * (3.0 - 2.0 * x);
-}
+using detail::smoothstep;
 
 /// Grip frame axes of the avatar's rest hand frame (columns: images of world x, y, z).
 Eigen::Matrix3d grip_axes(bool left) {

@@ -9,6 +9,7 @@
 #include "caliper/body_ik.hpp"
 #include "caliper/errors.hpp"
 #include "caliper/measurements.hpp"
+#include "smoothstep.hpp"
 #include "smpl/constants.hpp"
 #include "smpl/evaluate.hpp"
 
@@ -61,10 +62,7 @@ constexpr double kRelease = 0.30;     ///< s, after the trigger is released
 constexpr double kHoldMargin = 0.15;  ///< s, people hold a bit longer than required
 constexpr double kDropout = 0.15;     ///< s, tracking lost for this long
 
-double smoothstep(double x) {
-  x = std::clamp(x, 0.0, 1.0);
-  return x * x * (3.0 - 2.0 * x);
-}
+using detail::smoothstep;
 
 const Eigen::Vector3d& landmark(const SimulatedPerson& person, const std::string& name) {
   auto it = person.landmarks.find(name);

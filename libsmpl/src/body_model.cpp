@@ -1,5 +1,6 @@
 // BodyModel validation and SMPL's skeleton constants (Loper et al. 2015).
 #include "smpl/body_model.hpp"
+#include "model_error.hpp"
 
 #include <cmath>
 #include <sstream>
@@ -7,9 +8,7 @@
 namespace smpl {
 namespace {
 
-[[noreturn]] void fail(const std::string& context, const std::string& what) {
-  throw ModelError(context + ": " + what);
-}
+using detail::fail;
 
 std::string shape_str(Eigen::Index r, Eigen::Index c) {
   std::ostringstream s;

@@ -15,7 +15,7 @@ namespace smpl {
 namespace {
 
 // `what` may carry keys, dtypes and type names read from the file: escaped (pickle.hpp).
-[[noreturn]] void fail(const std::string& context, const std::string& what) {
+[[noreturn]] void fail_printable(const std::string& context, const std::string& what) {
   throw ModelError(context + ": " + printable(what));
 }
 
@@ -48,17 +48,19 @@ class Source {
     for (const std::string& k : npz_ ? npz_->keys() : key_list()) {
       keys += (keys.empty() ? "" : ", ") + k;
     }
-    fail(context_, "missing key '" + key + "' (the file has: " + keys + ")");
+    fail_printable(context_, "missing key '" + key + "' (the file has: " + keys + ")");
   }
 
   const NpyArray& array(const std::string& key) const {
     const PickleValue& v = get(key);
     if (v.kind != PickleValue::Kind::kArray) {
-      fail(context_, "'" + key + "' is a " + v.type_name + ", expected a numeric array");
+      fail_printable(context_, "'" + key + "' is a " + v.type_name + ", expected a numeric array");
     }
-    if (v.array.kind() == 'O') fail(context_, "'" + key + "' " + npy_object_array_advice());
+    if (v.array.kind() == 'O')
+      fail_printable(context_, "'" + key + "' " + npy_object_array_advice());
     if (!v.array.is_numeric()) {
-      fail(context_, "'" + key + "' has dtype " + v.array.dtype + ", expected a numeric array");
+      fail_printable(context_,
+                     "'" + key + "' has dtype " + v.array.dtype + ", expected a numeric array");
     }
     return v.array;
   }
@@ -67,7 +69,7 @@ class Source {
     try {
       return a.to_double();
     } catch (const ModelError& e) {
-      fail(context_, "'" + key + "': " + e.what());
+      fail_printable(context_, "'" + key + "': " + e.what());
     }
   }
 
@@ -75,7 +77,7 @@ class Source {
     try {
       return a.to_int64();
     } catch (const ModelError& e) {
-      fail(context_, "'" + key + "': " + e.what());
+      fail_printable(context_, "'" + key + "': " + e.what());
     }
   }
 
@@ -83,18 +85,19 @@ class Source {
     const PickleValue& v = get(key);
     if (v.kind == PickleValue::Kind::kText) return {v.text};
     if (v.kind != PickleValue::Kind::kArray || (v.array.kind() != 'U' && v.array.kind() != 'S')) {
-      fail(context_, "'" + key + "' is not a text array");
+      fail_printable(context_, "'" + key + "' is not a text array");
     }
     try {
       return v.array.to_strings();
     } catch (const ModelError& e) {
-      fail(context_, "'" + key + "': " + e.what());
+      fail_printable(context_, "'" + key + "': " + e.what());
     }
   }
 
   [[noreturn]] void bad_shape(const std::string& key, const NpyArray& a,
                               const std::string& expected) const {
-    fail(context_, "'" + key + "' has shape " + a.shape_string() + ", expected " + expected);
+    fail_printable(context_,
+                   "'" + key + "' has shape " + a.shape_string() + ", expected " + expected);
   }
 
   const std::string& context() const { return context_; }
@@ -131,8 +134,9 @@ Eigen::MatrixXd blend_shapes(const Source& src, const std::string& key, Eigen::I
   }
   const auto n = keep < 0 ? static_cast<Eigen::Index>(n_cols) : keep;
   if (n > static_cast<Eigen::Index>(n_cols)) {
-    fail(src.context(), "'" + key + "' has " + std::to_string(n_cols) + " components but " +
-                            std::to_string(n) + " were requested (LoadOptions::num_betas)");
+    fail_printable(src.context(), "'" + key + "' has " + std::to_string(n_cols) +
+                                      " components but " + std::to_string(n) +
+                                      " were requested (LoadOptions::num_betas)");
   }
   Eigen::MatrixXd m(3 * V, n);
   const auto stride = static_cast<Eigen::Index>(n_cols);
@@ -164,8 +168,9 @@ SparseMatrix sparse_matrix(const Source& src, const std::string& key, Eigen::Ind
   if (v.kind == PickleValue::Kind::kSparse) {
     const SparseNpy& s = v.sparse;
     if (s.rows != static_cast<std::size_t>(rows) || s.cols != static_cast<std::size_t>(cols)) {
-      fail(src.context(), "'" + key + "' is a sparse matrix of shape (" + std::to_string(s.rows) +
-                              ", " + std::to_string(s.cols) + "), expected " + expected);
+      fail_printable(src.context(), "'" + key + "' is a sparse matrix of shape (" +
+                                        std::to_string(s.rows) + ", " + std::to_string(s.cols) +
+                                        "), expected " + expected);
     }
     const bool csc = s.format == "csc";
     const std::size_t outer = csc ? s.cols : s.rows;
@@ -175,20 +180,21 @@ SparseMatrix sparse_matrix(const Source& src, const std::string& key, Eigen::Ind
     const std::vector<std::int64_t> indptr = src.ints(key + ".indptr", s.indptr);
     if (indptr.size() != outer + 1 || indices.size() != data.size() || indptr[0] != 0 ||
         static_cast<std::size_t>(indptr.back()) != data.size()) {
-      fail(src.context(), "'" + key + "' is a corrupt " + s.format +
-                              " matrix (indptr, indices and data sizes disagree)");
+      fail_printable(src.context(), "'" + key + "' is a corrupt " + s.format +
+                                        " matrix (indptr, indices and data sizes disagree)");
     }
     for (std::size_t o = 0; o < outer; ++o) {
       if (indptr[o + 1] < indptr[o]) {
-        fail(src.context(), "'" + key + "' is a corrupt sparse matrix (indptr decreases)");
+        fail_printable(src.context(),
+                       "'" + key + "' is a corrupt sparse matrix (indptr decreases)");
       }
     }
     for (std::size_t o = 0; o < outer; ++o) {
       for (auto j = indptr[o]; j < indptr[o + 1]; ++j) {
         const auto i = indices[static_cast<std::size_t>(j)];
         if (i < 0 || static_cast<std::size_t>(i) >= inner) {
-          fail(src.context(),
-               "'" + key + "' has an index out of range (" + std::to_string(i) + ")");
+          fail_printable(src.context(),
+                         "'" + key + "' has an index out of range (" + std::to_string(i) + ")");
         }
         const auto oo = static_cast<Eigen::Index>(o);
         const auto ii = static_cast<Eigen::Index>(i);
@@ -219,8 +225,8 @@ std::vector<int> int_vector(const Source& src, const std::string& key, const Npy
   std::vector<int> out;
   for (std::int64_t x : src.ints(key, a)) {
     if (x < lo || x > hi) {
-      fail(src.context(), "'" + key + "' holds " + std::to_string(x) + ", outside [" +
-                              std::to_string(lo) + ", " + std::to_string(hi) + "]");
+      fail_printable(src.context(), "'" + key + "' holds " + std::to_string(x) + ", outside [" +
+                                        std::to_string(lo) + ", " + std::to_string(hi) + "]");
     }
     out.push_back(static_cast<int>(x));
   }
@@ -229,7 +235,7 @@ std::vector<int> int_vector(const Source& src, const std::string& key, const Npy
 
 std::string single_string(const Source& src, const std::string& key) {
   const std::vector<std::string> s = src.strings(key);
-  if (s.size() != 1) fail(src.context(), "'" + key + "' must hold exactly one string");
+  if (s.size() != 1) fail_printable(src.context(), "'" + key + "' must hold exactly one string");
   return s[0];
 }
 
@@ -242,14 +248,16 @@ std::vector<int> read_parents(const Source& src, const NpyArray& kt, Eigen::Inde
   for (Eigen::Index k = 0; k < K; ++k) {
     const std::int64_t id = ktv[static_cast<std::size_t>(K + k)];
     if (id != k) {
-      fail(ctx, "'kintree_table' row 1 must list the joints 0.." + std::to_string(K - 1) +
-                    " in order; column " + std::to_string(k) + " holds " + std::to_string(id));
+      fail_printable(ctx, "'kintree_table' row 1 must list the joints 0.." + std::to_string(K - 1) +
+                              " in order; column " + std::to_string(k) + " holds " +
+                              std::to_string(id));
     }
     std::int64_t p = ktv[static_cast<std::size_t>(k)];
     if (k == 0 && (p == -1 || p == static_cast<std::int64_t>(kUint32Minus1))) p = -1;
     if (p < -1 || p >= K) {
-      fail(ctx, "'kintree_table' gives joint " + std::to_string(k) + " the parent " +
-                    std::to_string(p) + " (the model has " + std::to_string(K) + " joints)");
+      fail_printable(ctx, "'kintree_table' gives joint " + std::to_string(k) + " the parent " +
+                              std::to_string(p) + " (the model has " + std::to_string(K) +
+                              " joints)");
     }
     parents.push_back(static_cast<int>(p));
   }
@@ -295,11 +303,11 @@ void read_landmarks(const Source& src, Eigen::Index V, BodyModel& m) {
   const std::vector<int> vids = int_vector(src, "landmark_vertices", ids, 0, V - 1);
   if (o.size() != names.size() + 1 || o[0] != 0 ||
       o.back() != static_cast<std::int64_t>(vids.size())) {
-    fail(ctx, "'landmark_offsets' must hold " + std::to_string(names.size() + 1) +
-                  " offsets from 0 to the length of 'landmark_vertices'");
+    fail_printable(ctx, "'landmark_offsets' must hold " + std::to_string(names.size() + 1) +
+                            " offsets from 0 to the length of 'landmark_vertices'");
   }
   for (std::size_t i = 0; i < names.size(); ++i) {
-    if (o[i + 1] < o[i]) fail(ctx, "'landmark_offsets' must not decrease");
+    if (o[i + 1] < o[i]) fail_printable(ctx, "'landmark_offsets' must not decrease");
   }
   for (std::size_t i = 0; i < names.size(); ++i) {
     m.landmarks[names[i]].assign(vids.begin() + o[i], vids.begin() + o[i + 1]);
@@ -330,7 +338,7 @@ void read_meta(const Source& src, BodyModel& m) {
     const std::vector<std::string> keys = src.strings("meta_extra_keys");
     const std::vector<std::string> vals = src.strings("meta_extra_values");
     if (keys.size() != vals.size()) {
-      fail(ctx, "'meta_extra_keys' and 'meta_extra_values' differ in length");
+      fail_printable(ctx, "'meta_extra_keys' and 'meta_extra_values' differ in length");
     }
     for (std::size_t i = 0; i < keys.size(); ++i) m.meta.extra[keys[i]] = vals[i];
   }
@@ -393,7 +401,7 @@ bool starts_with(const std::uint8_t* bytes, std::size_t size, const char* magic,
 
 BodyModel load_model_from_memory(const std::uint8_t* bytes, std::size_t size,
                                  const std::string& context, const LoadOptions& options) {
-  if (is_git_lfs_pointer(bytes, size)) fail(context, kLfsPointerMessage);
+  if (is_git_lfs_pointer(bytes, size)) fail_printable(context, kLfsPointerMessage);
   if (starts_with(bytes, size, "PK\x03\x04", 4) || starts_with(bytes, size, "PK\x05\x06", 4)) {
     const NpzReader npz(bytes, size, context);
     return build_model(Source(npz, context), options);
@@ -401,8 +409,8 @@ BodyModel load_model_from_memory(const std::uint8_t* bytes, std::size_t size,
   if (size >= 2 && bytes[0] == 0x80) {
     return build_model(Source(parse_pickle(bytes, size, context), context), options);
   }
-  if (size == 0) fail(context, "the file is empty");
-  fail(context, "neither an .npz (zip) nor a .pkl (pickle protocol 2-5) file");
+  if (size == 0) fail_printable(context, "the file is empty");
+  fail_printable(context, "neither an .npz (zip) nor a .pkl (pickle protocol 2-5) file");
 }
 
 BodyModel load_model(const std::string& path, const LoadOptions& options) {

@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "model_error.hpp"
 #include "smpl/enum_names.hpp"
 #include "smpl/export.hpp"
 #include "smpl/npz.hpp"
@@ -22,9 +23,7 @@
 namespace smpl {
 namespace {
 
-[[noreturn]] void fail(const std::string& context, const std::string& what) {
-  throw ModelError(context + ": " + what);
-}
+using detail::fail;
 
 // The largest vertex count whose indices fit the int32 faces.
 constexpr std::int64_t kMaxVertices = std::numeric_limits<std::int32_t>::max();
@@ -148,7 +147,7 @@ std::size_t ply_size(PlyType t) {
 }
 
 template <typename T>
-double load(const std::uint8_t* p) {
+double load_as_double(const std::uint8_t* p) {
   T x;
   std::memcpy(&x, p, sizeof(T));
   return static_cast<double>(x);
@@ -183,21 +182,21 @@ class PlyBody {
       pos_ += n;
       switch (t) {
         case PlyType::kInt8:
-          return load<std::int8_t>(q);
+          return load_as_double<std::int8_t>(q);
         case PlyType::kUint8:
-          return load<std::uint8_t>(q);
+          return load_as_double<std::uint8_t>(q);
         case PlyType::kInt16:
-          return load<std::int16_t>(q);
+          return load_as_double<std::int16_t>(q);
         case PlyType::kUint16:
-          return load<std::uint16_t>(q);
+          return load_as_double<std::uint16_t>(q);
         case PlyType::kInt32:
-          return load<std::int32_t>(q);
+          return load_as_double<std::int32_t>(q);
         case PlyType::kUint32:
-          return load<std::uint32_t>(q);
+          return load_as_double<std::uint32_t>(q);
         case PlyType::kFloat32:
-          return load<float>(q);
+          return load_as_double<float>(q);
         case PlyType::kFloat64:
-          return load<double>(q);
+          return load_as_double<double>(q);
       }
     }
     auto space = [](std::uint8_t c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; };

@@ -7,6 +7,7 @@
 #include <limits>
 #include <string_view>
 
+#include "model_error.hpp"
 #include "smpl/atomic_file.hpp"
 #include "smpl/npz.hpp"
 #include "smpl/text.hpp"
@@ -14,9 +15,7 @@
 namespace smpl {
 namespace {
 
-[[noreturn]] void fail(const std::string& context, const std::string& what) {
-  throw ModelError(context + ": " + what);
-}
+using detail::fail;
 
 constexpr std::size_t kMaxDims = 32;  // numpy's NPY_MAXDIMS.
 

@@ -33,14 +33,13 @@
 #include <minizip/zip.h>  // not <zip.h>: libzip-dev installs a different /usr/include/zip.h
 #include <zlib.h>
 
+#include "model_error.hpp"
 #include "smpl/npz.hpp"
 
 namespace smpl {
 namespace {
 
-[[noreturn]] void fail(const std::string& context, const std::string& what) {
-  throw ModelError(context + ": " + what);
-}
+using detail::fail;
 
 constexpr std::uint32_t kLocalSig = 0x04034b50;
 constexpr std::uint32_t kCentralSig = 0x02014b50;

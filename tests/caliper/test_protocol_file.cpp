@@ -58,7 +58,7 @@ TEST(ProtocolFile, HasThePapersMeasurements) {
   EXPECT_EQ(p.isak_threshold, 0.015);
 }
 
-void expect_error(const std::string& text, const std::string& words) {
+void expect_protocol_error(const std::string& text, const std::string& words) {
   try {
     parse_protocol(text, "p.json");
     FAIL() << "no error, expected: " << words;
@@ -74,23 +74,27 @@ std::string with_step(const std::string& step) {
 }
 
 TEST(ProtocolFile, BadFilesNameTheProblem) {
-  expect_error("{", "not valid JSON");
-  expect_error(R"({"format":"x"})", "not a protocol file");
-  expect_error(R"({"format":"caliper-protocol","version":2})", "version");
-  expect_error(
+  expect_protocol_error("{", "not valid JSON");
+  expect_protocol_error(R"({"format":"x"})", "not a protocol file");
+  expect_protocol_error(R"({"format":"caliper-protocol","version":2})", "version");
+  expect_protocol_error(
       R"({"format":"caliper-protocol","version":1,"floor":{"targets":[[0,0]]},"steps":[]})",
       "at least 3");
-  expect_error(with_step(R"({"id":"a","kind":"weird"})"), "unknown kind \"weird\"");
-  expect_error(with_step(R"({"id":"a","kind":"distance","tips":["left"],"landmarks":["crotch"]})"),
-               "needs 2 tips and 2 landmarks");
-  expect_error(with_step(R"({"id":"a","kind":"height","tips":["left"],"landmarks":["elbow_tip"]})"),
-               "unknown landmark \"elbow_tip\"");
-  expect_error(with_step(R"({"id":"a","kind":"height","tips":["middle"],"landmarks":["crotch"]})"),
-               "\"left\" or \"right\"");
-  expect_error(with_step(R"({"id":"a","kind":"height","tips":["left"],"landmarks":["crotch"]},)"
-                         R"({"id":"a","kind":"height","tips":["left"],"landmarks":["crotch"]})"),
-               "duplicate step id");
-  expect_error(with_step(R"({"id":"s","kind":"typed_choice"})"), "needs \"choices\"");
+  expect_protocol_error(with_step(R"({"id":"a","kind":"weird"})"), "unknown kind \"weird\"");
+  expect_protocol_error(
+      with_step(R"({"id":"a","kind":"distance","tips":["left"],"landmarks":["crotch"]})"),
+      "needs 2 tips and 2 landmarks");
+  expect_protocol_error(
+      with_step(R"({"id":"a","kind":"height","tips":["left"],"landmarks":["elbow_tip"]})"),
+      "unknown landmark \"elbow_tip\"");
+  expect_protocol_error(
+      with_step(R"({"id":"a","kind":"height","tips":["middle"],"landmarks":["crotch"]})"),
+      "\"left\" or \"right\"");
+  expect_protocol_error(
+      with_step(R"({"id":"a","kind":"height","tips":["left"],"landmarks":["crotch"]},)"
+                R"({"id":"a","kind":"height","tips":["left"],"landmarks":["crotch"]})"),
+      "duplicate step id");
+  expect_protocol_error(with_step(R"({"id":"s","kind":"typed_choice"})"), "needs \"choices\"");
   EXPECT_THROW(read_protocol("/nonexistent/p.json"), ProtocolError);
 }
 

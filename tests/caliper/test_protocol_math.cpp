@@ -11,15 +11,15 @@
 namespace caliper {
 namespace {
 
-constexpr double kExactTol = 1e-12;
+constexpr double kIsakExactTol = 1e-12;
 
 TEST(Isak, TwoTakesWithinTolerance) {
   // 1.000 and 1.014: difference 0.014 relative to the mean 1.007 = 1.39 % < 1.5 %: their mean.
   const IsakResult r = isak_combine({1.000, 1.014});
   EXPECT_TRUE(r.complete);
   EXPECT_EQ(r.takes_used, 2);
-  EXPECT_NEAR(r.value, 1.007, kExactTol);
-  EXPECT_NEAR(r.relative_difference, 0.014 / 1.007, kExactTol);
+  EXPECT_NEAR(r.value, 1.007, kIsakExactTol);
+  EXPECT_NEAR(r.relative_difference, 0.014 / 1.007, kIsakExactTol);
   EXPECT_FALSE(isak_needs_third(1.000, 1.014));
 }
 
@@ -35,7 +35,7 @@ TEST(Isak, ThirdTakeAndMedian) {
   EXPECT_DOUBLE_EQ(three.value, 1.010);
   EXPECT_DOUBLE_EQ(isak_combine({1.0, 1.2, 0.5}).value, 1.0);
   // A third take given although the first two agree is ignored.
-  EXPECT_NEAR(isak_combine({1.0, 1.01, 5.0}).value, 1.005, kExactTol);
+  EXPECT_NEAR(isak_combine({1.0, 1.01, 5.0}).value, 1.005, kIsakExactTol);
 }
 
 TEST(Isak, BoundaryAndDefinition) {
@@ -66,9 +66,9 @@ TEST(FloorCalibration, LevelFloor) {
   const FloorCalibration f = calibrate_floor(p);
   EXPECT_DOUBLE_EQ(f.floor_height, 0.011);  // the median, robust to the 3 cm outlier
   EXPECT_EQ(f.num_samples, 5);
-  EXPECT_NEAR(f.height_spread, 0.021, kExactTol);
+  EXPECT_NEAR(f.height_spread, 0.021, kIsakExactTol);
   EXPECT_GE(f.plane_normal.y(), 0.0);
-  EXPECT_NEAR(f.plane_normal.norm(), 1.0, kExactTol);
+  EXPECT_NEAR(f.plane_normal.norm(), 1.0, kIsakExactTol);
 }
 
 TEST(FloorCalibration, KnownTiltedPlane) {
@@ -84,7 +84,7 @@ TEST(FloorCalibration, KnownTiltedPlane) {
   EXPECT_NEAR(f.tilt_degrees, 3.0, 1e-9);
   EXPECT_LT(f.rms_residual, 1e-12);
   EXPECT_LT(f.max_residual, 1e-12);
-  EXPECT_NEAR(f.floor_height, 0.02, kExactTol);  // median of y: the x = 0 sample
+  EXPECT_NEAR(f.floor_height, 0.02, kIsakExactTol);  // median of y: the x = 0 sample
   EXPECT_MATRIX_NEAR(f.plane_normal, Eigen::Vector3d(-t, 1, 0).normalized(), 1e-12);
 }
 
@@ -97,7 +97,7 @@ TEST(FloorCalibration, KnownResiduals) {
   EXPECT_NEAR(f.tilt_degrees, 0.0, 1e-9);
   EXPECT_NEAR(f.rms_residual, d / 2, 1e-12);
   EXPECT_NEAR(f.max_residual, d / 2, 1e-12);
-  EXPECT_NEAR(f.floor_height, d / 2, kExactTol);  // median of (0, 0, d, d)
+  EXPECT_NEAR(f.floor_height, d / 2, kIsakExactTol);  // median of (0, 0, d, d)
 }
 
 TEST(FloorCalibration, BadSamples) {

@@ -13,7 +13,7 @@ namespace {
 
 // Noise-free logs are written with 6 decimals (half a micrometre per coordinate); a distance
 // of two such points is off by at most ~2 micrometres.
-constexpr double kNoiseFreeTolerance = 5e-6;  // m
+constexpr double kSessionNoiseFreeTol = 5e-6;  // m
 // The acceptance bound for replayed sessions.
 constexpr double kAcceptance = 0.005;  // m
 
@@ -48,12 +48,12 @@ void expect_truth(const SessionRun& r, double tolerance) {
 TEST(Session, SelfRoleNoiseFreeGivesTheTruth) {
   SimulatorOptions o;
   const SessionRun r = run(o);
-  expect_truth(r, kNoiseFreeTolerance);
+  expect_truth(r, kSessionNoiseFreeTol);
   EXPECT_EQ(r.outcome.count(EventType::SampleAccepted), r.sim.accepted_samples);
   EXPECT_EQ(r.sim.accepted_samples, 5 + 5 * 2);
   EXPECT_EQ(r.outcome.count(EventType::SampleRejected), 0);
   EXPECT_EQ(r.outcome.count(EventType::SessionComplete), 1);
-  EXPECT_NEAR(r.result.floor_offset, o.runtime_floor_offset, kNoiseFreeTolerance);
+  EXPECT_NEAR(r.result.floor_offset, o.runtime_floor_offset, kSessionNoiseFreeTol);
   for (const auto& kv : r.result.takes) EXPECT_EQ(kv.second.size(), 2u) << kv.first;
 }
 
@@ -88,7 +88,7 @@ TEST(Session, TrackingDropoutDuringAHoldIsRejectedAndRetaken) {
   SimulatorOptions o;
   o.dropout_step = "arm_span_fingertips";
   const SessionRun r = run(o);
-  expect_truth(r, kNoiseFreeTolerance);
+  expect_truth(r, kSessionNoiseFreeTol);
   ASSERT_EQ(r.outcome.count(EventType::SampleRejected), 1);
   for (const SessionEvent& e : r.outcome.events)  // NOLINT
     if (e.type == EventType::SampleRejected) {
@@ -103,7 +103,7 @@ TEST(Session, EarlyReleaseIsRejected) {
   SimulatorOptions o;
   o.early_release_step = "height";
   const SessionRun r = run(o);
-  expect_truth(r, kNoiseFreeTolerance);
+  expect_truth(r, kSessionNoiseFreeTol);
   ASSERT_EQ(r.outcome.count(EventType::SampleRejected), 1);
   for (const SessionEvent& e : r.outcome.events) {
     if (e.type == EventType::SampleRejected) {
@@ -116,7 +116,7 @@ TEST(Session, IsakAsksForAThirdTakeAndTakesTheMedian) {
   SimulatorOptions o;
   o.third_take_step = "hip_width";
   const SessionRun r = run(o);
-  expect_truth(r, kNoiseFreeTolerance);
+  expect_truth(r, kSessionNoiseFreeTol);
   EXPECT_EQ(r.outcome.count(EventType::ThirdTakeRequested), 1);
   ASSERT_EQ(r.result.takes.at("hip_width").size(), 3u);
   const std::vector<double>& t = r.result.takes.at("hip_width");
@@ -144,7 +144,7 @@ TEST(Session, OperatorRoleWaitsForStartThenRedoes) {
   o.role = "operator";
   o.redo_step = "inseam_height";
   const SessionRun r = run(o);
-  expect_truth(r, kNoiseFreeTolerance);
+  expect_truth(r, kSessionNoiseFreeTol);
   EXPECT_EQ(r.outcome.count(EventType::Started), 1);
   EXPECT_EQ(r.outcome.count(EventType::StepRedo), 1);
   EXPECT_EQ(r.outcome.count(EventType::SampleAccepted), 5 + 5 * 2 + 1);

@@ -15,22 +15,22 @@ namespace {
 using test::Mesh;
 
 // Sums of a dozen products of O(1) numbers: a few ulps.
-constexpr double kExactTol = 1e-14;
+constexpr double kVolumeExactTol = 1e-14;
 
 TEST(MeshVolume, UnitCubeIsOne) {
   const Mesh m = test::make_cube();
-  EXPECT_NEAR(mesh_volume(m.v, m.f), 1.0, kExactTol);
+  EXPECT_NEAR(mesh_volume(m.v, m.f), 1.0, kVolumeExactTol);
 }
 
 TEST(MeshVolume, TetrahedronIsOneSixth) {
   const Mesh m = test::make_tetrahedron();
-  EXPECT_NEAR(mesh_volume(m.v, m.f), 1.0 / 6.0, kExactTol);
+  EXPECT_NEAR(mesh_volume(m.v, m.f), 1.0 / 6.0, kVolumeExactTol);
 }
 
 TEST(MeshVolume, InwardWindingNegates) {
   Mesh m = test::make_cube();
   m.f.col(1).swap(m.f.col(2));
-  EXPECT_NEAR(mesh_volume(m.v, m.f), -1.0, kExactTol);
+  EXPECT_NEAR(mesh_volume(m.v, m.f), -1.0, kVolumeExactTol);
 }
 
 TEST(MeshVolume, SphereConvergesFromBelow) {
@@ -84,7 +84,7 @@ TEST(MeshVolume, DisjointComponentsAdd) {
   Mesh b = test::make_tetrahedron();
   b.v.col(0).array() += 3.0;
   test::append(a, b);
-  EXPECT_NEAR(mesh_volume(a.v, a.f), 1.0 + 1.0 / 6.0, kExactTol);
+  EXPECT_NEAR(mesh_volume(a.v, a.f), 1.0 + 1.0 / 6.0, kVolumeExactTol);
 }
 
 TEST(MeshVolume, BadInput) {

@@ -21,6 +21,7 @@
 #include "smpl/io.hpp"
 #include "smpl/npz.hpp"
 #ifdef CALIPER_CLI_TESTS_HAVE_RENDER
+#include "cli_run.hpp"
 #include "render/image.hpp"
 #endif
 
@@ -36,10 +37,7 @@ constexpr double kFloatTolM = 1e-5;
 constexpr double kWeightTolKg = 0.01;
 constexpr double kVolumeTolM3 = 1e-5;
 
-struct CliRun {
-  int code = 0;
-  std::string out, err;
-};
+using test::CliRun;
 
 class Commands : public ::testing::Test {
  protected:
@@ -65,9 +63,7 @@ class Commands : public ::testing::Test {
   std::string model_;
 };
 
-bool contains(const std::string& s, const std::string& part) {
-  return s.find(part) != std::string::npos;
-}
+using test::contains;
 
 TEST_F(Commands, CreateReproducesHeightAndWeightAndWritesGlb) {
   const CliRun r = run({"create", "--model", model_, "--height", "172cm", "--weight", "70kg",

@@ -12,6 +12,7 @@
 #include "caliper/plausibility.hpp"
 #include "caliper_test/write_fault.hpp"
 #include "cli_fixture.hpp"
+#include "cli_run.hpp"
 #include "cli_support.hpp"
 #include "commands.hpp"
 #include "report.hpp"
@@ -26,14 +27,9 @@ using test::file_bytes;
 using test::FileSizeLimit;
 using test::temporary_files_in;
 
-struct CliRun {
-  int code = 0;
-  std::string out, err;
-};
+using test::CliRun;
 
-bool contains(const std::string& s, const std::string& part) {
-  return s.find(part) != std::string::npos;
-}
+using test::contains;
 
 class Reliability : public ::testing::Test {
  protected:
@@ -320,11 +316,11 @@ TEST_F(Reliability, MeasureWarnsAboutAnUpsideDownOrFlatMesh) {
 }
 
 TEST(OddInput, FeetAndInchesOnlyCombineAsFeetThenInches) {
-  constexpr double kExact = 1e-12;  // one multiplication and one addition
-  EXPECT_NEAR(parse_length("5FT6IN", "--height"), 66 * 0.0254, kExact);
-  EXPECT_NEAR(parse_length("5Ft 6In", "--height"), 66 * 0.0254, kExact);
-  EXPECT_NEAR(parse_length("5ft6in", "--height"), 66 * 0.0254, kExact);
-  EXPECT_NEAR(parse_mass("62KG", "--weight"), 62.0, kExact);
+  constexpr double kFeetInchesTol = 1e-12;  // one multiplication and one addition
+  EXPECT_NEAR(parse_length("5FT6IN", "--height"), 66 * 0.0254, kFeetInchesTol);
+  EXPECT_NEAR(parse_length("5Ft 6In", "--height"), 66 * 0.0254, kFeetInchesTol);
+  EXPECT_NEAR(parse_length("5ft6in", "--height"), 66 * 0.0254, kFeetInchesTol);
+  EXPECT_NEAR(parse_mass("62KG", "--weight"), 62.0, kFeetInchesTol);
   for (const char* bad : {"5ft60cm", "6ft-6in", "5ft12in", "-5ft6in", "5in6ft", "5ft6in2in"}) {
     try {
       parse_length(bad, "--height");

@@ -21,7 +21,7 @@ namespace {
 
 // The bounds: inputs a regressor uses come back to 1 mm, weight to 0.5 kg (R2/R4/R5).
 constexpr double kInputTolCm = 0.1;
-constexpr double kWeightTolKg = 0.5;
+constexpr double kStudyWeightTolKg = 0.5;
 
 ModelBundle bundle_for(const smpl::BodyModel& model) {
   ModelBundle b;
@@ -41,7 +41,7 @@ TEST(Table1Study, RegressorsReproduceTheirInputs) {
     for (const auto& id : regressor_inputs(*kind)) {
       const auto c = std::find(table1_columns().begin(), table1_columns().end(), id) -
                      table1_columns().begin();
-      const double tol = id == "weight" ? kWeightTolKg : kInputTolCm;
+      const double tol = id == "weight" ? kStudyWeightTolKg : kInputTolCm;
       if (id == "weight" && *kind == RegressorKind::R6) continue;  // paper: R6 may miss weight
       EXPECT_LE(r.max_abs(static_cast<Eigen::Index>(k), c), tol)
           << r.regressors[k] << " " << id << "\n"
@@ -63,7 +63,7 @@ TEST(Table1Study, ExactInputsReproduceEveryInputOnNoisyInput) {
       const auto c = std::find(table1_columns().begin(), table1_columns().end(), id) -
                      table1_columns().begin();
       EXPECT_LE(r.max_abs(static_cast<Eigen::Index>(k), c),
-                id == "weight" ? kWeightTolKg : kInputTolCm)
+                id == "weight" ? kStudyWeightTolKg : kInputTolCm)
           << r.regressors[k] << " " << id << "\n"
           << table1_markdown(r, false);
     }
@@ -158,7 +158,7 @@ TEST(NhanesStudy, SmallSampleGivesOneRowPerBinAndSex) {
     EXPECT_EQ(all.count, kPeople) << table;
     EXPECT_EQ(all.failed, 0) << table;
     // R2 reproduces the weight of the model's own bodies (the Table 1 bound).
-    EXPECT_LE(all.weight_mean_abs_kg, kWeightTolKg) << table;
+    EXPECT_LE(all.weight_mean_abs_kg, kStudyWeightTolKg) << table;
     for (double v :
          {all.hip_mae_mm, all.hip_baseline_mae_mm, all.waist_mae_mm, all.waist_baseline_mae_mm}) {
       EXPECT_TRUE(std::isfinite(v) && v > 0.0) << table;

@@ -14,11 +14,11 @@ namespace ca = caliper::app;
 using caliper::test::editor_test_entry;
 
 namespace {
-std::string temp_path(const std::string& name) {
+std::string files_temp_path(const std::string& name) {
   return std::string(CALIPER_TEST_DATA_DIR) + "/editor_files_" + name;
 }
 std::string write(const std::string& name, const std::string& text) {
-  std::string path = temp_path(name);
+  std::string path = files_temp_path(name);
   std::ofstream(path) << text;
   return path;
 }
@@ -43,7 +43,7 @@ TEST(EditorFiles, ProfileRoundTripKeepsEveryEditableInputExactly) {
   EXPECT_EQ(j.at("sex").as_string(), "female");
   EXPECT_EQ(j.at("betas").as_array().size(), 4u);
   EXPECT_FALSE(j.at("measurements").contains("hip_width"));  // only the editable inputs
-  const std::string path = temp_path("profile.json");
+  const std::string path = files_temp_path("profile.json");
   caliper::write_json_file(path, j);
 
   const ca::Profile p = ca::read_profile(path, ca::Document{});
@@ -86,7 +86,7 @@ TEST(EditorFiles, BadProfilesAreRefusedNamingTheProblem) {
       message(write("range.json", head + R"(1, "measurements": {"height": 17.5}})")).find("height"),
       std::string::npos);
   EXPECT_FALSE(message(write("cut.json", head)).empty());
-  EXPECT_FALSE(message(temp_path("missing.json")).empty());
+  EXPECT_FALSE(message(files_temp_path("missing.json")).empty());
 }
 
 TEST(EditorFiles, SessionMeasurementsFromJsonObjectsAndArrays) {
@@ -97,12 +97,12 @@ TEST(EditorFiles, SessionMeasurementsFromJsonObjectsAndArrays) {
   const caliper::MeasurementMap b = ca::read_session_measurements(write(
       "session_b.json", R"({"result": {"measurements": [{"id": "hip_width", "value": 0.34}]}})"));
   EXPECT_DOUBLE_EQ(b.at("hip_width"), 0.34);
-  EXPECT_THROW(ca::read_session_measurements(temp_path("no_such_session.json")),
+  EXPECT_THROW(ca::read_session_measurements(files_temp_path("no_such_session.json")),
                caliper::InvalidInputError);
 }
 
 TEST(EditorFiles, SessionJournalsAverageTheTakesAfterTheLastRedo) {
-  const std::string path = temp_path("session.jsonl");
+  const std::string path = files_temp_path("session.jsonl");
   {
     caliper::JournalWriter w = caliper::JournalWriter::create(path, caliper::Json::object());
     caliper::JournalRecord r;

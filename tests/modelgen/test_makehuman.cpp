@@ -18,6 +18,7 @@
 
 #include "caliper/volume.hpp"
 #include "makehuman.hpp"
+#include "makehuman_test_data.hpp"
 #include "mesh_checks.hpp"
 #include "smpl/avatar_export.hpp"
 #include "smpl/evaluate.hpp"
@@ -27,16 +28,8 @@
 
 namespace {
 
-const std::string kMh = CALIPER_MAKEHUMAN_DIR;
-
-bool have_assets() {
-  return static_cast<bool>(std::ifstream(kMh + "/3dobjs/base.obj"));
-}
-
-#define REQUIRE_ASSETS()                                                                \
-  if (!have_assets()) {                                                                 \
-    GTEST_SKIP() << "MakeHuman assets not found at " << kMh << " (../shared/data/...)"; \
-  }
+using makehuman_test::have_assets;
+using makehuman_test::kMh;
 
 std::string write_file(const std::string& name, const std::string& text) {
   const std::string path = std::string(CALIPER_TEST_DATA_DIR) + "/" + name;
@@ -226,10 +219,7 @@ TEST(MakeHumanReader, BadFilesGiveClearErrors) {
 
 namespace {
 
-const modelgen::mh::Assets& assets() {
-  static const modelgen::mh::Assets a = modelgen::mh::read_assets(kMh);
-  return a;
-}
+using makehuman_test::assets;
 
 }  // namespace
 

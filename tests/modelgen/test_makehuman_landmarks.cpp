@@ -12,15 +12,11 @@
 #include "caliper/measurements.hpp"
 #include "makehuman_landmarks.hpp"
 #include "makehuman_rig.hpp"
+#include "makehuman_test_data.hpp"
 
 namespace {
 
-const std::string kMh = CALIPER_MAKEHUMAN_DIR;
-
-#define REQUIRE_ASSETS()                                                                \
-  if (!std::ifstream(kMh + "/3dobjs/base.obj")) {                                       \
-    GTEST_SKIP() << "MakeHuman assets not found at " << kMh << " (../shared/data/...)"; \
-  }
+using makehuman_test::kMh;
 
 const smpl::BodyModel& model() {
   static const smpl::BodyModel m = [] {
@@ -30,10 +26,7 @@ const smpl::BodyModel& model() {
   return m;
 }
 
-const modelgen::mh::Assets& assets() {
-  static const modelgen::mh::Assets a = modelgen::mh::read_assets(kMh);
-  return a;
-}
+using makehuman_test::assets;
 
 /// A T-posed body of the base mesh plus `target` (relative to targets/) at weight 1, in the
 /// template's frame (metres); the base itself for an empty name.

@@ -14,10 +14,11 @@
 #include "makehuman_measures.hpp"
 #include "makehuman_rig.hpp"
 #include "makehuman_shape.hpp"
+#include "makehuman_test_data.hpp"
 
 namespace {
 
-const std::string kMh = CALIPER_MAKEHUMAN_DIR;
+using makehuman_test::kMh;
 namespace mh = modelgen::mh;
 
 struct Template {
@@ -26,7 +27,7 @@ struct Template {
   mh::ShapeBasis basis;
 };
 
-const Template& setup() {
+const Template& template_setup() {
   static const Template s = [] {
     Template x;
     x.assets = mh::read_assets(kMh);
@@ -59,7 +60,7 @@ constexpr double kRatioTolerance = 0.20;
 
 TEST(MakeHumanMeasures, AverageBodiesHaveSoldierLikeProportions) {
   if (!std::ifstream(kMh + "/3dobjs/base.obj")) GTEST_SKIP() << "MakeHuman assets not found";
-  const Template& s = setup();
+  const Template& s = template_setup();
   for (const std::string sex : {"female", "male"}) {
     const mh::Measurer measure(s.tmpl, sex == "female" ? s.basis.female_mean : s.basis.male_mean,
                                sex);
@@ -86,7 +87,7 @@ TEST(MakeHumanMeasures, AverageBodiesHaveSoldierLikeProportions) {
 // lower leg, the ankle's smallest above the malleoli, the neck's narrowest under the jaw.
 TEST(MakeHumanMeasures, RuleLevelsAreAnatomical) {
   if (!std::ifstream(kMh + "/3dobjs/base.obj")) GTEST_SKIP() << "MakeHuman assets not found";
-  const Template& s = setup();
+  const Template& s = template_setup();
   const mh::Measurer m(s.tmpl, s.basis.female_mean, "female");
   const smpl::Vertices& t = s.basis.female_mean;
   const double floor = t.col(1).minCoeff();

@@ -26,10 +26,11 @@
 #include "makehuman_measures.hpp"
 #include "makehuman_rig.hpp"
 #include "makehuman_shape.hpp"
+#include "makehuman_test_data.hpp"
 
 namespace {
 
-const std::string kMh = CALIPER_MAKEHUMAN_DIR;
+using makehuman_test::kMh;
 const std::string kData = kMh + "/..";
 
 #define REQUIRE_DATA()                                                                         \
@@ -55,7 +56,7 @@ double bmi(const mh::Subject& s) {
 /// 100 ANSUR II subjects per sex (more than the 78 directions of a sex, so that the NHANES
 /// subjects get the population prior), 10 NHANES subjects per sex and the NHANES subject of each
 /// sex with the highest BMI.
-const Registered& setup() {
+const Registered& registered() {
   static const Registered s = [] {
     Registered x;
     x.assets = mh::read_assets(kMh);
@@ -314,7 +315,7 @@ void check_populations(const Registered& s) {
 // its own.
 TEST(MakeHumanShape, RegisteredBodiesAndTheirPrincipalComponents) {
   REQUIRE_DATA();
-  const Registered& s = setup();
+  const Registered& s = registered();
   check_residuals(s);
   check_principal_components(s);
   check_populations(s);

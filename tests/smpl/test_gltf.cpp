@@ -28,7 +28,7 @@ constexpr double kWeightTol = 2e-7;
 
 using caliper::test::slurp;
 
-fs::path out_dir() {
+fs::path gltf_out_dir() {
   return caliper::test::output_dir(CALIPER_TEST_DATA_DIR, "gltf");
 }
 
@@ -59,7 +59,7 @@ void expected_influences(const smpl::BodyModel& m, Eigen::Index v, std::vector<i
 TEST(Gltf, GlbRoundTripGivesVerticesJointsAndWeights) {
   const auto& m = model24();
   const Eigen::VectorXd betas = caliper::test::random_betas(10, 1.5, 5);
-  const fs::path file = out_dir() / "rest.glb";
+  const fs::path file = gltf_out_dir() / "rest.glb";
   smpl::GltfOptions opt;
   opt.extras = {{"height_m", "1.72"}, {"note", "test"}};
   smpl::write_gltf(file.string(), m, betas, opt);
@@ -98,7 +98,7 @@ TEST(Gltf, GlbRoundTripGivesVerticesJointsAndWeights) {
 TEST(Gltf, GlbBytesEqualTheGlbFile) {
   const auto& m = model24();
   const Eigen::VectorXd betas = caliper::test::random_betas(4, 1.0, 6);  // fewer than the model's
-  const fs::path file = out_dir() / "bytes.glb";
+  const fs::path file = gltf_out_dir() / "bytes.glb";
   smpl::write_gltf(file.string(), m, betas);
   const std::string disk_s = slurp(file);
   const std::vector<std::uint8_t> disk(disk_s.begin(), disk_s.end());
@@ -150,7 +150,7 @@ TEST(Gltf, GivenRestVerticesGiveTheSameBytesAndAreUsed) {
 
 TEST(Gltf, MorphTargetsArePoseCorrectives) {
   auto m = make_random_model(2, 4, true, 12);  // 4 joints: 27 targets keep the file small
-  const fs::path file = out_dir() / "morph.glb";
+  const fs::path file = gltf_out_dir() / "morph.glb";
   smpl::GltfOptions opt;
   opt.pose_correctives = true;
   opt.stand_on_floor = false;
@@ -169,7 +169,7 @@ TEST(Gltf, MorphTargetsArePoseCorrectives) {
 TEST(Gltf, EmbeddedGltfRoundTrips) {
   const auto m = make_random_model(3, 55, false, 13);
   const Eigen::VectorXd betas = caliper::test::random_betas(3, 1.0, 7);
-  const fs::path file = out_dir() / "smplx_like.gltf";
+  const fs::path file = gltf_out_dir() / "smplx_like.gltf";
   smpl::write_gltf(file.string(), m, betas);
   const auto a = smpl::read_gltf(file.string());
   EXPECT_EQ(a.joints.rows(), 55);
@@ -183,11 +183,12 @@ TEST(Gltf, EmbeddedGltfRoundTrips) {
 
 TEST(Gltf, ErrorsNameTheFile) {
   const auto& m = model24();
-  EXPECT_THROW(smpl::write_gltf((out_dir() / "avatar.fbx").string(), m, Eigen::VectorXd::Zero(1)),
-               smpl::ModelError);
+  EXPECT_THROW(
+      smpl::write_gltf((gltf_out_dir() / "avatar.fbx").string(), m, Eigen::VectorXd::Zero(1)),
+      smpl::ModelError);
   EXPECT_THROW(smpl::write_gltf("/nonexistent-dir/a.glb", m, Eigen::VectorXd::Zero(1)),
                smpl::ModelError);
-  const fs::path bad = out_dir() / "truncated.glb";
+  const fs::path bad = gltf_out_dir() / "truncated.glb";
   {
     const auto bytes = smpl::glb_bytes(m, Eigen::VectorXd::Zero(1));
     std::ofstream(bad, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), 1000);
@@ -198,7 +199,7 @@ TEST(Gltf, ErrorsNameTheFile) {
   } catch (const smpl::ModelError& e) {
     EXPECT_NE(std::string(e.what()).find("truncated.glb"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(smpl::read_gltf((out_dir() / "missing.glb").string()), smpl::ModelError);
+  EXPECT_THROW(smpl::read_gltf((gltf_out_dir() / "missing.glb").string()), smpl::ModelError);
 }
 
 // Runs `node validate.mjs files...`; returns its exit status and output.
@@ -233,7 +234,7 @@ TEST(GltfValidator, ExportedAvatarsHaveNoErrors) {
   std::string why;
   if (!validator_installed(why)) GTEST_SKIP() << "Khronos glTF-Validator not installed: " << why;
   const auto& m = model24();
-  const fs::path dir = out_dir() / "validator";
+  const fs::path dir = gltf_out_dir() / "validator";
   fs::create_directories(dir);
   const Eigen::VectorXd betas = caliper::test::random_betas(10, 2.0, 8);
   smpl::GltfOptions floor;
@@ -274,7 +275,7 @@ TEST(GltfValidator, CatchesABrokenFile) {
   if (!validator_installed(why)) GTEST_SKIP() << "Khronos glTF-Validator not installed: " << why;
   // The validator must be able to fail: a GLB whose JSON chunk is cut short.
   const auto bytes = smpl::glb_bytes(model24(), Eigen::VectorXd::Zero(1));
-  const fs::path bad = out_dir() / "validator_broken.glb";
+  const fs::path bad = gltf_out_dir() / "validator_broken.glb";
   std::ofstream(bad, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), 200);
   std::string output;
   EXPECT_NE(run_validator({bad}, output), 0) << output;

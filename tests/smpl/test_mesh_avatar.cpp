@@ -22,7 +22,7 @@ constexpr double kObjTolM = 1e-8;
 // PLY stores float32: 24-bit mantissas, about 6e-8 m at 1 m (measured 5.96e-8 here).
 constexpr double kPlyTolM = 2e-7;
 
-fs::path out_dir() {
+fs::path mesh_avatar_out_dir() {
   return caliper::test::output_dir(CALIPER_TEST_DATA_DIR, "mesh_avatar");
 }
 
@@ -58,7 +58,7 @@ TEST(MeshAvatar, ObjAndPlyRoundTripWithUpAxisAndMetadata) {
       smpl::ExportOptions o;
       o.up = up;
       o.extras = kExtras;
-      const std::string path = (out_dir() / name).string();
+      const std::string path = (mesh_avatar_out_dir() / name).string();
       smpl::write_mesh_avatar(path, model, betas, o);
       const std::string text = caliper::test::slurp(path);
       EXPECT_NE(text.find("caliper-metadata " + smpl::mesh_metadata_json(kExtras) + "\n"),
@@ -77,9 +77,11 @@ TEST(MeshAvatar, ObjAndPlyRoundTripWithUpAxisAndMetadata) {
 }
 
 TEST(MeshAvatar, BadFilesAreModelErrors) {
-  EXPECT_THROW(smpl::read_mesh_avatar((out_dir() / "a.stl").string()), smpl::ModelError);
-  EXPECT_THROW(smpl::read_mesh_avatar((out_dir() / "missing.obj").string()), smpl::ModelError);
-  const std::string bad = (out_dir() / "bad_meta.obj").string();
+  EXPECT_THROW(smpl::read_mesh_avatar((mesh_avatar_out_dir() / "a.stl").string()),
+               smpl::ModelError);
+  EXPECT_THROW(smpl::read_mesh_avatar((mesh_avatar_out_dir() / "missing.obj").string()),
+               smpl::ModelError);
+  const std::string bad = (mesh_avatar_out_dir() / "bad_meta.obj").string();
   std::ofstream(bad) << "# caliper-metadata {\"model\": \nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
   try {
     smpl::read_mesh_avatar(bad);
@@ -90,7 +92,7 @@ TEST(MeshAvatar, BadFilesAreModelErrors) {
         << e.what();
   }
   // A mesh without the comments: +Y up, no metadata.
-  const std::string plain = (out_dir() / "plain.obj").string();
+  const std::string plain = (mesh_avatar_out_dir() / "plain.obj").string();
   std::ofstream(plain) << "# made elsewhere\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
   const smpl::MeshAvatar a = smpl::read_mesh_avatar(plain);
   EXPECT_EQ(a.vertices.rows(), 3);

@@ -34,15 +34,15 @@ namespace fs = std::filesystem;
 // multiples of 1/128, which float32 and %.9g hold exactly, so any difference is a wrong corner.
 constexpr double kUvTol = 1e-6;
 // Positions stored as float32: a coordinate of magnitude <= 2 m rounds by at most 1.2e-7 m.
-constexpr double kFloatTol = 2.5e-7;
+constexpr double kTexFloatTol = 2.5e-7;
 // Morph targets are float32 displacements of at most a few centimetres.
-constexpr double kMorphTol = 1e-8;
+constexpr double kTexMorphTol = 1e-8;
 // Renormalised skin weights are float32 in [0, 1]; FBX keeps every weight as float32.
 constexpr double kWeightTol = 2e-7;
 
 using caliper::test::slurp;
 
-fs::path out_dir() {
+fs::path texcoords_out_dir() {
   return caliper::test::output_dir(CALIPER_TEST_DATA_DIR, "texcoords");
 }
 
@@ -101,14 +101,14 @@ TEST(Texcoords, ModelWithoutThemExportsTheSameBytesAsBefore) {
                                    {"plain.obj", &mesh_o, 0xad1b99881de027f8ull},
                                    {"plain.ply", &mesh_o, 0x5b67a489a4286596ull}};
   for (const auto& c : cases) {
-    const fs::path file = out_dir() / c.file;
+    const fs::path file = texcoords_out_dir() / c.file;
     smpl::export_avatar(file.string(), m, betas, *c.options);
     const std::uint64_t h = fnv1a(slurp(file));
     EXPECT_EQ(h, c.expected) << c.file << std::hex << ": 0x" << h;
   }
   // FBX: the same bytes apart from the time of export (the CreationTimeStamp node, up to the
   // Creator node that follows it), which is blanked before the fingerprint.
-  const fs::path fbx = out_dir() / "plain.fbx";
+  const fs::path fbx = texcoords_out_dir() / "plain.fbx";
   smpl::export_avatar(fbx.string(), m, betas, mesh_o);
   std::string bytes = slurp(fbx);
   const size_t stamp = bytes.find("CreationTimeStamp");
@@ -196,7 +196,7 @@ void expect_corners(const smpl::BodyModel& m, const smpl::Vertices& body, const 
     }
   }
   EXPECT_LE(worst_uv, kUvTol) << what;
-  EXPECT_LE(worst_pos, kFloatTol) << what;
+  EXPECT_LE(worst_pos, kTexFloatTol) << what;
 }
 
 TEST(Texcoords, SplitAtSeamsCopiesVerticesOnlyWhereCornersDiffer) {
@@ -249,7 +249,7 @@ TEST(Texcoords, GltfAndVrmCarryTexcoord0SplitAtSeams) {
   const smpl::GltfSkinWeights skin = smpl::gltf_skin_weights(m);
   std::vector<fs::path> files;
   for (const char* name : {"textured.glb", "textured.gltf", "textured.vrm"}) {
-    const fs::path file = out_dir() / name;
+    const fs::path file = texcoords_out_dir() / name;
     files.push_back(file);
     smpl::ExportOptions o;
     o.shape_keys = 2;
@@ -279,7 +279,7 @@ TEST(Texcoords, GltfAndVrmCarryTexcoord0SplitAtSeams) {
               t < 2 ? static_cast<Eigen::Index>(t) : static_cast<Eigen::Index>(t - 2);
           const Eigen::MatrixXd& dirs = t < 2 ? m.shapedirs : m.posedirs;
           for (int d = 0; d < 3; ++d) {
-            ASSERT_NEAR(a.morph_targets[t](out, d), dirs(3 * src + d, col), kMorphTol)
+            ASSERT_NEAR(a.morph_targets[t](out, d), dirs(3 * src + d, col), kTexMorphTol)
                 << name << " target " << t;
           }
         }
@@ -322,7 +322,7 @@ TEST(Texcoords, GltfAndVrmCarryTexcoord0SplitAtSeams) {
 
 // read_gltf refuses a TEXCOORD_0 that is not one VEC2 per vertex, naming the file.
 TEST(Texcoords, ReadGltfRefusesAMisshapenTexcoord0) {
-  const fs::path file = out_dir() / "texcoord_check.gltf";
+  const fs::path file = texcoords_out_dir() / "texcoord_check.gltf";
   smpl::export_avatar(file.string(), textured_model(), test_betas());
   std::string json = slurp(file);
   const std::string attribute = "\"TEXCOORD_0\": ";
@@ -330,7 +330,7 @@ TEST(Texcoords, ReadGltfRefusesAMisshapenTexcoord0) {
   ASSERT_NE(at, std::string::npos);
   const size_t end = json.find_first_not_of("0123456789", at + attribute.size());
   json.replace(at + attribute.size(), end - at - attribute.size(), "0");  // POSITION: VEC3
-  const fs::path bad = out_dir() / "texcoord_vec3.gltf";
+  const fs::path bad = texcoords_out_dir() / "texcoord_vec3.gltf";
   smpl::write_file_atomic(bad.string(), json);
   try {
     smpl::read_gltf(bad.string());
@@ -348,7 +348,7 @@ TEST(Texcoords, FbxCarriesUvChannel0) {
   const Eigen::VectorXd betas = test_betas();
   smpl::Vertices body = smpl::shape(m, betas).vertices;
   body.col(1).array() -= body.col(1).minCoeff();
-  const fs::path file = out_dir() / "textured.fbx";
+  const fs::path file = texcoords_out_dir() / "textured.fbx";
   smpl::export_avatar(file.string(), m, betas);
   // In the file: one control point per model vertex (Assimp's writer welded the seam copies),
   // texture coordinates per polygon corner.
@@ -364,7 +364,7 @@ TEST(Texcoords, FbxCarriesUvChannel0) {
   ASSERT_LE(at + 13 + 24 * static_cast<size_t>(m.num_vertices()), bytes.size());
   smpl::Vertices points(m.num_vertices(), 3);
   std::memcpy(points.data(), bytes.data() + at + 13, 24 * static_cast<size_t>(m.num_vertices()));
-  EXPECT_LE((points - body).cwiseAbs().maxCoeff(), kFloatTol);
+  EXPECT_LE((points - body).cwiseAbs().maxCoeff(), kTexFloatTol);
   const smpl::FbxAvatar a = smpl::read_fbx(file.string());
   expect_corners(m, body, a.faces, a.vertices, a.uvs, "textured.fbx");
   EXPECT_EQ(unique_positions(a.vertices), static_cast<size_t>(m.num_vertices()));
@@ -373,7 +373,7 @@ TEST(Texcoords, FbxCarriesUvChannel0) {
     ASSERT_NEAR(a.weight_sums[v], 1.0, 1e-5) << "vertex " << v;
   }
   // Without texture coordinates: no texture coordinates, one vertex per model vertex.
-  const fs::path plain = out_dir() / "plain_uv_check.fbx";
+  const fs::path plain = texcoords_out_dir() / "plain_uv_check.fbx";
   smpl::export_avatar(plain.string(), plain_model(), betas);
   EXPECT_EQ(fbx_array_length(slurp(plain), "Vertices"), 3L * m.num_vertices());
   EXPECT_EQ(fbx_array_length(slurp(plain), "UVIndex"), -1);
@@ -389,7 +389,7 @@ TEST(Texcoords, ObjHasVtPerCornerAndPlyStaysWelded) {
   const Eigen::VectorXd betas = test_betas();
   smpl::Vertices body = smpl::shape(m, betas).vertices;
   body.col(1).array() -= body.col(1).minCoeff();
-  const fs::path file = out_dir() / "textured.obj";
+  const fs::path file = texcoords_out_dir() / "textured.obj";
   smpl::export_avatar(file.string(), m, betas);
   const smpl::MeshData own = smpl::read_obj(file.string());
   EXPECT_EQ(own.vertices.rows(), m.num_vertices());
@@ -407,19 +407,19 @@ TEST(Texcoords, ObjHasVtPerCornerAndPlyStaysWelded) {
   // --up z turns the positions only.
   smpl::ExportOptions z;
   z.up = smpl::UpAxis::Z;
-  const fs::path zfile = out_dir() / "textured_z.obj";
+  const fs::path zfile = texcoords_out_dir() / "textured_z.obj";
   smpl::export_avatar(zfile.string(), m, betas, z);
   const smpl::FbxAvatar bz = smpl::read_with_assimp(zfile.string());
   expect_corners(m, smpl::to_up_axis(body, smpl::UpAxis::Z), bz.faces, bz.vertices, bz.uvs,
                  "textured_z.obj through Assimp");
   // write_obj refuses texture-coordinate faces that do not fit.
   smpl::Faces short_ft = m.uv_faces.topRows(m.num_faces() - 1);
-  EXPECT_THROW(smpl::write_obj((out_dir() / "bad.obj").string(), body, m.faces, smpl::UpAxis::Y, {},
-                               m.uvs, short_ft),
+  EXPECT_THROW(smpl::write_obj((texcoords_out_dir() / "bad.obj").string(), body, m.faces,
+                               smpl::UpAxis::Y, {}, m.uvs, short_ft),
                smpl::ModelError);
-  EXPECT_FALSE(fs::exists(out_dir() / "bad.obj"));
+  EXPECT_FALSE(fs::exists(texcoords_out_dir() / "bad.obj"));
 
-  const fs::path ply = out_dir() / "textured.ply";
+  const fs::path ply = texcoords_out_dir() / "textured.ply";
   smpl::export_avatar(ply.string(), m, betas);
   const smpl::MeshData pm = smpl::read_ply(ply.string());
   EXPECT_EQ(pm.vertices.rows(), m.num_vertices());

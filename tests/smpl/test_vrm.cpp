@@ -27,12 +27,12 @@ using caliper::test::run_node_tool;
 // The bound for morphed vertices against libsmpl's evaluation. Float32 storage of base
 // and targets (|x| <= 2 m, |shapedirs| ~ 0.05 m) and float morphing stay below 1e-6 m.
 constexpr double kMorphTol = 1e-5;
-constexpr double kFloatTol = 2.5e-7;
+constexpr double kVrmFloatTol = 2.5e-7;
 // VRM's T-pose has the arms along X; the open models' rest pose is within 3 degrees of it
 // (docs/file-formats.md says so), which this bound holds the exporter and the models to.
 constexpr double kTPoseArmToleranceDeg = 3.0;
 
-fs::path out_dir() {
+fs::path vrm_out_dir() {
   const fs::path d = fs::path(CALIPER_TEST_DATA_DIR) / "vrm";
   fs::create_directories(d);
   return d;
@@ -58,7 +58,7 @@ TEST(Vrm, ThreeVrmLoadsItWithEveryRequiredBoneMetaAndSpecVersion) {
   if (!node_tool_installed(CALIPER_VRM_TOOLS_DIR, "@pixiv/three-vrm", why))
     GTEST_SKIP() << "three-vrm not installed: " << why;
   const auto& m = open_male();
-  const fs::path file = out_dir() / "open_male.vrm";
+  const fs::path file = vrm_out_dir() / "open_male.vrm";
   smpl::ExportOptions o;
   o.name = "test avatar";
   o.author = "ctest";
@@ -96,7 +96,7 @@ TEST(Vrm, ThreeVrmLoadsItWithEveryRequiredBoneMetaAndSpecVersion) {
 TEST(Vrm, ValidatorReportsNoErrorsAndItReadsBackAsTheAvatar) {
   const auto& m = open_male();
   const Eigen::VectorXd betas = some_betas(m.num_betas());
-  const fs::path file = out_dir() / "validate.vrm";
+  const fs::path file = vrm_out_dir() / "validate.vrm";
   smpl::ExportOptions o;
   o.shape_keys = 4;
   smpl::write_vrm(file.string(), m, betas, o);
@@ -135,7 +135,7 @@ TEST(Vrm, AModelWithoutALicenceIsRefusedUntilTheUserStatesOne) {
   auto m = caliper::test::make_random_model(10, 24, false, 41);  // like a user's SMPL file
   m.meta.name = "SMPL_FEMALE";
   m.meta.extra.erase("licence");
-  const fs::path file = out_dir() / "smpl_user.vrm";
+  const fs::path file = vrm_out_dir() / "smpl_user.vrm";
   fs::remove(file);
   try {
     smpl::write_vrm(file.string(), m, Eigen::VectorXd::Zero(10));
@@ -156,12 +156,12 @@ TEST(Vrm, RefusesAPoseAndAModelWithoutHumanoidJoints) {
   const auto& m = open_male();
   smpl::ExportOptions posed;
   posed.pose = Eigen::VectorXd::Zero(72);
-  EXPECT_THROW(smpl::write_vrm((out_dir() / "posed.vrm").string(), m, Eigen::VectorXd(), posed),
+  EXPECT_THROW(smpl::write_vrm((vrm_out_dir() / "posed.vrm").string(), m, Eigen::VectorXd(), posed),
                smpl::ModelError);
   auto hand = caliper::test::make_random_model(2, 16, false, 42);  // MANO-like: no humanoid
   smpl::ExportOptions o;
   o.licence = "MIT";
-  EXPECT_THROW(smpl::write_vrm((out_dir() / "hand.vrm").string(), hand, Eigen::VectorXd(), o),
+  EXPECT_THROW(smpl::write_vrm((vrm_out_dir() / "hand.vrm").string(), hand, Eigen::VectorXd(), o),
                smpl::ModelError);
 }
 
@@ -171,7 +171,7 @@ TEST(GltfShapeKeys, MorphWeightsSetToOtherBetasGiveLibsmplsBody) {
   const auto& m = open_male();
   const Eigen::VectorXd betas = some_betas(m.num_betas());
   const int N = 8;
-  const fs::path file = out_dir() / "shape_keys.glb";
+  const fs::path file = vrm_out_dir() / "shape_keys.glb";
   smpl::ExportOptions o;
   o.shape_keys = N;
   smpl::write_gltf(file.string(), m, betas, o);
@@ -197,7 +197,7 @@ TEST(GltfShapeKeys, MorphWeightsSetToOtherBetasGiveLibsmplsBody) {
 
   smpl::ExportOptions too_many;
   too_many.shape_keys = m.num_betas() + 1;
-  EXPECT_THROW(smpl::write_gltf((out_dir() / "x.glb").string(), m, betas, too_many),
+  EXPECT_THROW(smpl::write_gltf((vrm_out_dir() / "x.glb").string(), m, betas, too_many),
                smpl::ModelError);
 
   std::string why;
@@ -227,7 +227,7 @@ TEST(GltfBoneNames, SmplNamesAndAPoseOnTheJoints) {
   o.pose = Eigen::VectorXd::Zero(72);
   o.pose[3 * 16 + 2] = -0.8;  // A-pose: shoulders rotated down
   o.pose[3 * 17 + 2] = 0.8;
-  const fs::path file = out_dir() / "smpl_names_apose.glb";
+  const fs::path file = vrm_out_dir() / "smpl_names_apose.glb";
   smpl::write_gltf(file.string(), m, Eigen::VectorXd(), o);
   const smpl::GltfAvatar a = smpl::read_gltf(file.string());
   EXPECT_EQ(a.joint_names, smpl::smpl_fbx_bone_names());
@@ -235,7 +235,7 @@ TEST(GltfBoneNames, SmplNamesAndAPoseOnTheJoints) {
   smpl::Body rest = smpl::shape(m, Eigen::VectorXd());
   const double lift = -rest.vertices.col(1).minCoeff();
   rest.vertices.col(1).array() += lift;
-  EXPECT_MATRIX_NEAR(a.vertices, rest.vertices, kFloatTol);
+  EXPECT_MATRIX_NEAR(a.vertices, rest.vertices, kVrmFloatTol);
   smpl::Body posed = smpl::evaluate(m, Eigen::VectorXd(), o.pose);
   posed.joints.col(1).array() += lift;
   EXPECT_MATRIX_NEAR(a.joints, posed.joints, 1e-6);

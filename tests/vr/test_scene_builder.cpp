@@ -14,12 +14,12 @@
 namespace caliper::vr {
 namespace {
 
-const std::string kSource = CALIPER_SOURCE_DIR;
+const std::string kRepoDir = CALIPER_SOURCE_DIR;
 
-const SimulatedSession& simulated() {
+const SimulatedSession& male_session() {
   static const SimulatedSession sim = [] {
-    const Protocol protocol = read_protocol(kSource + "/assets/protocol/virtual-caliper.json");
-    const smpl::BodyModel model = smpl::load_model(kSource + "/assets/models/caliper-male.npz");
+    const Protocol protocol = read_protocol(kRepoDir + "/assets/protocol/virtual-caliper.json");
+    const smpl::BodyModel model = smpl::load_model(kRepoDir + "/assets/models/caliper-male.npz");
     Eigen::VectorXd betas = Eigen::VectorXd::Zero(model.num_betas());
     betas.head(2) << -0.3, 0.4;
     SimulatorOptions o;
@@ -29,18 +29,18 @@ const SimulatedSession& simulated() {
   return sim;
 }
 
-VrSessionOptions session_options() {
+VrSessionOptions scene_session_options() {
   VrSessionOptions o;
-  o.protocol = read_protocol(kSource + "/assets/protocol/virtual-caliper.json");
-  o.protocol_dir = kSource + "/assets/protocol";
-  o.tips = default_controller_config().offsets(simulated().log.header.interaction_profile);
-  o.avatar.models_dir = kSource + "/assets/models";
+  o.protocol = read_protocol(kRepoDir + "/assets/protocol/virtual-caliper.json");
+  o.protocol_dir = kRepoDir + "/assets/protocol";
+  o.tips = default_controller_config().offsets(male_session().log.header.interaction_profile);
+  o.avatar.models_dir = kRepoDir + "/assets/models";
   return o;
 }
 
 AvatarSettings models() {
   AvatarSettings a;
-  a.models_dir = kSource + "/assets/models";
+  a.models_dir = kRepoDir + "/assets/models";
   return a;
 }
 
@@ -57,7 +57,7 @@ size_t count_quad(const render::Scene& s, render::TextureHandle slot) {
 /// Advances `session` until `until` holds (or the log ends); returns whether it held.
 template <typename Pred>
 bool advance_until(VrSession& session, size_t& next, Pred until) {
-  const PoseLog& log = simulated().log;
+  const PoseLog& log = male_session().log;
   while (next < log.frames.size()) {
     session.advance(log.frames[next++]);
     if (until()) return true;
@@ -66,7 +66,7 @@ bool advance_until(VrSession& session, size_t& next, Pred until) {
 }
 
 TEST(SceneBuilder, TheFloorPhaseShowsNumberedTargetsControllersAndThePanel) {
-  VrSession session(session_options());
+  VrSession session(scene_session_options());
   SceneBuilder builder(models(), {});
   size_t next = 0;
   ASSERT_TRUE(advance_until(session, next, [&] {
@@ -90,13 +90,13 @@ TEST(SceneBuilder, TheFloorPhaseShowsNumberedTargetsControllersAndThePanel) {
 }
 
 TEST(SceneBuilder, ThePanelIsRedrawnOnlyWhenItsTextChanges) {
-  VrSession session(session_options());
+  VrSession session(scene_session_options());
   SceneOptions so;
   so.panel_pixels = 256;
   SceneBuilder builder(models(), so);
   render::Scene scene;
   size_t next = 0;
-  const PoseLog& log = simulated().log;
+  const PoseLog& log = male_session().log;
   std::uint64_t redraws = 0, changes = 0;
   PanelContent last;
   for (; next < std::min<size_t>(log.frames.size(), 600); ++next) {
@@ -117,7 +117,7 @@ TEST(SceneBuilder, ThePanelIsRedrawnOnlyWhenItsTextChanges) {
 }
 
 TEST(SceneBuilder, TheStepsShowTheDemonstrationAndTheVideoUnderThePanel) {
-  VrSession session(session_options());
+  VrSession session(scene_session_options());
   SceneBuilder builder(models(), {});
   ASSERT_GT(builder.assets().meshes[kDemoMesh].version, 0u) << "loaded with the builder";
   ASSERT_FALSE(builder.demo_landmarks().empty());
@@ -152,7 +152,7 @@ TEST(SceneBuilder, TheStepsShowTheDemonstrationAndTheVideoUnderThePanel) {
 }
 
 TEST(SceneBuilder, TheDoneSceneDrawsTheDrivenBodyAndItsReflection) {
-  VrSession session(session_options());
+  VrSession session(scene_session_options());
   SceneBuilder builder(models(), {});
   size_t next = 0;
   ASSERT_TRUE(advance_until(session, next, [&] { return session.embodiment().frames > 2; }));
@@ -173,7 +173,7 @@ TEST(SceneBuilder, TheDoneSceneDrawsTheDrivenBodyAndItsReflection) {
   EXPECT_FLOAT_EQ(a.meshes[kOwnBodyMesh].data.positions[3], static_cast<float>(v(1, 0)));
   // Each build moves the driven meshes on; the full body only when it is drawn.
   const std::uint64_t own = a.meshes[kOwnBodyMesh].version, full = a.meshes[kFullBodyMesh].version;
-  session.advance(simulated().log.frames[next++]);
+  session.advance(male_session().log.frames[next++]);
   builder.build(session, scene);
   EXPECT_EQ(a.meshes[kOwnBodyMesh].version, own + 1);
   EXPECT_EQ(a.meshes[kFullBodyMesh].version, full);
@@ -188,7 +188,7 @@ TEST(SceneBuilder, TheDoneSceneDrawsTheDrivenBodyAndItsReflection) {
 }
 
 TEST(SceneBuilder, TheStereoViewsAreTheEyesOfTheHead) {
-  VrSession session(session_options());
+  VrSession session(scene_session_options());
   PoseFrame f;
   f.device(Device::Head).valid = true;
   f.device(Device::Head).position = Eigen::Vector3d(0.1, 1.6, 0.2);

@@ -22,7 +22,7 @@ const std::string kSource = CALIPER_SOURCE_DIR;
 
 /// One simulated self-role session (female open model, an early release on the height step so
 /// that one hold is rejected), shared by the tests.
-const SimulatedSession& simulated() {
+const SimulatedSession& female_session() {
   static const SimulatedSession sim = [] {
     const Protocol protocol = read_protocol(kSource + "/assets/protocol/virtual-caliper.json");
     const smpl::BodyModel model = smpl::load_model(kSource + "/assets/models/caliper-female.npz");
@@ -40,13 +40,13 @@ VrSessionOptions session_options(const std::string& journal) {
   VrSessionOptions o;
   o.protocol = read_protocol(kSource + "/assets/protocol/virtual-caliper.json");
   o.protocol_dir = kSource + "/assets/protocol";
-  o.tips = default_controller_config().offsets(simulated().log.header.interaction_profile);
+  o.tips = default_controller_config().offsets(female_session().log.header.interaction_profile);
   o.journal_path = journal;
   o.avatar.models_dir = kSource + "/assets/models";
   return o;
 }
 
-std::string temp_path(const std::string& name) {
+std::string session_temp_path(const std::string& name) {
   const std::filesystem::path dir = std::filesystem::path(CALIPER_TEST_DATA_DIR) / "vr_session";
   std::filesystem::create_directories(dir);
   std::filesystem::remove_all(dir / name);
@@ -66,7 +66,7 @@ struct SessionRun {
 
 SessionRun run_all(VrSession& s) {
   SessionRun r;
-  const PoseLog& log = simulated().log;
+  const PoseLog& log = female_session().log;
   for (size_t i = 0; i < log.frames.size(); ++i) {
     r.events.push_back(s.advance(log.frames[i]));
     r.feedback.push_back(s.feedback());
@@ -82,12 +82,12 @@ SessionRun run_all(VrSession& s) {
 }
 
 TEST(VrSession, FeedbackIsOneToneAndOnePulsePerAcceptedSampleAndAWeakPulsePerRejection) {
-  VrSession s(session_options(temp_path("feedback.jsonl")));
+  VrSession s(session_options(session_temp_path("feedback.jsonl")));
   const SessionRun r = run_all(s);
   ASSERT_TRUE(s.finished());
-  EXPECT_EQ(s.accepted_this_run(), simulated().accepted_samples);
-  EXPECT_EQ(s.rejected_this_run(), simulated().rejected_samples);
-  ASSERT_GT(simulated().rejected_samples, 0) << "the early release must be rejected";
+  EXPECT_EQ(s.accepted_this_run(), female_session().accepted_samples);
+  EXPECT_EQ(s.rejected_this_run(), female_session().rejected_samples);
+  ASSERT_GT(female_session().rejected_samples, 0) << "the early release must be rejected";
   int tones = 0, strong = 0, weak = 0;
   for (size_t i = 0; i < r.feedback.size(); ++i) {
     int accepted = 0, rejected = 0;
@@ -117,13 +117,13 @@ TEST(VrSession, FeedbackIsOneToneAndOnePulsePerAcceptedSampleAndAWeakPulsePerRej
     strong += frame_strong;
     weak += frame_weak;
   }
-  EXPECT_EQ(tones, simulated().accepted_samples);
-  EXPECT_EQ(strong, simulated().accepted_samples);
-  EXPECT_EQ(weak, simulated().rejected_samples);
+  EXPECT_EQ(tones, female_session().accepted_samples);
+  EXPECT_EQ(strong, female_session().accepted_samples);
+  EXPECT_EQ(weak, female_session().rejected_samples);
 }
 
 TEST(VrSession, TheJournalRestoresTheSameResult) {
-  const std::string journal = temp_path("journal.jsonl");
+  const std::string journal = session_temp_path("journal.jsonl");
   SessionResult first;
   {
     VrSession s(session_options(journal));
@@ -141,7 +141,7 @@ TEST(VrSession, TheJournalRestoresTheSameResult) {
   ASSERT_EQ(again.measurements.size(), first.measurements.size());
   for (const auto& kv : first.measurements)
     EXPECT_EQ(again.measurements.at(kv.first), kv.second) << kv.first;
-  resumed.advance(simulated().log.frames.back());
+  resumed.advance(female_session().log.frames.back());
   EXPECT_TRUE(resumed.finished());
   EXPECT_TRUE(resumed.avatar().has_value()) << resumed.avatar_error();
 }
@@ -181,7 +181,7 @@ TEST(VrSession, OnlyAMenuPressAfterCompletionEndsTheSession) {
   EXPECT_GT(r.end_requested_at, r.finished_at);
   // Before the session is complete the menu button does nothing.
   VrSession fresh(session_options(""));
-  PoseFrame f = simulated().log.frames.front();
+  PoseFrame f = female_session().log.frames.front();
   f.device(Device::Right).valid = true;
   f.device(Device::Right).menu = true;
   for (int i = 0; i < 10; ++i) {
@@ -232,7 +232,7 @@ TEST(VrSession, TheArmSpanStepShowsItsInstructionVideo) {
 
 TEST(VrSession, TheSessionFileNamesTheAvatar) {
   VrSessionOptions o = session_options("");
-  o.output_dir = temp_path("out");
+  o.output_dir = session_temp_path("out");
   VrSession s(std::move(o));
   run_all(s);
   const std::vector<std::string> files = s.write_outputs();
@@ -241,7 +241,7 @@ TEST(VrSession, TheSessionFileNamesTheAvatar) {
   for (const std::string& f : files) EXPECT_GT(std::filesystem::file_size(f), 100u) << f;
   const Json j = read_json_file(files[0]);
   EXPECT_EQ(j.at("avatar").at("regressor").as_string(), "R5");
-  EXPECT_EQ(j.at("accepted_samples_this_run").as_number(), simulated().accepted_samples);
+  EXPECT_EQ(j.at("accepted_samples_this_run").as_number(), female_session().accepted_samples);
 }
 
 /// Every header reached from `header` through quoted includes found in `dirs`, and the angle

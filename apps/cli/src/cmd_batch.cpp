@@ -25,7 +25,7 @@
 namespace caliper::cli {
 
 namespace {
-const app::HelpText kHelp{
+const app::HelpText kBatchHelp{
     {"caliper batch PEOPLE.csv [options]",
      "caliper batch --ansur ANSUR_II_MALE_Public.csv [--ansur ...] [options]"},
     "PEOPLE.csv: a header naming measurement ids with units (height_cm, weight_kg,\n"
@@ -494,7 +494,8 @@ int write_batch_report(const BatchOptions& opt, const std::vector<Person>& peopl
 }  // namespace
 
 int cmd_batch(const std::vector<std::string>& args, Io& io) {
-  const std::optional<ParsedArgs> parsed = parse_args_or_help(args, batch_options(), kHelp, io.out);
+  const std::optional<ParsedArgs> parsed =
+      parse_args_or_help(args, batch_options(), kBatchHelp, io.out);
   if (!parsed) return kExitOk;
   const ParsedArgs& a = *parsed;
   const BatchOptions opt = batch_options_from(a);

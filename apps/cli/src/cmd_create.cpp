@@ -17,7 +17,7 @@
 namespace caliper::cli {
 
 namespace {
-const app::HelpText kHelp{
+const app::HelpText kCreateHelp{
     {"caliper create --height LENGTH [--weight MASS] [more measurements] [options]"},
     "Creates an avatar from body measurements (units are required) and prints input\n"
     "vs achieved measurements, the betas and their plausibility.",
@@ -388,7 +388,7 @@ int write_create_report(const CreateOptions& opt, const CreateResult& r, Io& io)
 
 int cmd_create(const std::vector<std::string>& args, Io& io) {
   return run_command(
-      args, create_options(), kHelp, io, create_options_from,
+      args, create_options(), kCreateHelp, io, create_options_from,
       [&io](const CreateOptions& opt) { return run_create(opt, io.err); }, write_create_report);
 }
 

@@ -16,7 +16,7 @@
 namespace caliper::cli {
 
 namespace {
-const app::HelpText kHelp{
+const app::HelpText kEvaluateHelp{
     {"caliper evaluate table1|simulation|ansur|nhanes [options]"},
     "  table1      the paper's Table 1: input vs avatar measurements per regressor\n"
     "  simulation  noisy inputs of bodies drawn from the model, vertex-to-vertex error\n"
@@ -175,7 +175,7 @@ std::string run_evaluate(const EvaluateCommand& c) {
 }  // namespace
 
 int cmd_evaluate(const std::vector<std::string>& args, Io& io) {
-  const ParsedArgs a = parse_args(args, evaluate_options(), kHelp);
+  const ParsedArgs a = parse_args(args, evaluate_options(), kEvaluateHelp);
   if (a.flags.count("help")) {
     io.out << a.help;
     return kExitOk;

@@ -16,7 +16,7 @@
 namespace caliper::cli {
 
 namespace {
-const app::HelpText kHelp{
+const app::HelpText kMeasureHelp{
     {"caliper measure AVATAR.glb|.gltf|.vrm|.fbx|.obj|.ply [--model FILE | --sex SEX]",
      "caliper measure [--model FILE | --sex SEX] --betas b1,b2,..."},
     "Measures a rest-pose avatar (the 13 measurements of the paper, circumferences,\n"
@@ -206,7 +206,7 @@ int write_measure_report(const MeasureCommand& c, const MeasureResult& r, Io& io
 }  // namespace
 
 int cmd_measure(const std::vector<std::string>& args, Io& io) {
-  return run_command(args, measure_options(), kHelp, io, measure_command_from, run_measure,
+  return run_command(args, measure_options(), kMeasureHelp, io, measure_command_from, run_measure,
                      write_measure_report);
 }
 

@@ -14,7 +14,7 @@
 namespace caliper::cli {
 
 namespace {
-const app::HelpText kHelp{
+const app::HelpText kModelsHelp{
     {"caliper models [FILE...] [--json]"},
     "Lists the open default models (assets/models/) and describes the given model\n"
     "files: name, gender, vertices, joints, betas, landmarks present.",
@@ -56,7 +56,7 @@ int cmd_models(const std::vector<std::string>& args, Io& io) {
   const std::vector<OptionSpec> specs = {
       {"json", "", "", "print JSON", false},
   };
-  const std::optional<ParsedArgs> parsed = parse_args_or_help(args, specs, kHelp, io.out);
+  const std::optional<ParsedArgs> parsed = parse_args_or_help(args, specs, kModelsHelp, io.out);
   if (!parsed) return kExitOk;
   const ParsedArgs& a = *parsed;
   std::vector<std::string> paths;

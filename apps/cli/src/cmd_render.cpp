@@ -14,7 +14,7 @@
 namespace caliper::cli {
 
 namespace {
-const app::HelpText kHelp{
+const app::HelpText kRenderHelp{
     {"caliper render AVATAR.glb|.gltf|.obj|.ply [options]",
      "caliper render [--model FILE | --sex SEX] [--betas LIST] [options]"},
     "Renders PNG pictures with the off-screen (OSMesa) renderer; no display needed.",
@@ -33,7 +33,7 @@ int cmd_render(const std::vector<std::string>& args, Io& io) {
       {"size", "", "WxH", "image size in pixels (default 600x800)", false},
       {"out", "o", "PREFIX", "output prefix: PREFIX_front.png, ... (default: avatar)", false},
   };
-  const std::optional<ParsedArgs> parsed = parse_args_or_help(args, specs, kHelp, io.out);
+  const std::optional<ParsedArgs> parsed = parse_args_or_help(args, specs, kRenderHelp, io.out);
   if (!parsed) return kExitOk;
   const ParsedArgs& a = *parsed;
   if (a.positional.size() > 1) throw UsageError("give one avatar file");

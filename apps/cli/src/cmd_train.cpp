@@ -16,7 +16,7 @@
 namespace caliper::cli {
 
 namespace {
-const app::HelpText kHelp{
+const app::HelpText kTrainHelp{
     {"caliper train [--model FILE | --sex SEX] [--save regressors.json]"},
     "Builds the training set (the paper's 2^10 bodies at +/-2 SD, or Gaussian samples),\n"
     "fits R2, R4, R5, R6 and the noise-aware regressor, and reports them.",
@@ -228,7 +228,7 @@ int write_train_report(const TrainCommand& c, const TrainResult& r, Io& io) {
 }  // namespace
 
 int cmd_train(const std::vector<std::string>& args, Io& io) {
-  return run_command(args, train_options(), kHelp, io, train_command_from, run_train,
+  return run_command(args, train_options(), kTrainHelp, io, train_command_from, run_train,
                      write_train_report);
 }
 
