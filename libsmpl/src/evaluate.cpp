@@ -118,6 +118,102 @@ SMPL_KERNEL_VARIANTS(blend,
                       const double* beta, Eigen::Index nb, double* out),
                      (t, S, ld, rows, beta, nb, out))
 
+// ---- Batch shape blend shapes (shape_batch): one loaded vector of shapedirs serves G bodies.
+
+// One step of K vectors T of rows r.. for G bodies (body g's betas at beta + g * bstride, its
+// output at out + g * ostride): acc_g = t, then acc_g += beta_g[b] * S_b for b = 0, 1, ... in
+// this order, as blend_body computes each output. T may be double (the tail rows).
+template <typename T, int G, int K>
+inline __attribute__((always_inline)) void blend_step(const double* t, const double* S,
+                                                      Eigen::Index ld, Eigen::Index r,
+                                                      const double* beta, Eigen::Index bstride,
+                                                      Eigen::Index nb, double* out,
+                                                      Eigen::Index ostride) {
+  constexpr Eigen::Index kLanes = static_cast<Eigen::Index>(sizeof(T) / sizeof(double));
+  T a[G][K];
+#pragma GCC unroll 8
+  for (int k = 0; k < K; ++k) {
+    T tk;
+    std::memcpy(&tk, t + r + k * kLanes, sizeof(T));
+#pragma GCC unroll 4
+    for (int g = 0; g < G; ++g) a[g][k] = tk;
+  }
+  for (Eigen::Index b = 0; b < nb; ++b) {
+    T x[K];
+#pragma GCC unroll 8
+    for (int k = 0; k < K; ++k) std::memcpy(&x[k], S + b * ld + r + k * kLanes, sizeof(T));
+#pragma GCC unroll 4
+    for (int g = 0; g < G; ++g) {
+      const double c = beta[g * bstride + b];
+#pragma GCC unroll 8
+      for (int k = 0; k < K; ++k) a[g][k] += c * x[k];
+    }
+  }
+#pragma GCC unroll 4
+  for (int g = 0; g < G; ++g) {
+#pragma GCC unroll 8
+    for (int k = 0; k < K; ++k)
+      std::memcpy(out + g * ostride + r + k * kLanes, &a[g][k], sizeof(T));
+  }
+}
+
+// Rows [0, rows) of G bodies: steps of K vectors V, then of one vector, then the tail rows one at a
+// time.
+template <typename V, int G, int K>
+inline __attribute__((always_inline)) void blend_group(const double* t, const double* S,
+                                                       Eigen::Index ld, Eigen::Index rows,
+                                                       const double* beta, Eigen::Index bstride,
+                                                       Eigen::Index nb, double* out,
+                                                       Eigen::Index ostride) {
+  constexpr Eigen::Index kRows = K * static_cast<Eigen::Index>(sizeof(V) / sizeof(double));
+  constexpr Eigen::Index kLanes = static_cast<Eigen::Index>(sizeof(V) / sizeof(double));
+  Eigen::Index r = 0;
+  for (; r + kRows <= rows; r += kRows)
+    blend_step<V, G, K>(t, S, ld, r, beta, bstride, nb, out, ostride);
+  for (; r + kLanes <= rows; r += kLanes)
+    blend_step<V, G, 1>(t, S, ld, r, beta, bstride, nb, out, ostride);
+  for (; r < rows; ++r) blend_step<double, G, 1>(t, S, ld, r, beta, bstride, nb, out, ostride);
+}
+
+// blend() for `nbodies` bodies over the same rows: body n's betas at beta + n * bstride, its
+// output at out + n * ostride. Groups of 4 bodies share every loaded vector of S (2 vectors of
+// rows per step, 4 with AVX-512's 32 registers: 8 or 16 accumulators), so a block of S small
+// enough for the L1 cache is read from it once per 4 bodies; each output has the bits of blend()
+// (same operations, same order).
+SMPL_KERNEL_BODY
+void blend_batch_body(const double* t, const double* S, Eigen::Index ld, Eigen::Index rows,
+                      const double* beta, Eigen::Index bstride, Eigen::Index nb,
+                      Eigen::Index nbodies, double* out, Eigen::Index ostride) {
+  typedef typename Vec<double, kVecBytes>::type V;
+  constexpr int K = kVecBytes >= 64 ? 4 : 2;
+  Eigen::Index n = 0;
+  for (; n + 4 <= nbodies; n += 4)
+    blend_group<V, 4, K>(t, S, ld, rows, beta + n * bstride, bstride, nb, out + n * ostride,
+                         ostride);
+  const double* bn = beta + n * bstride;
+  double* on = out + n * ostride;
+  // The last 1-3 bodies: more vectors of rows per step, so that enough independent sums are in
+  // flight to hide the latency of the additions (8 for one body, as blend() has).
+  switch (nbodies - n) {
+    case 3:
+      blend_group<V, 3, K + 1>(t, S, ld, rows, bn, bstride, nb, on, ostride);
+      break;
+    case 2:
+      blend_group<V, 2, 2 * K>(t, S, ld, rows, bn, bstride, nb, on, ostride);
+      break;
+    case 1:
+      blend_group<V, 1, 8>(t, S, ld, rows, bn, bstride, nb, on, ostride);
+      break;
+    default:
+      break;
+  }
+}
+SMPL_KERNEL_VARIANTS(blend_batch,
+                     (const double* t, const double* S, Eigen::Index ld, Eigen::Index rows,
+                      const double* beta, Eigen::Index bstride, Eigen::Index nb,
+                      Eigen::Index nbodies, double* out, Eigen::Index ostride),
+                     (t, S, ld, rows, beta, bstride, nb, nbodies, out, ostride))
+
 // v += P[:, c0:c0+nc] * f[c0:c0+nc] for the double pose blend shapes (P column-major, leading
 // dimension ld). Blocks of 512 rows (4 KB per column segment: long sequential runs that the
 // hardware prefetchers follow), 4 columns per pass over the L1-resident block of v.
@@ -581,8 +677,10 @@ void shape_rows(const BodyModel& model, const Eigen::Ref<const RowMatrixXd>& bet
   const Eigen::Index V = model.v_template.rows(), nb = betas.cols();
   const Eigen::Index K = model.j_regressor.rows();
   const SparseMatrix& J = model.j_regressor;
+  // Vertices per block: the block of shapedirs (3 x 8 bytes x nb per vertex) within 24 KB, so that
+  // it stays in the L1 cache while every group of 4 bodies passes over it.
   const Eigen::Index block = std::max<Eigen::Index>(
-      64, (96 * Eigen::Index{1024}) / (24 * std::max<Eigen::Index>(nb, 1)) / 64 * 64);  // vertices
+      32, (24 * Eigen::Index{1024}) / (24 * std::max<Eigen::Index>(nb, 1)) / 32 * 32);
   std::vector<Eigen::Index> cursor(static_cast<size_t>(K)), end(static_cast<size_t>(K));
   for (Eigen::Index k = 0; k < K; ++k) {
     cursor[static_cast<size_t>(k)] = J.outerIndexPtr()[k];
@@ -595,10 +693,10 @@ void shape_rows(const BodyModel& model, const Eigen::Ref<const RowMatrixXd>& bet
   const double* value = J.valuePtr();
   for (Eigen::Index v0 = 0; v0 < V; v0 += block) {
     const Eigen::Index v1 = std::min(V, v0 + block);
-    for (Eigen::Index n = n0; n < n1; ++n) {
-      blend(model.v_template.data() + 3 * v0, model.shapedirs.data() + 3 * v0,
-            model.shapedirs.rows(), 3 * (v1 - v0), betas.row(n).data(), nb,
-            vertices.row(n).data() + 3 * v0);
+    if (n1 > n0) {
+      blend_batch(model.v_template.data() + 3 * v0, model.shapedirs.data() + 3 * v0,
+                  model.shapedirs.rows(), 3 * (v1 - v0), betas.row(n0).data(), betas.outerStride(),
+                  nb, n1 - n0, vertices.row(n0).data() + 3 * v0, vertices.outerStride());
     }
     for (Eigen::Index k = 0; k < K; ++k) {
       const Eigen::Index lo = cursor[static_cast<size_t>(k)];

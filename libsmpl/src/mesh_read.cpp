@@ -18,6 +18,7 @@
 #include "smpl/enum_names.hpp"
 #include "smpl/export.hpp"
 #include "smpl/npz.hpp"
+#include "smpl/scalar_types.hpp"
 #include "smpl/text.hpp"
 
 namespace smpl {
@@ -112,7 +113,8 @@ MeshData parse_obj(const std::string& text, const std::string& context) {
 // ---------------------------------------------------------------------------------------------
 namespace {
 
-enum class PlyType { kInt8, kUint8, kInt16, kUint16, kInt32, kUint32, kFloat32, kFloat64 };
+// A PLY property's type: one of the first eight ScalarTypes (PLY has no 64-bit integers).
+using PlyType = ScalarType;
 
 // The names of PlyType's values, in its order: PLY's original ones and the sized ones.
 constexpr std::array<const char*, 8> kPlyTypeNames = {"char", "uchar", "short", "ushort",
@@ -126,31 +128,6 @@ bool ply_type(const std::string& t, PlyType& out) {
   if (!type) type = enum_from_name<PlyType>(t, kPlySizedTypeNames);
   if (type) out = *type;
   return type.has_value();
-}
-
-std::size_t ply_size(PlyType t) {
-  switch (t) {
-    case PlyType::kInt8:
-    case PlyType::kUint8:
-      return 1;
-    case PlyType::kInt16:
-    case PlyType::kUint16:
-      return 2;
-    case PlyType::kInt32:
-    case PlyType::kUint32:
-    case PlyType::kFloat32:
-      return 4;
-    case PlyType::kFloat64:
-      return 8;
-  }
-  return 8;
-}
-
-template <typename T>
-double load_as_double(const std::uint8_t* p) {
-  T x;
-  std::memcpy(&x, p, sizeof(T));
-  return static_cast<double>(x);
 }
 
 struct PlyProperty {
@@ -176,28 +153,12 @@ class PlyBody {
 
   double next(PlyType t) {
     if (!ascii_) {
-      const std::size_t n = ply_size(t);
+      const std::size_t n = scalar_size(t);
       if (n > left()) fail(context_, "truncated PLY body");
       const std::uint8_t* q = p_ + pos_;
       pos_ += n;
-      switch (t) {
-        case PlyType::kInt8:
-          return load_as_double<std::int8_t>(q);
-        case PlyType::kUint8:
-          return load_as_double<std::uint8_t>(q);
-        case PlyType::kInt16:
-          return load_as_double<std::int16_t>(q);
-        case PlyType::kUint16:
-          return load_as_double<std::uint16_t>(q);
-        case PlyType::kInt32:
-          return load_as_double<std::int32_t>(q);
-        case PlyType::kUint32:
-          return load_as_double<std::uint32_t>(q);
-        case PlyType::kFloat32:
-          return load_as_double<float>(q);
-        case PlyType::kFloat64:
-          return load_as_double<double>(q);
-      }
+      return visit_scalar_type(
+          t, [q](auto tag) { return static_cast<double>(load_scalar<decltype(tag)>(q)); });
     }
     auto space = [](std::uint8_t c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; };
     while (pos_ < size_ && space(p_[pos_])) ++pos_;
@@ -314,7 +275,7 @@ void check_ply_counts(const PlyHeader& h, std::size_t body_size, const std::stri
   for (const PlyElement& e : h.elements) {
     std::uint64_t per = 0;
     for (const PlyProperty& p : e.props)
-      per += ascii ? 1 : ply_size(p.list ? p.count_type : p.type);
+      per += ascii ? 1 : scalar_size(p.list ? p.count_type : p.type);
     if (per == 0) {
       if (e.count > 0 && (e.name == "vertex" || e.name == "face")) {
         fail(context, "PLY element '" + e.name + "' has " + std::to_string(e.count) +
@@ -353,7 +314,7 @@ void read_ply_body(PlyBody& in, const PlyHeader& h, const std::string& context,
           continue;
         }
         // A list: its count is bounded by the bytes left, its items are read one by one.
-        const double per_item = ascii ? 1.0 : static_cast<double>(ply_size(p.type));
+        const double per_item = ascii ? 1.0 : static_cast<double>(scalar_size(p.type));
         const std::int64_t n =
             whole(in.next(p.count_type), static_cast<double>(in.left()) / per_item, context,
                   "PLY list count");

@@ -1,6 +1,7 @@
 // numpy .npy arrays: header parsing and writing, dtype conversion, memory order
 // (NEP 1, "A simple file format for NumPy arrays"; numpy/lib/format.py behaviour for headers).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -9,7 +10,9 @@
 
 #include "model_error.hpp"
 #include "smpl/atomic_file.hpp"
+#include "smpl/enum_names.hpp"
 #include "smpl/npz.hpp"
+#include "smpl/scalar_types.hpp"
 #include "smpl/text.hpp"
 
 namespace smpl {
@@ -225,12 +228,10 @@ DtypeInfo parse_descr(const std::string& descr, const std::string& context) {
   return info;
 }
 
-template <typename T>
-T load(const std::uint8_t* p) {
-  T v;
-  std::memcpy(&v, p, sizeof(T));
-  return v;
-}
+// The numeric dtypes (as parse_descr normalises them) in ScalarType's order.
+constexpr std::array<const char*, 10> kNumericDtypes = {"|i1", "|u1", "<i2", "<u2", "<i4",
+                                                        "<u4", "<f4", "<f8", "<i8", "<u8"};
+static_assert(kNumericDtypes.size() == static_cast<std::size_t>(ScalarType::kUint64) + 1);
 
 // Calls f(value) for every element of a numeric array in storage order.
 template <typename F>
@@ -238,30 +239,11 @@ void for_each_numeric(const NpyArray& a, const F& f) {
   const std::string& d = a.dtype;
   const std::uint8_t* p = a.data.data();
   const std::size_t n = a.size();
-  auto loop = [&](auto tag) {
-    using T = decltype(tag);
-    for (std::size_t i = 0; i < n; ++i) f(load<T>(p + i * sizeof(T)));
-  };
-  if (d == "<f8") {
-    loop(double{});
-  } else if (d == "<f4") {
-    loop(float{});
-  } else if (d == "<i8") {
-    loop(std::int64_t{});
-  } else if (d == "<i4") {
-    loop(std::int32_t{});
-  } else if (d == "<i2") {
-    loop(std::int16_t{});
-  } else if (d == "|i1") {
-    loop(std::int8_t{});
-  } else if (d == "<u8") {
-    loop(std::uint64_t{});
-  } else if (d == "<u4") {
-    loop(std::uint32_t{});
-  } else if (d == "<u2") {
-    loop(std::uint16_t{});
-  } else if (d == "|u1") {
-    loop(std::uint8_t{});
+  if (const auto type = enum_from_name<ScalarType>(d, kNumericDtypes)) {
+    visit_scalar_type(*type, [&](auto tag) {
+      using T = decltype(tag);
+      for (std::size_t i = 0; i < n; ++i) f(load_scalar<T>(p + i * sizeof(T)));
+    });
   } else if (d == "|b1") {
     for (std::size_t i = 0; i < n; ++i) f(static_cast<std::uint8_t>(p[i] != 0));
   } else {
@@ -369,22 +351,16 @@ NpyArray NpyArray::c_order() const {
       }
     }
   };
-  switch (item) {
-    case 1:
-      copy(std::uint8_t{});
-      break;
-    case 2:
-      copy(std::uint16_t{});
-      break;
-    case 4:
-      copy(std::uint32_t{});
-      break;
-    case 8:
-      copy(std::uint64_t{});
-      break;
-    default:
-      copy(static_cast<void*>(nullptr));
+  // Items of 1, 2, 4 or 8 bytes move as one unsigned integer of that size (a copy of a fixed
+  // size), other items (strings) as `item` bytes.
+  for (const ScalarType word :
+       {ScalarType::kUint8, ScalarType::kUint16, ScalarType::kUint32, ScalarType::kUint64}) {
+    if (scalar_size(word) == item) {
+      visit_scalar_type(word, copy);
+      return out;
+    }
   }
+  copy(static_cast<void*>(nullptr));
   return out;
 }
 
@@ -432,9 +408,9 @@ std::vector<std::string> NpyArray::to_strings() const {
       while (!s.empty() && s.back() == '\0') s.pop_back();
     } else {
       std::size_t len = item / 4;
-      while (len > 0 && load<std::uint32_t>(p + 4 * (len - 1)) == 0) --len;
+      while (len > 0 && load_scalar<std::uint32_t>(p + 4 * (len - 1)) == 0) --len;
       for (std::size_t j = 0; j < len; ++j) {
-        const auto cp = load<std::uint32_t>(p + 4 * j);
+        const auto cp = load_scalar<std::uint32_t>(p + 4 * j);
         if (cp > 0x10FFFF || (cp >= 0xD800 && cp <= 0xDFFF)) {
           throw ModelError("text array holds the invalid code point " + std::to_string(cp));
         }

@@ -7,8 +7,11 @@
 // variant's vector width (BM_StreamSum/...), so each variant is compared with its own bandwidth
 // bound in the same run. The variants the CPU has are printed in the context ("simd_levels").
 // The pose blend shapes are a 20670 x 207 double matrix (34 MB) read once per posed evaluation.
+// --write_model=PATH and --write_reference=PATH write the model and reference vertices for
+// tools/bench_vs_smplx.py instead of running benchmarks (see write_files below).
 #include <benchmark/benchmark.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
@@ -18,6 +21,7 @@
 #include "smpl/evaluate.hpp"
 #include "smpl/gltf.hpp"
 #include "smpl/io.hpp"
+#include "smpl/npz.hpp"
 #include "smpl/simd.hpp"
 
 namespace {
@@ -156,6 +160,14 @@ smpl::RowMatrixXd batch_betas(int n) {
   return b;
 }
 
+smpl::RowMatrixXd batch_poses(int n, int num_joints) {
+  smpl::RowMatrixXd poses(n, 3 * num_joints);
+  for (int i = 0; i < n; ++i)
+    poses.row(i) = caliper::test::random_pose(num_joints, 1.0, 900 + static_cast<std::uint64_t>(i))
+                       .transpose();
+  return poses;
+}
+
 // smpl::shape_batch: range(0) = N bodies, range(1) = threads. "per_body" is the time per body
 // (CPU time of the calling thread for 1 thread; with more threads the benchmark uses wall time,
 // and bodies_per_s is the throughput of all of them).
@@ -184,11 +196,7 @@ void BM_EvaluateBatch(benchmark::State& state, smpl::SimdLevel level) {
   const auto& m = model();
   const int n = static_cast<int>(state.range(0)), threads = static_cast<int>(state.range(2));
   const smpl::RowMatrixXd betas = batch_betas(n);
-  smpl::RowMatrixXd poses(n, 3 * m.num_joints());
-  for (int i = 0; i < n; ++i)
-    poses.row(i) =
-        caliper::test::random_pose(m.num_joints(), 1.0, 900 + static_cast<std::uint64_t>(i))
-            .transpose();
+  const smpl::RowMatrixXd poses = batch_poses(n, m.num_joints());
   smpl::Workspace ws;
   ws.single_precision_pose_blend_shapes = state.range(1) == 1;
   smpl::BodyBatch out;
@@ -259,10 +267,15 @@ void register_per_variant() {
         ->Args({0, 0})
         ->Unit(benchmark::kMicrosecond);
     if (!custom_batches.empty()) {
-      // CALIPER_BENCH_BATCH_SIZES (tools/bench_vs_smplx.py): these batch sizes, one thread.
+      // CALIPER_BENCH_BATCH_SIZES (tools/bench_vs_smplx.py): these batch sizes, one thread
+      // (CPU time), and shape only with two threads (wall time, .../2/real_time).
       for (int n : custom_batches) {
         benchmark::RegisterBenchmark(("BM_ShapeBatch/" + v).c_str(), BM_ShapeBatch, level)
             ->Args({n, 1})
+            ->Unit(benchmark::kMicrosecond);
+        benchmark::RegisterBenchmark(("BM_ShapeBatch/" + v).c_str(), BM_ShapeBatch, level)
+            ->Args({n, 2})
+            ->UseRealTime()
             ->Unit(benchmark::kMicrosecond);
         benchmark::RegisterBenchmark(("BM_EvaluateBatch/" + v).c_str(), BM_EvaluateBatch, level)
             ->Args({n, 0, 1})
@@ -304,9 +317,63 @@ void register_per_variant() {
   benchmark::AddCustomContext("simd_default", smpl::simd_level_name(smpl::default_simd_level()));
 }
 
+// --write_model=PATH: the benchmarks' model (the random one, or CALIPER_BENCH_MODEL's) as an
+// SMPL-layout .npz (v_template, shapedirs, posedirs, J_regressor, weights, kintree_table, f), the
+// file tools/bench_vs_smplx.py gives both sides. --write_reference=PATH: for that model, the
+// betas and poses of the first 8 bodies of the batch benchmarks and libsmpl's vertices for them
+// (shape_batch; evaluate_batch with double and float pose blend shapes), so that the script can
+// check that smplx computes the same bodies before it times them.
+void write_reference(const std::string& path) {
+  const auto& m = model();
+  constexpr int kBodies = 8;
+  const smpl::RowMatrixXd betas = batch_betas(kBodies);
+  const smpl::RowMatrixXd poses = batch_poses(kBodies, m.num_joints());
+  smpl::NpzArchive out;
+  out["betas"] = smpl::make_npy(betas);
+  out["poses"] = smpl::make_npy(poses);
+  smpl::BodyBatch batch;
+  smpl::shape_batch(m, betas, batch);
+  out["shape_vertices"] = smpl::make_npy(batch.vertices);
+  out["shape_joints"] = smpl::make_npy(batch.joints);
+  for (const bool single : {false, true}) {
+    smpl::Workspace ws;
+    ws.single_precision_pose_blend_shapes = single;
+    smpl::evaluate_batch(m, betas, poses, smpl::RowMatrixXd(0, 3), ws, batch);
+    out[single ? "posed_vertices_float" : "posed_vertices_double"] = smpl::make_npy(batch.vertices);
+    out[single ? "posed_joints_float" : "posed_joints_double"] = smpl::make_npy(batch.joints);
+  }
+  smpl::write_npz(path, out);
+}
+
+// Handles --write_model= and --write_reference= (before the benchmark flags): returns the exit
+// code when one was given, -1 otherwise.
+int write_files(int argc, char** argv) {
+  int done = -1;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    for (const char* flag : {"--write_model=", "--write_reference="}) {
+      if (arg.rfind(flag, 0) != 0) continue;
+      const std::string path = arg.substr(std::strlen(flag));
+      try {
+        if (std::strcmp(flag, "--write_model=") == 0) {
+          smpl::save_model(model(), path);
+        } else {
+          write_reference(path);
+        }
+        done = 0;
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "bench_smpl: %s: %s\n", flag, e.what());
+        return 1;
+      }
+    }
+  }
+  return done;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (const int code = write_files(argc, argv); code >= 0) return code;
   register_per_variant();
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;

@@ -321,3 +321,28 @@ TEST(Renderer, LinkProgramNamesTheShaderThatFailsToCompile) {
         << e.what();
   }
 }
+
+// A vertex prelude (shaders::kUnlitVertex for the flat and overlay programs) is compiled in after
+// the #version line; the compiler's line numbers still count the lines of the shader's own file.
+TEST(Renderer, LinkProgramCompilesTheVertexPreludeAfterTheVersionLine) {
+  auto ctx = cr::make_osmesa_context(8, 8);
+  const char* prelude = "vec4 origin() { return vec4(0.0, 0.0, 0.0, 1.0); }\n";
+  const char* vs = "#version 330 core\nvoid main() { gl_Position = origin(); }\n";
+  const char* fs = "#version 330 core\nout vec4 c;\nvoid main() { c = vec4(1.0); }\n";
+  const GLuint p = cr::link_program(ctx->gl(), vs, fs, "with_prelude", prelude);
+  EXPECT_NE(p, 0u);
+  ctx->gl().DeleteProgram(p);
+  EXPECT_THROW(cr::link_program(ctx->gl(), vs, fs, "without_prelude"), cr::RenderError);
+  try {
+    cr::link_program(ctx->gl(), "#version 330 core\n// line 2\nvoid main() { oops }\n", fs,
+                     "broken_line_3", prelude);
+    FAIL() << "a shader with a syntax error linked";
+  } catch (const cr::RenderError& e) {
+    EXPECT_NE(std::string(e.what()).find("shader broken_line_3 failed to compile"),
+              std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find(":3("), std::string::npos) << e.what();  // Mesa: 0:3(n)
+  }
+  EXPECT_THROW(cr::link_program(ctx->gl(), "#version 330 core", fs, "one_line", prelude),
+               cr::RenderError);
+}

@@ -66,20 +66,32 @@ TEST(Batch, ShapeBatchHasTheBitsOfSingleCallsForAnyThreadCount) {
   caliper::test::RandomModelOptions mo;
   mo.num_betas = 13;
   const smpl::BodyModel model = caliper::test::make_random_model(mo);
-  const Inputs in = make_inputs(7, 11, 24, false, 40);  // fewer betas than the model's
-  for (int threads : {1, 3}) {
+  // Bodies share each loaded vector of shapedirs in groups of 4: 9 bodies on 1, 2 and 3 threads
+  // give shares of 9, 4 + 5 and 3 + 3 + 3 bodies, so every group size (4, then 1, 2 or 3) runs.
+  const int N = 9;
+  const Inputs in = make_inputs(N, 11, 24, false, 40);  // fewer betas than the model's
+  for (int threads : {1, 2, 3}) {
     smpl::BodyBatch batch;
     smpl::shape_batch(model, in.betas, batch, threads);
-    ASSERT_EQ(batch.vertices.rows(), 7);
+    ASSERT_EQ(batch.vertices.rows(), N);
     ASSERT_EQ(batch.vertices.cols(), 3 * model.num_vertices());
     ASSERT_EQ(batch.joints.cols(), 3 * model.num_joints());
-    for (int n = 0; n < 7; ++n) {
+    for (int n = 0; n < N; ++n) {
       const smpl::Body one = smpl::shape(model, in.betas.row(n).transpose());
       EXPECT_TRUE(same_bits(one.vertices.data(), batch.vertices.row(n).data(), one.vertices.size()))
           << "body " << n << ", " << threads << " threads";
       EXPECT_TRUE(same_bits(one.joints.data(), batch.joints.row(n).data(), one.joints.size()))
           << "body " << n << ", " << threads << " threads";
     }
+  }
+  // Betas as a block of a wider matrix (rows 11 apart in memory): the rows are read with their
+  // stride.
+  smpl::BodyBatch strided;
+  smpl::shape_batch(model, in.betas.leftCols(6), strided);
+  for (int n = 0; n < N; ++n) {
+    const smpl::Body one = smpl::shape(model, in.betas.row(n).head(6).transpose());
+    EXPECT_TRUE(same_bits(one.vertices.data(), strided.vertices.row(n).data(), one.vertices.size()))
+        << "body " << n << " of the strided betas";
   }
 }
 

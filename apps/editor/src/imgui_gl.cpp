@@ -16,10 +16,12 @@ const void* gl_offset(std::uintptr_t bytes) {
 }  // namespace
 
 ImGuiGl::ImGuiGl(const render::GlFunctions& gl) : gl_(gl) {
-  program_ =
-      render::link_program(gl, render::shaders::kImguiVert, render::shaders::kImguiFrag, "imgui");
-  u_projection_ = gl.GetUniformLocation(program_, "u_projection");
+  // The renderer's flat program: a projection matrix, the colour times the texture.
+  program_ = render::link_program(gl, render::shaders::kFlatVert, render::shaders::kFlatFrag,
+                                  "imgui", render::shaders::kUnlitVertex);
+  u_projection_ = gl.GetUniformLocation(program_, "u_view_projection");
   u_texture_ = gl.GetUniformLocation(program_, "u_texture");
+  u_textured_ = gl.GetUniformLocation(program_, "u_textured");
   gl.GenVertexArrays(1, &vao_);
   gl.GenBuffers(1, &vbo_);
   gl.GenBuffers(1, &ebo_);
@@ -30,10 +32,11 @@ ImGuiGl::ImGuiGl(const render::GlFunctions& gl) : gl_(gl) {
   gl.EnableVertexAttribArray(0);
   gl.EnableVertexAttribArray(1);
   gl.EnableVertexAttribArray(2);
+  // The layout of shaders/unlit_vertex.glsl: position, colour, texture coordinate.
   gl.VertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, stride, gl_offset(IM_OFFSETOF(ImDrawVert, pos)));
-  gl.VertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, stride, gl_offset(IM_OFFSETOF(ImDrawVert, uv)));
-  gl.VertexAttribPointer(2, 4, GL_UNSIGNED_BYTE, GL_TRUE, stride,
+  gl.VertexAttribPointer(1, 4, GL_UNSIGNED_BYTE, GL_TRUE, stride,
                          gl_offset(IM_OFFSETOF(ImDrawVert, col)));
+  gl.VertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride, gl_offset(IM_OFFSETOF(ImDrawVert, uv)));
   gl.BindVertexArray(0);
 
   ImGuiIO& io = ImGui::GetIO();
@@ -80,6 +83,7 @@ void ImGuiGl::render(const ImDrawData* data) {
       (t + b) / (b - t), 0, 1};
   gl.UseProgram(program_);
   gl.Uniform1i(u_texture_, 0);
+  gl.Uniform1i(u_textured_, 1);
   gl.UniformMatrix4fv(u_projection_, 1, GL_FALSE, proj);
   gl.BindVertexArray(vao_);
   gl.ActiveTexture(GL_TEXTURE0);

@@ -27,7 +27,7 @@ class ImGuiGl {
  private:
   const render::GlFunctions& gl_;
   GLuint program_ = 0, vao_ = 0, vbo_ = 0, ebo_ = 0, font_texture_ = 0;
-  GLint u_projection_ = -1, u_texture_ = -1;
+  GLint u_projection_ = -1, u_texture_ = -1, u_textured_ = -1;
 };
 
 }  // namespace caliper::editor

@@ -13,6 +13,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <initializer_list>
 
 #include <Eigen/Geometry>
 
@@ -194,6 +196,15 @@ class Builder {
     const int n = static_cast<int>(a.size());
     for (int j = 0; j < n; ++j) {
       quad(a[j], a[(j + 1) % n], b[(j + 1) % n], b[j]);
+    }
+  }
+  // connect() along a chain of rings, in order: the first to the second, the second to the
+  // third, ...
+  void connect_chain(std::initializer_list<std::reference_wrapper<const std::vector<int>>> rings) {
+    const std::vector<int>* previous = nullptr;
+    for (const std::vector<int>& ring : rings) {
+      if (previous != nullptr) connect(*previous, ring);
+      previous = &ring;
     }
   }
   static int mirror_joint(int j) {
@@ -653,12 +664,7 @@ NeckAndHead build_neck_and_head(Builder& b, const std::vector<int>& N0, const Ei
       head_ring(b, chin + 0.58 * hh, -0.019, hb2 * 1.0, hl2 * 0.93, hl2 * 1.0, 0.004, skin1(kHead));
   const std::vector<int> H3 =
       head_ring(b, chin + 0.82 * hh, -0.021, hb2 * 0.9, hl2 * 0.85, hl2 * 0.92, 0, skin1(kHead));
-  b.connect(N0, N1);
-  b.connect(N1, N2);
-  b.connect(N2, H0);
-  b.connect(H0, H1);
-  b.connect(H1, H2);
-  b.connect(H2, H3);
+  b.connect_chain({N0, N1, N2, H0, H1, H2, H3});
   const int head_top = b.vert(Eigen::Vector3d(0, H + 0.028, -0.023), skin1(kHead));
   {
     // 3 x 3 grid: boundary H3, centre head_top. (u: 0 right..2 left, v: 0 back..2 front)
@@ -895,13 +901,7 @@ ArmIds build_arm(Builder& b, const TorsoGrid& T, const ArmDims& a, bool mirrored
   ids.a4 = A4;
   ids.a7 = A7;
   ids.p2 = P2;
-  b.connect(root, A1);
-  b.connect(A1, A2);
-  b.connect(A2, A3);
-  b.connect(A3, A4);
-  b.connect(A4, A5);
-  b.connect(A5, A6);
-  b.connect(A6, A7);
+  b.connect_chain({root, A1, A2, A3, A4, A5, A6, A7});
   // A7 -> P1 with the thumb quad (j = 2) left open
   for (int j = 0; j < 10; ++j) {
     if (j == 2) {
@@ -1163,32 +1163,27 @@ void set_joints(Cage& cage, const CageParts& p) {
 /// face centres) from the vertices of `p`.
 void set_landmarks(Cage& cage, const CageParts& p) {
   const TorsoGrid& T = p.torso;
-  const ArmIds &larm = p.arm[0], &rarm = p.arm[1];
   auto& L = cage.landmarks;
   L["head_top"] = {p.head.top};
   L["crotch"] = {p.crotch};
-  L["left_wrist"] = {larm.a7[2], larm.a7[3]};
-  L["right_wrist"] = {rarm.a7[2], rarm.a7[3]};
-  L["left_elbow"] = {larm.a4[2], larm.a4[3]};
-  L["right_elbow"] = {rarm.a4[2], rarm.a4[3]};
-  L["left_shoulder"] = {T[9][4]};
-  L["right_shoulder"] = {T[9][12]};
-  L["left_hip"] = {T[1][4]};
-  L["right_hip"] = {T[1][12]};
-  L["left_nipple"] = {T[5][2]};
-  L["right_nipple"] = {T[5][14]};
   L["navel"] = {T[3][0]};
-  L["left_waist"] = {T[3][4]};
-  L["right_waist"] = {T[3][12]};
-  L["left_chest"] = {T[5][4]};
-  L["right_chest"] = {T[5][12]};
   L["torso_back"] = {T[3][8]};
-  L["left_heel"] = {p.leg[0].heel};
-  L["right_heel"] = {p.leg[1].heel};
-  L["left_sole"] = {p.leg[0].sole};
-  L["right_sole"] = {p.leg[1].sole};
-  cage.face_landmarks["left_fingertip"] = {larm.tip_face[1]};
-  cage.face_landmarks["right_fingertip"] = {rarm.tip_face[1]};
+  for (int s = 0; s < 2; ++s) {
+    const std::string side = s == 0 ? "left_" : "right_";
+    const ArmIds& arm = p.arm[s];
+    // Torso vertex of ring r: index i on the left half, its mirror image 16 - i on the right.
+    auto torso = [&](int r, int i) { return std::vector<int>{T[r][s == 0 ? i : 16 - i]}; };
+    L[side + "shoulder"] = torso(9, 4);
+    L[side + "hip"] = torso(1, 4);
+    L[side + "nipple"] = torso(5, 2);
+    L[side + "waist"] = torso(3, 4);
+    L[side + "chest"] = torso(5, 4);
+    L[side + "wrist"] = {arm.a7[2], arm.a7[3]};
+    L[side + "elbow"] = {arm.a4[2], arm.a4[3]};
+    L[side + "heel"] = {p.leg[s].heel};
+    L[side + "sole"] = {p.leg[s].sole};
+    cage.face_landmarks[side + "fingertip"] = {arm.tip_face[1]};
+  }
 }
 }  // namespace
 

@@ -1,6 +1,7 @@
 #include "render/gl_functions.hpp"
 
 #include <cstdio>
+#include <cstring>
 #include <string>
 
 namespace caliper::render {
@@ -42,9 +43,22 @@ void check_status(GLuint id, GLenum status, GetIv get_iv, GetLog get_log, Destro
   throw RenderError(failure + log);
 }
 
-GLuint compile_shader(const GlFunctions& gl, GLenum type, const char* source, const char* name) {
+// Compiles `source`. With a `prelude`, the shader text is the first line of `source` (its
+// #version line), the prelude, a #line directive that numbers the next line 2, and the rest of
+// `source`: the compiler's messages keep the line numbers of `source`.
+GLuint compile_shader(const GlFunctions& gl, GLenum type, const char* source, const char* name,
+                      const char* prelude = nullptr) {
+  const char* first_line_end = prelude != nullptr ? std::strchr(source, '\n') : nullptr;
+  if (prelude != nullptr && first_line_end == nullptr)
+    throw RenderError(std::string("shader ") + name + " has no line after its #version line");
   GLuint s = gl.CreateShader(type);
-  gl.ShaderSource(s, 1, &source, nullptr);
+  if (prelude == nullptr) {
+    gl.ShaderSource(s, 1, &source, nullptr);
+  } else {
+    const char* parts[4] = {source, prelude, "\n#line 2\n", first_line_end + 1};
+    const GLint lengths[4] = {static_cast<GLint>(first_line_end + 1 - source), -1, -1, -1};
+    gl.ShaderSource(s, 4, parts, lengths);
+  }
   gl.CompileShader(s);
   check_status(s, GL_COMPILE_STATUS, gl.GetShaderiv, gl.GetShaderInfoLog, gl.DeleteShader,
                std::string("shader ") + name + " failed to compile: ");
@@ -53,8 +67,9 @@ GLuint compile_shader(const GlFunctions& gl, GLenum type, const char* source, co
 
 }  // namespace
 
-GLuint link_program(const GlFunctions& gl, const char* vs, const char* fs, const char* name) {
-  GLuint v = compile_shader(gl, GL_VERTEX_SHADER, vs, name);
+GLuint link_program(const GlFunctions& gl, const char* vs, const char* fs, const char* name,
+                    const char* vertex_prelude) {
+  GLuint v = compile_shader(gl, GL_VERTEX_SHADER, vs, name, vertex_prelude);
   GLuint f = 0;
   try {
     f = compile_shader(gl, GL_FRAGMENT_SHADER, fs, name);

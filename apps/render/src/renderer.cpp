@@ -79,7 +79,7 @@ struct Renderer::Impl {
   MeshHandle cube = 0;
   bool cull_closed_meshes = true;
   GLuint flat_vao = 0, flat_vbo = 0;        // pos3 colour4 uv2
-  GLuint overlay_vao = 0, overlay_vbo = 0;  // pos2 uv2 colour4
+  GLuint overlay_vao = 0, overlay_vbo = 0;  // pos2 colour4 uv2
   std::vector<float> flat_vertices, overlay_vertices;
 
   /// The passes of Renderer::draw, in order, for one view with view-projection `vp_m`:
@@ -231,15 +231,16 @@ void setup_interleaved(const GlFunctions& gl, GLuint vao, GLuint vbo,
 
 Renderer::Renderer(const GlFunctions& gl) : gl_(gl), impl_(std::make_unique<Impl>()) {
   impl_->mesh_program = link_program(gl, shaders::kMeshVert, shaders::kMeshFrag, "mesh");
-  impl_->flat_program = link_program(gl, shaders::kFlatVert, shaders::kFlatFrag, "flat");
-  impl_->overlay_program =
-      link_program(gl, shaders::kOverlayVert, shaders::kOverlayFrag, "overlay");
+  impl_->flat_program =
+      link_program(gl, shaders::kFlatVert, shaders::kFlatFrag, "flat", shaders::kUnlitVertex);
+  impl_->overlay_program = link_program(gl, shaders::kOverlayVert, shaders::kOverlayFrag, "overlay",
+                                        shaders::kUnlitVertex);
   gl.GenVertexArrays(1, &impl_->flat_vao);
   gl.GenBuffers(1, &impl_->flat_vbo);
   setup_interleaved(gl, impl_->flat_vao, impl_->flat_vbo, {3, 4, 2});
   gl.GenVertexArrays(1, &impl_->overlay_vao);
   gl.GenBuffers(1, &impl_->overlay_vbo);
-  setup_interleaved(gl, impl_->overlay_vao, impl_->overlay_vbo, {2, 2, 4});
+  setup_interleaved(gl, impl_->overlay_vao, impl_->overlay_vbo, {2, 4, 2});
   impl_->cube = upload_mesh(cube_mesh());
   gl.check("Renderer setup");
 }
@@ -377,7 +378,7 @@ void push_flat(std::vector<float>& v, const Vec3& p, const Rgba& c, float u = 0,
 }
 
 void push_overlay(std::vector<float>& v, float x, float y, float u, float w, const Rgba& c) {
-  v.insert(v.end(), {x, y, u, w, c.r, c.g, c.b, c.a});
+  v.insert(v.end(), {x, y, c.r, c.g, c.b, c.a, u, w});
 }
 
 void overlay_rect(std::vector<float>& v, float x0, float y0, float x1, float y1, const Rgba& c) {

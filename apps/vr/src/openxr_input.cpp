@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <iterator>
 
 #include "controller_config.hpp"
 #include "openxr_check.hpp"
@@ -10,31 +11,31 @@
 namespace caliper::vr {
 
 std::vector<XrBindingSpec> suggested_bindings(const std::string& profile) {
-  const std::string vive = kProfiles[0], index = kProfiles[1], touch = kProfiles[2],
-                    simple = kProfiles[3];
-  if (profile == vive)
-    return {{"take_sample", "/input/trigger/value"},
-            {"menu", "/input/menu/click"},
-            {"squeeze", "/input/squeeze/click"},
-            {"grip_pose", "/input/grip/pose"},
-            {"confirm_haptic", "/output/haptic"}};
-  if (profile == index)
-    return {{"take_sample", "/input/trigger/value"},
-            {"menu", "/input/b/click"},
-            {"squeeze", "/input/squeeze/value"},
-            {"grip_pose", "/input/grip/pose"},
-            {"confirm_haptic", "/output/haptic"}};
-  if (profile == touch)
-    return {{"take_sample", "/input/trigger/value"},
-            {"menu", "/input/menu/click", true, false},
-            {"squeeze", "/input/squeeze/value"},
-            {"grip_pose", "/input/grip/pose"},
-            {"confirm_haptic", "/output/haptic"}};
-  if (profile == simple)
-    return {{"take_sample", "/input/select/click"},
-            {"menu", "/input/menu/click"},
-            {"grip_pose", "/input/grip/pose"},
-            {"confirm_haptic", "/output/haptic"}};
+  // What differs between the profiles (kProfiles' order); every one also binds the grip pose and
+  // the haptic output.
+  struct ProfileInputs {
+    const char* take_sample;
+    const char* menu;
+    bool menu_right;      ///< false: the menu button is on the left controller only
+    const char* squeeze;  ///< nullptr: the controller has none
+  };
+  static const ProfileInputs kInputs[] = {
+      {"/input/trigger/value", "/input/menu/click", true, "/input/squeeze/click"},   // Vive
+      {"/input/trigger/value", "/input/b/click", true, "/input/squeeze/value"},      // Index
+      {"/input/trigger/value", "/input/menu/click", false, "/input/squeeze/value"},  // Touch
+      {"/input/select/click", "/input/menu/click", true, nullptr},                   // simple
+  };
+  static_assert(std::size(kInputs) == std::size(kProfiles));
+  for (std::size_t i = 0; i < std::size(kProfiles); ++i) {
+    if (profile != kProfiles[i]) continue;
+    const ProfileInputs& in = kInputs[i];
+    std::vector<XrBindingSpec> b = {{"take_sample", in.take_sample},
+                                    {"menu", in.menu, true, in.menu_right}};
+    if (in.squeeze != nullptr) b.push_back({"squeeze", in.squeeze});
+    b.push_back({"grip_pose", "/input/grip/pose"});
+    b.push_back({"confirm_haptic", "/output/haptic"});
+    return b;
+  }
   return {};
 }
 

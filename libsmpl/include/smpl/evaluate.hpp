@@ -82,8 +82,9 @@ struct BodyBatch {
 };
 
 /// shape() for N bodies at once. `betas`: N x B, B <= model.num_betas() (missing betas are 0).
-/// Blocked: shapedirs is read once per batch per thread (a block of rows at a time, applied to
-/// every body of the thread's share while it is in cache). Every output has the same bits as
+/// Blocked: shapedirs is read once per batch per thread (a block of rows small enough for the L1
+/// cache at a time, applied to every body of the thread's share while it is in cache, 4 bodies
+/// sharing each loaded vector of it). Every output has the same bits as
 /// shape() on that row of `betas` (same operations in the same order) on every SIMD variant.
 /// `threads`: worker threads (std::thread; 1 = the calling thread only, 0 = one per core); bodies
 /// are shared out among them, results do not depend on the count. `out` is resized to N x 3V and

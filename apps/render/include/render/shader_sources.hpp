@@ -6,10 +6,11 @@
 namespace caliper::render::shaders {
 extern const char* const kMeshVert;
 extern const char* const kMeshFrag;
-extern const char* const kFlatVert;
+extern const char* const kFlatVert;  ///< needs kUnlitVertex; also the editor's ImGui draw lists
 extern const char* const kFlatFrag;
-extern const char* const kOverlayVert;
+extern const char* const kOverlayVert;  ///< needs kUnlitVertex
 extern const char* const kOverlayFrag;
-extern const char* const kImguiVert;  ///< Dear ImGui draw lists (the editor)
-extern const char* const kImguiFrag;
+/// The vertex layout of the flat and overlay programs: link_program()'s `vertex_prelude` for
+/// kFlatVert and kOverlayVert.
+extern const char* const kUnlitVertex;
 }  // namespace caliper::render::shaders
