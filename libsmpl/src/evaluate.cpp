@@ -129,7 +129,9 @@ inline __attribute__((always_inline)) void blend_step(const double* t, const dou
                                                       const double* beta, Eigen::Index bstride,
                                                       Eigen::Index nb, double* out,
                                                       Eigen::Index ostride) {
-  constexpr Eigen::Index kLanes = static_cast<Eigen::Index>(sizeof(T) / sizeof(double));
+  // T is a vector of doubles, or double itself for the tail rows (one lane).
+  constexpr Eigen::Index kLanes = static_cast<Eigen::Index>(
+      sizeof(T) / sizeof(double));  // NOLINT(bugprone-sizeof-expression): T = double is one lane
   T a[G][K];
 #pragma GCC unroll 8
   for (int k = 0; k < K; ++k) {

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "caliper_test/matrix_compare.hpp"
 #include "caliper_test/random_model.hpp"
 #include "smpl/evaluate.hpp"
 
@@ -27,9 +28,7 @@ constexpr double kBatchVsSingle = 1e-12;
 // within 1e-7 m of the double path, so they are within that of each other.
 constexpr double kFloatBatchVsSingle = 1e-7;
 
-bool same_bits(const double* a, const double* b, Eigen::Index n) {
-  return std::memcmp(a, b, static_cast<std::size_t>(n) * sizeof(double)) == 0;
-}
+using caliper::test::same_bits;
 
 double max_abs_diff(const double* a, const double* b, Eigen::Index n) {
   double m = 0.0;

@@ -30,7 +30,7 @@ constexpr double kWeightSumTol = 1e-6;
 // The bound on the height of the avatar read back.
 constexpr double kHeightTol = 1e-3;
 
-fs::path out_dir() {
+fs::path fbx_out_dir() {
   return caliper::test::output_dir(CALIPER_TEST_DATA_DIR, "fbx");
 }
 
@@ -82,7 +82,7 @@ TEST(Fbx, OpenModelReadsBackWith24BonesWeightsAndHeight) {
   betas[1] = -0.8;
   betas[2] = 0.5;
   betas[3] = 0.3;
-  const fs::path file = out_dir() / "open_female.fbx";
+  const fs::path file = fbx_out_dir() / "open_female.fbx";
   smpl::ExportOptions o;
   o.extras = {{"model", m.meta.name}, {"open_model_sex", "female"}};
   smpl::write_fbx(file.string(), m, betas, o);
@@ -122,7 +122,7 @@ TEST(Fbx, OpenModelReadsBackWith24BonesWeightsAndHeight) {
 
 TEST(Fbx, SmplBoneNamesAndAPose) {
   const auto m = caliper::test::make_random_model(10, 24, false, 31);
-  const fs::path file = out_dir() / "smpl_names_posed.fbx";
+  const fs::path file = fbx_out_dir() / "smpl_names_posed.fbx";
   smpl::ExportOptions o;
   o.bone_names = smpl::BoneNames::Smpl;
   o.pose = Eigen::VectorXd::Zero(72);
@@ -158,14 +158,14 @@ int blender_structure_check(const fs::path& file, std::string& output) {
 
 TEST(Fbx, EveryNestedListIsClosedAsBlenderRequires) {
   const auto m = caliper::test::make_random_model(10, 24, false, 34);
-  const fs::path file = out_dir() / "structure.fbx";
+  const fs::path file = fbx_out_dir() / "structure.fbx";
   smpl::write_fbx(file.string(), m, Eigen::VectorXd::Zero(10));
   std::string output;
   EXPECT_EQ(blender_structure_check(file, output), 0) << output;
   EXPECT_NE(output.find("every nested list closed by a null record"), std::string::npos) << output;
   // The check can fail: a file cut short.
   const std::string bytes = slurp(file);
-  const fs::path cut = out_dir() / "structure_cut.fbx";
+  const fs::path cut = fbx_out_dir() / "structure_cut.fbx";
   std::ofstream(cut, std::ios::binary)
       .write(bytes.data(), static_cast<std::streamsize>(bytes.size() / 2));
   output.clear();
@@ -200,7 +200,7 @@ std::string fbx_without_nested_null_record() {
 
 TEST(Fbx, RepairAddsTheNullRecordsBlenderNeeds) {
   const std::string broken = fbx_without_nested_null_record();
-  const fs::path before = out_dir() / "assimp52_like.fbx";
+  const fs::path before = fbx_out_dir() / "assimp52_like.fbx";
   std::ofstream(before, std::ios::binary)
       .write(broken.data(), static_cast<std::streamsize>(broken.size()));
   std::string output;
@@ -210,7 +210,7 @@ TEST(Fbx, RepairAddsTheNullRecordsBlenderNeeds) {
       << output;
 
   const std::string fixed = smpl::fix_fbx_null_records(broken);
-  const fs::path after = out_dir() / "assimp52_like_fixed.fbx";
+  const fs::path after = fbx_out_dir() / "assimp52_like_fixed.fbx";
   std::ofstream(after, std::ios::binary)
       .write(fixed.data(), static_cast<std::streamsize>(fixed.size()));
   output.clear();
@@ -241,26 +241,26 @@ TEST(Fbx, ErrorsNameTheFile) {
   } catch (const smpl::ModelError& e) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent-dir/a.fbx"), std::string::npos);
   }
-  EXPECT_THROW(smpl::write_fbx((out_dir() / "a.glb").string(), m, Eigen::VectorXd::Zero(2)),
+  EXPECT_THROW(smpl::write_fbx((fbx_out_dir() / "a.glb").string(), m, Eigen::VectorXd::Zero(2)),
                smpl::ModelError);
   smpl::ExportOptions smpl_names;
   smpl_names.bone_names = smpl::BoneNames::Smpl;  // a 4-joint model has no SMPL names
   EXPECT_THROW(
-      smpl::write_fbx((out_dir() / "x.fbx").string(), m, Eigen::VectorXd::Zero(2), smpl_names),
+      smpl::write_fbx((fbx_out_dir() / "x.fbx").string(), m, Eigen::VectorXd::Zero(2), smpl_names),
       smpl::ModelError);
   smpl::ExportOptions bad_pose;
   bad_pose.pose = Eigen::VectorXd::Zero(5);
   EXPECT_THROW(
-      smpl::write_fbx((out_dir() / "x.fbx").string(), m, Eigen::VectorXd::Zero(2), bad_pose),
+      smpl::write_fbx((fbx_out_dir() / "x.fbx").string(), m, Eigen::VectorXd::Zero(2), bad_pose),
       smpl::ModelError);
   // A failed write leaves an existing file as it was.
-  const fs::path keep = out_dir() / "keep.fbx";
+  const fs::path keep = fbx_out_dir() / "keep.fbx";
   smpl::write_fbx(keep.string(), m, Eigen::VectorXd::Zero(2));
   const std::string before = slurp(keep);
   EXPECT_THROW(smpl::write_fbx(keep.string(), m, Eigen::VectorXd::Zero(2), bad_pose),
                smpl::ModelError);
   EXPECT_EQ(slurp(keep), before);
-  const fs::path text = out_dir() / "text.fbx";
+  const fs::path text = fbx_out_dir() / "text.fbx";
   std::ofstream(text) << "; FBX 7.5.0 project file\nnot really\n";
   EXPECT_THROW(smpl::read_fbx(text.string()), smpl::ModelError);
 }

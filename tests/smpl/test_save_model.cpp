@@ -8,7 +8,7 @@
 
 namespace {
 
-std::string out_dir() {
+std::string save_model_out_dir() {
   const std::string d = std::string(CALIPER_TEST_DATA_DIR) + "/smpl_save";
   caliper::test::run_command("mkdir -p '" + d + "'");
   return d;
@@ -63,7 +63,7 @@ TEST(SaveModel, RoundTripIsExact) {
   ASSERT_FALSE(m.landmarks.empty());
   ASSERT_FALSE(m.mirror.empty());
   for (bool compress : {false, true}) {
-    const std::string path = out_dir() + (compress ? "/rt_deflated.npz" : "/rt.npz");
+    const std::string path = save_model_out_dir() + (compress ? "/rt_deflated.npz" : "/rt.npz");
     smpl::SaveOptions o;
     o.compress = compress;
     smpl::save_model(m, path, o);
@@ -77,7 +77,7 @@ TEST(SaveModel, ModelsWithoutOptionalPartsRoundTrip) {
   m.mirror.clear();
   m.joint_names.clear();
   m.meta = {};
-  const std::string path = out_dir() + "/bare.npz";
+  const std::string path = save_model_out_dir() + "/bare.npz";
   smpl::save_model(m, path);
   const smpl::BodyModel back = smpl::load_model(path);
   EXPECT_FALSE(back.has_pose_blend_shapes());
@@ -89,8 +89,8 @@ TEST(SaveModel, ModelsWithoutOptionalPartsRoundTrip) {
 
 TEST(SaveModel, BytesAreDeterministic) {
   const smpl::BodyModel m = model_with_everything();
-  const std::string a = out_dir() + "/det_a.npz";
-  const std::string b = out_dir() + "/det_b.npz";
+  const std::string a = save_model_out_dir() + "/det_a.npz";
+  const std::string b = save_model_out_dir() + "/det_b.npz";
   smpl::save_model(m, a);
   smpl::save_model(smpl::load_model(a), b);
   EXPECT_EQ(smpl::read_file_bytes(a), smpl::read_file_bytes(b));
@@ -100,7 +100,7 @@ TEST(SaveModel, InvalidModelsAreNotWritten) {
   smpl::BodyModel m = model_with_everything();
   m.v_template(3, 1) = std::numeric_limits<double>::quiet_NaN();
   try {
-    smpl::save_model(m, out_dir() + "/nan.npz");
+    smpl::save_model(m, save_model_out_dir() + "/nan.npz");
     FAIL();
   } catch (const smpl::ModelError& e) {
     EXPECT_NE(std::string(e.what()).find("NaN"), std::string::npos) << e.what();
@@ -111,14 +111,14 @@ TEST(SaveModel, InvalidModelsAreNotWritten) {
   smpl::BodyModel uv = model_with_everything();
   uv.uv_faces(2, 1) = static_cast<int>(uv.uvs.rows());
   try {
-    smpl::save_model(uv, out_dir() + "/bad_ft.npz");
+    smpl::save_model(uv, save_model_out_dir() + "/bad_ft.npz");
     FAIL();
   } catch (const smpl::ModelError& e) {
     EXPECT_NE(std::string(e.what()).find("'ft'"), std::string::npos) << e.what();
   }
   uv = model_with_everything();
   uv.uv_faces.conservativeResize(uv.faces.rows() - 1, 3);
-  EXPECT_THROW(smpl::save_model(uv, out_dir() + "/short_ft.npz"), smpl::ModelError);
+  EXPECT_THROW(smpl::save_model(uv, save_model_out_dir() + "/short_ft.npz"), smpl::ModelError);
 }
 
 // A landmark table whose offsets point past the vertex list (in the middle) is refused.
@@ -128,7 +128,7 @@ TEST(SaveModel, CorruptLandmarkTableIsAClearError) {
   ASSERT_GE(off.size(), 3u);
   off[1] = off.back() + 1000;
   z["landmark_offsets"] = smpl::make_npy(off, {off.size()});
-  const std::string path = out_dir() + "/bad_landmarks.npz";
+  const std::string path = save_model_out_dir() + "/bad_landmarks.npz";
   smpl::write_npz(path, z);
   try {
     smpl::load_model(path);
@@ -145,7 +145,7 @@ TEST(SaveModel, CorruptLandmarkTableIsAClearError) {
 // bytes equal np.save's.
 TEST(SaveModel, OpensInNumpyLikeAnSmplNpz) {
   const smpl::BodyModel m = model_with_everything();
-  const std::string path = out_dir() + "/numpy_check.npz";
+  const std::string path = save_model_out_dir() + "/numpy_check.npz";
   smpl::save_model(m, path);
   const std::string program = R"PY(
 import io, sys, zipfile

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "caliper_test/matrix_compare.hpp"
 #include "caliper_test/random_model.hpp"
 #include "smpl/evaluate.hpp"
 #include "smpl/simd.hpp"
@@ -18,9 +19,7 @@ namespace {
 using caliper::test::random_betas;
 using caliper::test::random_pose;
 
-bool same_bits(const double* a, const double* b, Eigen::Index n) {
-  return std::memcmp(a, b, static_cast<std::size_t>(n) * sizeof(double)) == 0;
-}
+using caliper::test::same_bits;
 
 // One body's outputs, for a bitwise comparison.
 struct Outputs {

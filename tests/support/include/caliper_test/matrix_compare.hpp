@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstring>
 #include <sstream>
 
 #include <gtest/gtest.h>
@@ -51,6 +52,12 @@ template <typename A, typename B>
     << fi << ", " << fj << "): " << a(fi, fj) << " vs " << b(fi, fj) << "; worst at (" << wi << ", "
     << wj << "): " << a(wi, wj) << " vs " << b(wi, wj) << " (|diff| " << worst << ")";
   return ::testing::AssertionFailure() << s.str();
+}
+
+/// True when the n doubles at `a` and at `b` are the same bits (for results that must not
+/// depend on the kernel variant or the batch size).
+inline bool same_bits(const double* a, const double* b, Eigen::Index n) {
+  return std::memcmp(a, b, static_cast<std::size_t>(n) * sizeof(double)) == 0;
 }
 
 }  // namespace caliper::test
