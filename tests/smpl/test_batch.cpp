@@ -46,14 +46,14 @@ struct Inputs {
 Inputs make_inputs(int n_bodies, int n_betas, int K, bool sparse, std::uint64_t seed) {
   Inputs in;
   in.betas.resize(n_bodies, n_betas);
-  in.poses.resize(n_bodies, 3 * K);
+  in.poses.resize(n_bodies, 3 * static_cast<Eigen::Index>(K));
   in.translations.resize(n_bodies, 3);
   for (int n = 0; n < n_bodies; ++n) {
     in.betas.row(n) = random_betas(n_betas, 1.5, seed + 3 * static_cast<std::uint64_t>(n));
     Eigen::VectorXd pose = random_pose(K, 0.9, seed + 3 * static_cast<std::uint64_t>(n) + 1);
     if (sparse) {
       for (int k = 1; k < K; ++k) {
-        if ((k + n) % 3 == 0) pose.segment<3>(3 * k).setZero();
+        if ((k + n) % 3 == 0) pose.segment<3>(3 * static_cast<Eigen::Index>(k)).setZero();
       }
     }
     in.poses.row(n) = pose.transpose();
