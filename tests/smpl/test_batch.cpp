@@ -27,7 +27,7 @@ constexpr double kBatchVsSingle = 1e-12;
 // within 1e-7 m of the double path, so they are within that of each other.
 constexpr double kFloatBatchVsSingle = 1e-7;
 
-bool same_bits(const double* a, const double* b, Eigen::Index n) {
+bool batch_same_bits(const double* a, const double* b, Eigen::Index n) {
   return std::memcmp(a, b, static_cast<std::size_t>(n) * sizeof(double)) == 0;
 }
 
@@ -78,9 +78,10 @@ TEST(Batch, ShapeBatchHasTheBitsOfSingleCallsForAnyThreadCount) {
     ASSERT_EQ(batch.joints.cols(), 3 * model.num_joints());
     for (int n = 0; n < N; ++n) {
       const smpl::Body one = smpl::shape(model, in.betas.row(n).transpose());
-      EXPECT_TRUE(same_bits(one.vertices.data(), batch.vertices.row(n).data(), one.vertices.size()))
+      EXPECT_TRUE(
+          batch_same_bits(one.vertices.data(), batch.vertices.row(n).data(), one.vertices.size()))
           << "body " << n << ", " << threads << " threads";
-      EXPECT_TRUE(same_bits(one.joints.data(), batch.joints.row(n).data(), one.joints.size()))
+      EXPECT_TRUE(batch_same_bits(one.joints.data(), batch.joints.row(n).data(), one.joints.size()))
           << "body " << n << ", " << threads << " threads";
     }
   }
@@ -90,7 +91,8 @@ TEST(Batch, ShapeBatchHasTheBitsOfSingleCallsForAnyThreadCount) {
   smpl::shape_batch(model, in.betas.leftCols(6), strided);
   for (int n = 0; n < N; ++n) {
     const smpl::Body one = smpl::shape(model, in.betas.row(n).head(6).transpose());
-    EXPECT_TRUE(same_bits(one.vertices.data(), strided.vertices.row(n).data(), one.vertices.size()))
+    EXPECT_TRUE(
+        batch_same_bits(one.vertices.data(), strided.vertices.row(n).data(), one.vertices.size()))
         << "body " << n << " of the strided betas";
   }
 }
@@ -104,7 +106,7 @@ void check_evaluate_batch(bool single_precision, bool sparse) {
   ws.single_precision_pose_blend_shapes = single_precision;
   smpl::evaluate_batch(model, in.betas, in.poses, in.translations, ws, b1, 1);
   smpl::evaluate_batch(model, in.betas, in.poses, in.translations, ws, b2, 2);
-  EXPECT_TRUE(same_bits(b1.vertices.data(), b2.vertices.data(), b1.vertices.size()))
+  EXPECT_TRUE(batch_same_bits(b1.vertices.data(), b2.vertices.data(), b1.vertices.size()))
       << "thread count changed the result";
   smpl::Workspace single_ws;
   single_ws.single_precision_pose_blend_shapes = single_precision;
@@ -119,7 +121,8 @@ void check_evaluate_batch(bool single_precision, bool sparse) {
     EXPECT_EQ(dj, 0.0) << "joints do not depend on the pose blend shapes";
     worst = std::max(worst, dv);
     if (!sparse) {
-      EXPECT_TRUE(same_bits(one.vertices.data(), b1.vertices.row(n).data(), one.vertices.size()))
+      EXPECT_TRUE(
+          batch_same_bits(one.vertices.data(), b1.vertices.row(n).data(), one.vertices.size()))
           << "body " << n << ": every joint rotated, so the batch reads the same columns";
     }
   }
@@ -150,7 +153,8 @@ TEST(Batch, SmallBatchesGiveTheBitsOfTheirBodiesInALargeBatch) {
     smpl::evaluate_batch(model, in.betas, in.poses, in.translations, ws, large);
     smpl::evaluate_batch(model, in.betas.topRows(2), in.poses.topRows(2),
                          in.translations.topRows(2), ws, small, 2);
-    EXPECT_TRUE(same_bits(large.vertices.data(), small.vertices.data(), small.vertices.size()))
+    EXPECT_TRUE(
+        batch_same_bits(large.vertices.data(), small.vertices.data(), small.vertices.size()))
         << (single_precision ? "float" : "double");
   }
 }
@@ -163,7 +167,8 @@ TEST(Batch, RestPoseAndNoTranslationEqualShape) {
   smpl::evaluate_batch(model, in.betas, RowMatrixXd(0, 0), RowMatrixXd(0, 3), ws, batch);
   for (int n = 0; n < 3; ++n) {
     const smpl::Body one = smpl::evaluate(model, in.betas.row(n).transpose(), Eigen::VectorXd());
-    EXPECT_TRUE(same_bits(one.vertices.data(), batch.vertices.row(n).data(), one.vertices.size()));
+    EXPECT_TRUE(
+        batch_same_bits(one.vertices.data(), batch.vertices.row(n).data(), one.vertices.size()));
   }
 }
 

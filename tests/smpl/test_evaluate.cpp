@@ -114,6 +114,7 @@ Eigen::MatrixXd slice(const smpl::NpyArray& a, size_t i) {
 std::vector<Case> reference_cases(const smpl::BodyModel& m, std::uint64_t seed) {
   const int K = m.num_joints(), B = m.num_betas();
   std::vector<Case> cases;
+  cases.reserve(7);  // 4 random, fewer betas, a sparse pose, the rest pose
   // Random betas and poses of growing amplitude, up to 3 pi (beyond the 2 pi wraparound).
   for (int i = 0; i < 4; ++i) {
     cases.push_back({random_betas(B, 2.0, seed + i),

@@ -19,7 +19,7 @@ namespace fs = std::filesystem;
 
 using caliper::test::slurp;
 
-fs::path out_dir() {
+fs::path export_out_dir() {
   return caliper::test::output_dir(CALIPER_TEST_DATA_DIR, "export");
 }
 
@@ -60,7 +60,7 @@ TEST(Export, ObjHasVerticesNormalsAndOneBasedFaces) {
   smpl::Vertices v;
   smpl::Faces f;
   cube(v, f);
-  const fs::path p = out_dir() / "cube.obj";
+  const fs::path p = export_out_dir() / "cube.obj";
   smpl::write_obj(p.string(), v, f);
   std::ifstream in(p);
   std::string line;
@@ -90,7 +90,7 @@ TEST(Export, ObjHasVerticesNormalsAndOneBasedFaces) {
 
 TEST(Export, PlyIsBinaryLittleEndianWithNormals) {
   const auto m = caliper::test::make_random_model(1, 24, false);
-  const fs::path p = out_dir() / "model.ply";
+  const fs::path p = export_out_dir() / "model.ply";
   smpl::write_ply(p.string(), m.v_template, m.faces);
   const std::string bytes = slurp(p);
   const std::string end = "end_header\n";
@@ -123,7 +123,7 @@ TEST(Export, ErrorsNameTheFile) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent-dir/x.obj"), std::string::npos);
   }
   f(3, 1) = 8;  // out of range
-  EXPECT_THROW(smpl::write_ply((out_dir() / "bad.ply").string(), v, f), smpl::ModelError);
+  EXPECT_THROW(smpl::write_ply((export_out_dir() / "bad.ply").string(), v, f), smpl::ModelError);
 }
 
 }  // namespace
