@@ -158,7 +158,7 @@ inline void make_shape_space_smooth(smpl::BodyModel& model, std::uint64_t seed,
     }
     for (int v = 0; v < model.num_vertices(); ++v) {
       const Eigen::Vector3d d = A * (model.v_template.row(v) - centroid).transpose();
-      model.shapedirs.block(3 * v, k, 3, 1) = d;
+      model.shapedirs.block(3 * static_cast<Eigen::Index>(v), k, 3, 1) = d;
     }
   }
 }

@@ -16,7 +16,7 @@ namespace {
 constexpr double kExactTol = 1e-12;
 
 std::string write_temp(const std::string& name, const std::string& text) {
-  const std::string path = std::string(CALIPER_TEST_DATA_DIR) + "/" + name;
+  std::string path = std::string(CALIPER_TEST_DATA_DIR) + "/" + name;
   std::ofstream(path) << text;
   return path;
 }

@@ -138,6 +138,7 @@ TEST(PivotCalibration, RecoversAKnownOffset) {
 TEST(PivotCalibration, ResidualOfNoisyPositions) {
   const Eigen::Vector3d tip(0.01, 0.0, -0.1), pivot(0, 1, 0);
   std::vector<Eigen::Quaterniond> qs;
+  qs.reserve(6);
   for (int i = 0; i < 6; ++i) {
     qs.emplace_back(
         Eigen::AngleAxisd(0.5, Eigen::Vector3d(std::cos(i), 1.0, std::sin(i)).normalized()));
@@ -164,11 +165,13 @@ TEST(PivotCalibration, DegenerateSamples) {
                CalibrationError);
   // Rotations about a single axis.
   std::vector<Eigen::Quaterniond> one_axis;
+  one_axis.reserve(5);
   for (int i = 0; i < 5; ++i)
     one_axis.emplace_back(Eigen::AngleAxisd(0.3 * i, Eigen::Vector3d::UnitY()));
   EXPECT_THROW(calibrate_pivot(pivot_poses(tip, pivot, one_axis)), CalibrationError);
   // NaN and zero quaternion.
   std::vector<Eigen::Quaterniond> ok;
+  ok.reserve(4);
   for (int i = 0; i < 4; ++i)
     ok.emplace_back(Eigen::AngleAxisd(0.4, Eigen::Vector3d(i, 1, 1 - i).normalized()));
   auto poses = pivot_poses(tip, pivot, ok);

@@ -49,7 +49,7 @@ inline smpl::BodyModel cli_test_model(const std::string& gender, std::uint64_t s
   // Small seed-dependent variation so that models of different seeds differ.
   const double s = 1.0 + 0.1 * static_cast<double>(seed % 7) / 7.0;
   auto bump = [](double y, double c, double w) { return std::exp(-((y - c) / w) * ((y - c) / w)); };
-  m.shapedirs.setZero(3 * m.num_vertices(), 10);
+  m.shapedirs.setZero(3 * static_cast<Eigen::Index>(m.num_vertices()), 10);
   for (int v = 0; v < m.num_vertices(); ++v) {
     const double x = m.v_template(v, 0), z = m.v_template(v, 2);
     const double y = m.v_template(v, 1) - floor;  // >= 0; the floor vertex never moves up or down

@@ -596,7 +596,7 @@ TEST(Cli, EveryCommandDefaultsToTheNeutralSex) {
     const std::string help = out.str() + err.str();
     const size_t at = help.find("--sex");
     ASSERT_NE(at, std::string::npos) << cmd;
-    const std::string line = help.substr(at, help.find("\n", help.find("neutral", at)) - at);
+    const std::string line = help.substr(at, help.find('\n', help.find("neutral", at)) - at);
     EXPECT_TRUE(contains(line, "default neutral") || contains(line, "else neutral"))
         << cmd << ": " << line;
   }

@@ -52,7 +52,7 @@ const ca::ModelEntry& entry() {
 }
 
 fs::path scratch(const std::string& name) {
-  const fs::path p = fs::path(CALIPER_TEST_DATA_DIR) / ("editor_ui_" + name);
+  fs::path p = fs::path(CALIPER_TEST_DATA_DIR) / ("editor_ui_" + name);
   fs::remove_all(p);
   fs::create_directories(p);
   return p;

@@ -298,10 +298,11 @@ TEST(GeneratorDeterminism, BaselineAndBestKernelVariantsGiveTheSameBytes) {
 TEST(GeneratorDeterminism, TheCpuCacheSizesDoNotChangeTheBytes) {
   const std::ptrdiff_t l1 = Eigen::l1CacheSize(), l2 = Eigen::l2CacheSize(),
                        l3 = Eigen::l3CacheSize();
-  Eigen::setCpuCacheSizes(16 * 1024, 256 * 1024, 1024 * 1024);  // a small laptop core
+  constexpr std::ptrdiff_t kKiB = 1024;
+  Eigen::setCpuCacheSizes(16 * kKiB, 256 * kKiB, 1024 * kKiB);  // a small laptop core
   const std::string small = generated_bytes("modelgen_cache_small.npz");
   EXPECT_EQ(Eigen::l1CacheSize(), 16 * 1024) << "the generator's guard did not restore them";
-  Eigen::setCpuCacheSizes(48 * 1024, 2048 * 1024, 32 * 1024 * 1024);  // a server core
+  Eigen::setCpuCacheSizes(48 * kKiB, 2048 * kKiB, 32 * kKiB * kKiB);  // a server core
   const std::string large = generated_bytes("modelgen_cache_large.npz");
   Eigen::setCpuCacheSizes(l1, l2, l3);
   ASSERT_FALSE(small.empty());

@@ -32,7 +32,7 @@ using makehuman_test::have_assets;
 using makehuman_test::kMh;
 
 std::string write_file(const std::string& name, const std::string& text) {
-  const std::string path = std::string(CALIPER_TEST_DATA_DIR) + "/" + name;
+  std::string path = std::string(CALIPER_TEST_DATA_DIR) + "/" + name;
   std::ofstream(path, std::ios::binary) << text;
   return path;
 }
@@ -527,12 +527,12 @@ TEST(MakeHumanRig, DISABLED_WeightSmoothingTable) {
   const Eigen::VectorXd betas(0);
   constexpr double kRight = 1.5707963267948966;
   Eigen::VectorXd twist = Eigen::VectorXd::Zero(72), elbows = twist, distal = twist;
-  twist.segment<3>(3 * 20) = Eigen::Vector3d(kRight, 0, 0);
-  twist.segment<3>(3 * 21) = Eigen::Vector3d(kRight, 0, 0);
-  elbows.segment<3>(3 * 18) = Eigen::Vector3d(0, -kRight, 0);
-  elbows.segment<3>(3 * 19) = Eigen::Vector3d(0, kRight, 0);
-  distal.segment<3>(3 * 20) = Eigen::Vector3d(0, 0, -kRight);
-  distal.segment<3>(3 * 7) = Eigen::Vector3d(kRight, 0, 0);
+  twist.segment<3>(3 * Eigen::Index{20}) = Eigen::Vector3d(kRight, 0, 0);
+  twist.segment<3>(3 * Eigen::Index{21}) = Eigen::Vector3d(kRight, 0, 0);
+  elbows.segment<3>(3 * Eigen::Index{18}) = Eigen::Vector3d(0, -kRight, 0);
+  elbows.segment<3>(3 * Eigen::Index{19}) = Eigen::Vector3d(0, kRight, 0);
+  distal.segment<3>(3 * Eigen::Index{20}) = Eigen::Vector3d(0, 0, -kRight);
+  distal.segment<3>(3 * Eigen::Index{7}) = Eigen::Vector3d(kRight, 0, 0);
   const double rest_volume = caliper::mesh_volume(m.v_template, m.faces);
   const smpl::SparseMatrix w0 = mh::merged_weights(a, 0);
   m.weights = w0;
@@ -568,6 +568,7 @@ TEST(MakeHumanRig, DISABLED_WeightSmoothingTable) {
         caliper::mesh_volume(smpl::evaluate(m, betas, elbows).vertices, m.faces) - rest_volume;
     const smpl::Vertices d = smpl::evaluate(m, betas, distal).vertices;
     std::vector<double> drift;
+    drift.reserve(tips.size());
     for (const Eigen::Index i : tips) drift.push_back((d.row(i) - distal0.row(i)).norm() * 1e3);
     std::sort(drift.begin(), drift.end());
     std::printf("%3d | %s| %3zu | %4zu | %7.1f | %7.1f | %6.2f / %6.2f / %6.2f\n", passes,

@@ -152,7 +152,7 @@ void check_principal_components(const Registered& s) {
   const int kBetas = m.num_betas();
   EXPECT_EQ(kBetas, 16);
   std::vector<Eigen::VectorXd> bodies;
-  Eigen::VectorXd mean = Eigen::VectorXd::Zero(3 * m.num_vertices());
+  Eigen::VectorXd mean = Eigen::VectorXd::Zero(3 * static_cast<Eigen::Index>(m.num_vertices()));
   for (size_t i = 0; i < s.subjects.size(); ++i) {
     if (s.subjects[i].sex != "female") continue;
     const smpl::Vertices v =

@@ -167,7 +167,7 @@ TEST(MeshChecks, FlippedTrianglesFollowTheSkinningRotation) {
       smpl::load_model(std::string(CALIPER_MODELS_DIR) + "/caliper-female.npz");
   const Eigen::VectorXd betas = Eigen::VectorXd::Zero(model.num_betas());
   const smpl::Vertices rest = smpl::shape(model, betas).vertices;
-  Eigen::VectorXd theta = Eigen::VectorXd::Zero(3 * model.num_joints());
+  Eigen::VectorXd theta = Eigen::VectorXd::Zero(3 * static_cast<Eigen::Index>(model.num_joints()));
   // rest pose, and the whole body turned 180 degrees about +Y: every normal follows its rotation
   EXPECT_TRUE(
       modelgen::flipped_triangles(model, rest, smpl::evaluate(model, betas, theta)).empty());

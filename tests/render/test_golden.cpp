@@ -47,6 +47,7 @@ void add_ellipsoid(smpl::Vertices& v, smpl::Faces& f, const Eigen::Vector3d& cen
   }
   v.row(base + nv - 1) = centre - Eigen::Vector3d(0, radii.y(), 0);
   std::vector<std::array<int, 3>> tris;
+  tris.reserve(2 * static_cast<std::size_t>(rings) * static_cast<std::size_t>(segments));
   auto at = [&](int r, int s) { return base + 1 + r * segments + (s % segments); };
   for (int s = 0; s < segments; ++s) tris.push_back({base, at(0, s), at(0, s + 1)});
   for (int r = 0; r + 1 < rings; ++r) {
@@ -124,6 +125,7 @@ TEST(Golden, HeatMapLegendLinesLandmarksLabels) {
   o.view = "front";
   // Heat map of the height above the floor, 0..1.7 m, with its legend.
   std::vector<float> values;
+  values.reserve(static_cast<std::size_t>(m.v.rows()));
   for (int i = 0; i < m.v.rows(); ++i) values.push_back(static_cast<float>(m.v(i, 1)));
   o.vertex_colours = cr::colours_from_values(values, 0, 1.7f, cr::kColourMapHeat);
   o.legend.visible = true;
@@ -153,7 +155,8 @@ TEST(Golden, MeasurementLabelsNeverOverlap) {
   o.width = 640;
   o.height = 300;
   o.view = "front";
-  auto measurement = [&](Eigen::Vector3f a, Eigen::Vector3f b, const std::string& text) {
+  auto measurement = [&](const Eigen::Vector3f& a, const Eigen::Vector3f& b,
+                         const std::string& text) {
     cr::Line l;
     l.a = a;
     l.b = b;

@@ -52,7 +52,7 @@ inline int run_python(const std::string& program, const std::string& args = "") 
 /// of the generator marks a complete generation.
 inline const std::string& io_fixture_dir() {
   static const std::string dir = [] {
-    const std::string out = std::string(CALIPER_TEST_DATA_DIR) + "/smpl_io";
+    std::string out = std::string(CALIPER_TEST_DATA_DIR) + "/smpl_io";
     const std::string script =
         std::string(CALIPER_TESTS_SOURCE_DIR) + "/fixtures/make_io_fixtures.py";
     const std::string stamp =

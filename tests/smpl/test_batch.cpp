@@ -45,14 +45,14 @@ struct Inputs {
 Inputs make_inputs(int n_bodies, int n_betas, int K, bool sparse, std::uint64_t seed) {
   Inputs in;
   in.betas.resize(n_bodies, n_betas);
-  in.poses.resize(n_bodies, 3 * K);
+  in.poses.resize(n_bodies, 3 * static_cast<Eigen::Index>(K));
   in.translations.resize(n_bodies, 3);
   for (int n = 0; n < n_bodies; ++n) {
     in.betas.row(n) = random_betas(n_betas, 1.5, seed + 3 * static_cast<std::uint64_t>(n));
     Eigen::VectorXd pose = random_pose(K, 0.9, seed + 3 * static_cast<std::uint64_t>(n) + 1);
     if (sparse) {
       for (int k = 1; k < K; ++k) {
-        if ((k + n) % 3 == 0) pose.segment<3>(3 * k).setZero();
+        if ((k + n) % 3 == 0) pose.segment<3>(3 * static_cast<Eigen::Index>(k)).setZero();
       }
     }
     in.poses.row(n) = pose.transpose();
@@ -77,7 +77,8 @@ TEST(Batch, ShapeBatchHasTheBitsOfSingleCallsForAnyThreadCount) {
     ASSERT_EQ(batch.joints.cols(), 3 * model.num_joints());
     for (int n = 0; n < N; ++n) {
       const smpl::Body one = smpl::shape(model, in.betas.row(n).transpose());
-      EXPECT_TRUE(same_bits(one.vertices.data(), batch.vertices.row(n).data(), one.vertices.size()))
+      EXPECT_TRUE(
+          same_bits(one.vertices.data(), batch.vertices.row(n).data(), one.vertices.size()))
           << "body " << n << ", " << threads << " threads";
       EXPECT_TRUE(same_bits(one.joints.data(), batch.joints.row(n).data(), one.joints.size()))
           << "body " << n << ", " << threads << " threads";
@@ -89,7 +90,8 @@ TEST(Batch, ShapeBatchHasTheBitsOfSingleCallsForAnyThreadCount) {
   smpl::shape_batch(model, in.betas.leftCols(6), strided);
   for (int n = 0; n < N; ++n) {
     const smpl::Body one = smpl::shape(model, in.betas.row(n).head(6).transpose());
-    EXPECT_TRUE(same_bits(one.vertices.data(), strided.vertices.row(n).data(), one.vertices.size()))
+    EXPECT_TRUE(
+        same_bits(one.vertices.data(), strided.vertices.row(n).data(), one.vertices.size()))
         << "body " << n << " of the strided betas";
   }
 }
@@ -118,7 +120,8 @@ void check_evaluate_batch(bool single_precision, bool sparse) {
     EXPECT_EQ(dj, 0.0) << "joints do not depend on the pose blend shapes";
     worst = std::max(worst, dv);
     if (!sparse) {
-      EXPECT_TRUE(same_bits(one.vertices.data(), b1.vertices.row(n).data(), one.vertices.size()))
+      EXPECT_TRUE(
+          same_bits(one.vertices.data(), b1.vertices.row(n).data(), one.vertices.size()))
           << "body " << n << ": every joint rotated, so the batch reads the same columns";
     }
   }
@@ -149,7 +152,8 @@ TEST(Batch, SmallBatchesGiveTheBitsOfTheirBodiesInALargeBatch) {
     smpl::evaluate_batch(model, in.betas, in.poses, in.translations, ws, large);
     smpl::evaluate_batch(model, in.betas.topRows(2), in.poses.topRows(2),
                          in.translations.topRows(2), ws, small, 2);
-    EXPECT_TRUE(same_bits(large.vertices.data(), small.vertices.data(), small.vertices.size()))
+    EXPECT_TRUE(
+        same_bits(large.vertices.data(), small.vertices.data(), small.vertices.size()))
         << (single_precision ? "float" : "double");
   }
 }
@@ -162,7 +166,8 @@ TEST(Batch, RestPoseAndNoTranslationEqualShape) {
   smpl::evaluate_batch(model, in.betas, RowMatrixXd(0, 0), RowMatrixXd(0, 3), ws, batch);
   for (int n = 0; n < 3; ++n) {
     const smpl::Body one = smpl::evaluate(model, in.betas.row(n).transpose(), Eigen::VectorXd());
-    EXPECT_TRUE(same_bits(one.vertices.data(), batch.vertices.row(n).data(), one.vertices.size()));
+    EXPECT_TRUE(
+        same_bits(one.vertices.data(), batch.vertices.row(n).data(), one.vertices.size()));
   }
 }
 

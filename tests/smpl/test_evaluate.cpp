@@ -114,6 +114,7 @@ Eigen::MatrixXd slice(const smpl::NpyArray& a, size_t i) {
 std::vector<Case> reference_cases(const smpl::BodyModel& m, std::uint64_t seed) {
   const int K = m.num_joints(), B = m.num_betas();
   std::vector<Case> cases;
+  cases.reserve(7);  // 4 random, fewer betas, a sparse pose, the rest pose
   // Random betas and poses of growing amplitude, up to 3 pi (beyond the 2 pi wraparound).
   for (int i = 0; i < 4; ++i) {
     cases.push_back({random_betas(B, 2.0, seed + i),
@@ -125,7 +126,7 @@ std::vector<Case> reference_cases(const smpl::BodyModel& m, std::uint64_t seed) 
                    Eigen::Vector3d::Zero()});
   // Some joints exactly at rest (their pose-blend-shape columns are skipped), tiny angles too.
   Eigen::VectorXd sparse_pose = random_pose(K, 2.0, seed + 22);
-  for (int k = 0; k < K; k += 2) sparse_pose.segment<3>(3 * k).setZero();
+  for (int k = 0; k < K; k += 2) sparse_pose.segment<3>(3 * static_cast<Eigen::Index>(k)).setZero();
   sparse_pose.segment<3>(3) = Eigen::Vector3d(1e-9, -2e-9, 5e-10);
   cases.push_back({random_betas(B, 1.0, seed + 23), sparse_pose, Eigen::Vector3d(0, 1, 0)});
   // Rest pose (empty pose vector) with betas.

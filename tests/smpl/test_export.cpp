@@ -95,16 +95,17 @@ TEST(Export, PlyIsBinaryLittleEndianWithNormals) {
   const std::string bytes = slurp(p);
   const std::string end = "end_header\n";
   const size_t body = bytes.find(end) + end.size();
+  constexpr size_t kVertexBytes = 24, kFaceBytes = 13;  // 6 floats; a count byte and 3 int32
   ASSERT_NE(bytes.find("format binary_little_endian 1.0"), std::string::npos);
   ASSERT_NE(bytes.find("element vertex 6890"), std::string::npos);
   ASSERT_NE(bytes.find("element face 13776"), std::string::npos);
   ASSERT_NE(bytes.find("property float nx"), std::string::npos);
-  ASSERT_EQ(bytes.size(), body + 6890 * 24 + 13776 * 13);
+  ASSERT_EQ(bytes.size(), body + 6890 * kVertexBytes + 13776 * kFaceBytes);
   // Vertex 100 and face 7 read back.
   float xyz[3];
-  std::memcpy(xyz, bytes.data() + body + 100 * 24, 12);
+  std::memcpy(xyz, bytes.data() + body + 100 * kVertexBytes, 12);
   for (int c = 0; c < 3; ++c) EXPECT_FLOAT_EQ(xyz[c], static_cast<float>(m.v_template(100, c)));
-  const size_t f7 = body + 6890 * 24 + 7 * 13;
+  const size_t f7 = body + 6890 * kVertexBytes + 7 * kFaceBytes;
   EXPECT_EQ(bytes[f7], 3);
   std::int32_t ids[3];
   std::memcpy(ids, bytes.data() + f7 + 1, 12);
@@ -139,7 +140,7 @@ TEST(Export, CheckPoseWithAContextPrefixesTheMessage) {
   } catch (const smpl::ModelError& e) {
     EXPECT_EQ(std::string(e.what()).rfind("out.glb: the pose has 5 numbers", 0), 0u) << e.what();
   }
-  o.pose = Eigen::VectorXd::Zero(3 * m.num_joints());
+  o.pose = Eigen::VectorXd::Zero(3 * static_cast<Eigen::Index>(m.num_joints()));
   EXPECT_NO_THROW(smpl::check_pose(m, o, "out.glb"));
 }
 

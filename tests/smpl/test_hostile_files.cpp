@@ -29,7 +29,7 @@ namespace fs = std::filesystem;
 using Bytes = std::vector<std::uint8_t>;
 
 fs::path out_dir(const std::string& name) {
-  const fs::path d = fs::path(CALIPER_TEST_DATA_DIR) / "hostile" / name;
+  fs::path d = fs::path(CALIPER_TEST_DATA_DIR) / "hostile" / name;
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
@@ -92,9 +92,10 @@ struct GltfParts {
 std::string make_gltf(const GltfParts& p, Bytes& bin) {
   bin.clear();
   const int V = p.vertices;
-  for (int i = 0; i < V; ++i) {  // positions
-    append(bin, static_cast<float>(i % 2));
-    append(bin, static_cast<float>(i / 2));
+  for (int i = 0; i < V; ++i) {  // positions: a grid two vertices wide
+    const int column = i % 2, row = i / 2;
+    append(bin, static_cast<float>(column));
+    append(bin, static_cast<float>(row));
     append(bin, 0.0f);
   }
   const std::size_t joints_at = bin.size();
@@ -512,6 +513,7 @@ TEST(HostileNpz, UnusedZipBombCostsNothing) {
 TEST(HostileNpz, OverlappingMembersAreRefused) {
   std::vector<ZipMember> members = model_members();
   std::vector<std::string> aliases;
+  aliases.reserve(30);
   for (int i = 0; i < 30; ++i) aliases.push_back("alias" + std::to_string(i) + ".npy");
   const Bytes zip = make_zip(members, aliases);
   const std::string e = error_of([&] { load(zip); });

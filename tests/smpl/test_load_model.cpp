@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdint>
+#include <cstring>
 #include <random>
 
 #include "io_test_util.hpp"
@@ -18,6 +20,14 @@ std::string fixture(const std::string& name) {
   return io_fixture_dir() + "/" + name;
 }
 
+// The bits of a double (C++17 has no std::bit_cast).
+std::uint64_t double_bits(double x) {
+  static_assert(sizeof(double) == sizeof(std::uint64_t), "a double is 64 bits");
+  std::uint64_t bits = 0;
+  std::memcpy(&bits, &x, sizeof bits);
+  return bits;
+}
+
 // Bitwise comparison of a double matrix with a reference array (C order).
 template <typename M>
 ::testing::AssertionResult same_doubles(const M& m, const smpl::NpyArray& ref, const char* what) {
@@ -30,7 +40,7 @@ template <typename M>
   for (Eigen::Index i = 0; i < m.rows(); ++i) {
     for (Eigen::Index j = 0; j < m.cols(); ++j, ++n) {
       const double a = m(i, j);
-      if (std::memcmp(&a, &r[n], sizeof(double)) != 0) {
+      if (double_bits(a) != double_bits(r[n])) {
         return ::testing::AssertionFailure()
                << what << "(" << i << ", " << j << ") = " << a << ", reference " << r[n];
       }

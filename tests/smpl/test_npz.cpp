@@ -15,7 +15,7 @@ using smpl::NpyArray;
 using smpl::NpzArchive;
 
 std::string data_dir() {
-  const std::string d = std::string(CALIPER_TEST_DATA_DIR) + "/smpl_npz";
+  std::string d = std::string(CALIPER_TEST_DATA_DIR) + "/smpl_npz";
   caliper::test::run_command("mkdir -p '" + d + "'");
   return d;
 }
@@ -303,7 +303,7 @@ TEST(Npz, BadArchivesGiveClearErrors) {
   NpzArchive z;
   z["a"] = smpl::make_npy(std::vector<double>{1, 2, 3}, {3});
   const std::vector<std::uint8_t> good = smpl::npz_bytes(z);
-  auto parse = [](std::vector<std::uint8_t> b) {
+  auto parse = [](const std::vector<std::uint8_t>& b) {
     return [b] { smpl::parse_npz(b.data(), b.size(), "m.npz"); };
   };
   expect_error(parse({}), {"m.npz", "truncated or not a zip"});

@@ -9,7 +9,7 @@
 namespace {
 
 std::string save_model_out_dir() {
-  const std::string d = std::string(CALIPER_TEST_DATA_DIR) + "/smpl_save";
+  std::string d = std::string(CALIPER_TEST_DATA_DIR) + "/smpl_save";
   caliper::test::run_command("mkdir -p '" + d + "'");
   return d;
 }

@@ -116,7 +116,7 @@ TEST(Simd, ScopesNestAndALevelTheCpuLacksIsRefused) {
   ASSERT_FALSE(levels.empty());
   EXPECT_EQ(levels.front(), smpl::SimdLevel::kBaseline);
   if (levels.back() != smpl::SimdLevel::kAvx512) {
-    EXPECT_THROW(smpl::ScopedSimdLevel(smpl::SimdLevel::kAvx512), std::invalid_argument);
+    EXPECT_THROW(smpl::ScopedSimdLevel{smpl::SimdLevel::kAvx512}, std::invalid_argument);
   }
 }
 

@@ -33,7 +33,7 @@ constexpr double kVrmFloatTol = 2.5e-7;
 constexpr double kTPoseArmToleranceDeg = 3.0;
 
 fs::path vrm_out_dir() {
-  const fs::path d = fs::path(CALIPER_TEST_DATA_DIR) / "vrm";
+  fs::path d = fs::path(CALIPER_TEST_DATA_DIR) / "vrm";
   fs::create_directories(d);
   return d;
 }

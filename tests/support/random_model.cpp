@@ -120,7 +120,7 @@ Eigen::VectorXd random_pose(int num_joints, double max_angle, std::uint64_t seed
   for (int k = 0; k < num_joints; ++k) {
     Eigen::Vector3d axis(rng.normal(), rng.normal(), rng.normal());
     axis.normalize();
-    pose.segment<3>(3 * k) = axis * rng.uniform(0.0, max_angle);
+    pose.segment<3>(3 * static_cast<Eigen::Index>(k)) = axis * rng.uniform(0.0, max_angle);
   }
   return pose;
 }
@@ -156,7 +156,7 @@ smpl::BodyModel make_random_model(const RandomModelOptions& o) {
     }
   }
   std::vector<std::array<int, 3>> tris;
-  tris.reserve(static_cast<size_t>(2 * R * S));
+  tris.reserve(2 * static_cast<size_t>(R) * static_cast<size_t>(S));
   for (int s = 0; s < S; ++s) {
     tris.push_back({north, vid(0, s), vid(0, s + 1)});
     tris.push_back({south, vid(R - 1, s), vid(R - 1, s + 1)});
@@ -222,7 +222,7 @@ smpl::BodyModel make_random_model(const RandomModelOptions& o) {
   m.weights.resize(V, K);
   {
     std::vector<Eigen::Triplet<double>> trip;
-    trip.reserve(static_cast<size_t>(4 * V));
+    trip.reserve(4 * static_cast<size_t>(V));
     for (int v = 0; v < V; ++v) {
       const auto ids = nearest(joints, m.v_template.row(v).transpose(), 4);
       std::vector<double> w(ids.size());
@@ -237,7 +237,7 @@ smpl::BodyModel make_random_model(const RandomModelOptions& o) {
   }
 
   // Shape directions: a smooth affine field per component plus a little per-vertex noise.
-  m.shapedirs.resize(3 * V, o.num_betas);
+  m.shapedirs.resize(3 * static_cast<Eigen::Index>(V), o.num_betas);
   for (int b = 0; b < o.num_betas; ++b) {
     Eigen::Matrix3d A;
     Eigen::Vector3d t;
@@ -252,7 +252,7 @@ smpl::BodyModel make_random_model(const RandomModelOptions& o) {
     }
   }
   if (o.pose_blend_shapes && K > 1) {
-    m.posedirs.resize(3 * V, 9 * (K - 1));
+    m.posedirs.resize(3 * static_cast<Eigen::Index>(V), 9 * static_cast<Eigen::Index>(K - 1));
     for (Eigen::Index j = 0; j < m.posedirs.cols(); ++j) {
       for (Eigen::Index i = 0; i < m.posedirs.rows(); ++i)
         m.posedirs(i, j) = o.pose_scale * rng.normal();

@@ -28,7 +28,7 @@ TEST(OpenXrInput, EveryControllerBindsTriggerPoseAndHapticOnBothHands) {
         EXPECT_TRUE(a.count(needed)) << profile << (left ? " left " : " right ") << needed;
     }
     for (const XrBindingSpec& x : b) {
-      EXPECT_EQ(x.input.rfind("/", 0), 0u) << x.input;
+      EXPECT_EQ(x.input.rfind('/', 0), 0u) << x.input;
       EXPECT_TRUE(x.left || x.right) << profile << " " << x.action;
     }
   }

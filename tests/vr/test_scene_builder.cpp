@@ -129,7 +129,7 @@ TEST(SceneBuilder, TheStepsShowTheDemonstrationAndTheVideoUnderThePanel) {
   render::Image frame;
   frame.width = 320;
   frame.height = 180;
-  frame.rgba.assign(320 * 180 * 4, 0);
+  frame.rgba.assign(std::size_t{320} * 180 * 4, 0);
   SceneInputs in;
   in.video = &frame;
   render::Scene scene;

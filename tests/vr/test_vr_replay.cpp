@@ -108,14 +108,14 @@ int count_tone_bursts(const std::string& path) {
     i += 8 + size + (size & 1u);
   }
   if (bits != 16 || channels == 0 || rate == 0 || data == 0) return -1;
-  const size_t frames = data_size / (2 * channels);
+  const size_t frames = data_size / (2 * static_cast<size_t>(channels));
   const size_t window = rate / 200;
   int bursts = 0;
   bool on = false;
   for (size_t w = 0; w + window <= frames; w += window) {
     double ss = 0.0;
     for (size_t k = w; k < w + window; ++k) {
-      const auto v = static_cast<std::int16_t>(u16(data + 2 * channels * k));
+      const auto v = static_cast<std::int16_t>(u16(data + 2 * static_cast<size_t>(channels) * k));
       ss += static_cast<double>(v) * v;
     }
     const bool now = std::sqrt(ss / static_cast<double>(window)) > 3276.7;

@@ -261,7 +261,7 @@ double signed_volume(const std::vector<float>& p, const std::vector<std::uint32_
   for (size_t t = 0; t + 2 < tri.size(); t += 3) {
     Eigen::Vector3d c[3];
     for (int k = 0; k < 3; ++k)
-      c[k] = Eigen::Vector3d(p[3 * tri[t + static_cast<size_t>(k)]],
+      c[k] = Eigen::Vector3d(p[3 * static_cast<size_t>(tri[t + static_cast<size_t>(k)])],
                              p[3 * tri[t + static_cast<size_t>(k)] + 1],
                              p[3 * tri[t + static_cast<size_t>(k)] + 2]);
     v += c[0].dot(c[1].cross(c[2])) / 6.0;

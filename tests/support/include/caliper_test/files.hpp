@@ -18,7 +18,7 @@ inline std::string slurp(const std::filesystem::path& p) {
 
 /// `root`/`name` (root: the test target's CALIPER_TEST_DATA_DIR), created if missing.
 inline std::filesystem::path output_dir(const std::string& root, const std::string& name) {
-  const std::filesystem::path d = std::filesystem::path(root) / name;
+  std::filesystem::path d = std::filesystem::path(root) / name;
   std::filesystem::create_directories(d);
   return d;
 }
