@@ -77,8 +77,7 @@ TEST(Batch, ShapeBatchHasTheBitsOfSingleCallsForAnyThreadCount) {
     ASSERT_EQ(batch.joints.cols(), 3 * model.num_joints());
     for (int n = 0; n < N; ++n) {
       const smpl::Body one = smpl::shape(model, in.betas.row(n).transpose());
-      EXPECT_TRUE(
-          same_bits(one.vertices.data(), batch.vertices.row(n).data(), one.vertices.size()))
+      EXPECT_TRUE(same_bits(one.vertices.data(), batch.vertices.row(n).data(), one.vertices.size()))
           << "body " << n << ", " << threads << " threads";
       EXPECT_TRUE(same_bits(one.joints.data(), batch.joints.row(n).data(), one.joints.size()))
           << "body " << n << ", " << threads << " threads";
@@ -90,8 +89,7 @@ TEST(Batch, ShapeBatchHasTheBitsOfSingleCallsForAnyThreadCount) {
   smpl::shape_batch(model, in.betas.leftCols(6), strided);
   for (int n = 0; n < N; ++n) {
     const smpl::Body one = smpl::shape(model, in.betas.row(n).head(6).transpose());
-    EXPECT_TRUE(
-        same_bits(one.vertices.data(), strided.vertices.row(n).data(), one.vertices.size()))
+    EXPECT_TRUE(same_bits(one.vertices.data(), strided.vertices.row(n).data(), one.vertices.size()))
         << "body " << n << " of the strided betas";
   }
 }
@@ -120,8 +118,7 @@ void check_evaluate_batch(bool single_precision, bool sparse) {
     EXPECT_EQ(dj, 0.0) << "joints do not depend on the pose blend shapes";
     worst = std::max(worst, dv);
     if (!sparse) {
-      EXPECT_TRUE(
-          same_bits(one.vertices.data(), b1.vertices.row(n).data(), one.vertices.size()))
+      EXPECT_TRUE(same_bits(one.vertices.data(), b1.vertices.row(n).data(), one.vertices.size()))
           << "body " << n << ": every joint rotated, so the batch reads the same columns";
     }
   }
@@ -152,8 +149,7 @@ TEST(Batch, SmallBatchesGiveTheBitsOfTheirBodiesInALargeBatch) {
     smpl::evaluate_batch(model, in.betas, in.poses, in.translations, ws, large);
     smpl::evaluate_batch(model, in.betas.topRows(2), in.poses.topRows(2),
                          in.translations.topRows(2), ws, small, 2);
-    EXPECT_TRUE(
-        same_bits(large.vertices.data(), small.vertices.data(), small.vertices.size()))
+    EXPECT_TRUE(same_bits(large.vertices.data(), small.vertices.data(), small.vertices.size()))
         << (single_precision ? "float" : "double");
   }
 }
@@ -166,8 +162,7 @@ TEST(Batch, RestPoseAndNoTranslationEqualShape) {
   smpl::evaluate_batch(model, in.betas, RowMatrixXd(0, 0), RowMatrixXd(0, 3), ws, batch);
   for (int n = 0; n < 3; ++n) {
     const smpl::Body one = smpl::evaluate(model, in.betas.row(n).transpose(), Eigen::VectorXd());
-    EXPECT_TRUE(
-        same_bits(one.vertices.data(), batch.vertices.row(n).data(), one.vertices.size()));
+    EXPECT_TRUE(same_bits(one.vertices.data(), batch.vertices.row(n).data(), one.vertices.size()));
   }
 }
 
