@@ -21,8 +21,9 @@ then runs bench_smpl once for every case, so slow phases of a shared machine hit
 Cases: shape only (smplx: its forward() with a zero pose, and forward_shape(), which gives the
 vertices without joints; libsmpl: shape_batch, vertices and joints) and posed (random pose),
 float32 and float64, every batch size; libsmpl runs the SIMD variant it picks for the CPU
-(or --simd's). libsmpl's "float" is its single-precision pose blend shapes (vertices stay
-double); its shape-only path has no precision choice and is listed in both rows. Times are CPU time per body. For each case the table gives the median per-body time of
+(or --simd's). libsmpl's posed "float" is its single-precision pose blend shapes (vertices
+stay double); its shape-only float32 rows are shape_batch into float vertices and joints
+(smpl::BodyBatchF), the float64 rows shape_batch into double ones. Times are CPU time per body. For each case the table gives the median per-body time of
 each side over the rounds and the speed-up smplx / libsmpl (above 1: libsmpl is faster) as the
 median of the per-round speed-ups with their range (min-max), so the spread shows how noisy the
 machine was.
@@ -130,7 +131,7 @@ def caliper_round(args, two_cores=False):
     shape-only rows with two threads, keyed ("shape2", "float64", n)."""
     sizes = ",".join(str(n) for n in args.batch_sizes)
     filt = (r"^BM_ShapeBatch/[a-z0-9]+/[0-9]+/2/real_time$" if two_cores
-            else r"^BM_(Shape|Evaluate)Batch/[a-z0-9]+/[0-9/]+/1$")
+            else r"^BM_(ShapeBatchF?|EvaluateBatch)/[a-z0-9]+/[0-9/]+/1$")
     out = run_bench(args, ["--benchmark_format=json", "--benchmark_min_time=%g" % args.min_time,
                            "--benchmark_filter=" + filt],
                     {"CALIPER_BENCH_BATCH_SIZES": sizes},
@@ -149,10 +150,12 @@ def caliper_round(args, two_cores=False):
         t = b["real_time" if two_cores else "cpu_time"] * SECONDS[b["time_unit"]] / n
         if two_cores:
             result[("shape2", "float64", n)] = t
-        elif parts[0] == "BM_ShapeBatch":
+        elif parts[0] == "BM_ShapeBatch":  # double vertices and joints
+            for kind in ("shape", "vshape"):
+                result[(kind, "float64", n)] = t
+        elif parts[0] == "BM_ShapeBatchF":  # float vertices and joints (BodyBatchF)
             for kind in ("shape", "vshape"):
                 result[(kind, "float32", n)] = t
-                result[(kind, "float64", n)] = t
         else:
             result[("posed", "float32" if parts[3] == "1" else "float64", n)] = t
     return result, variant
@@ -267,8 +270,9 @@ def check_same_bodies(args, side):
                                     ("posed", "float64", False, "posed_%s_double"),
                                     ("posed", "float32", False, "posed_%s_float")]:
         v, j = side.forward(dtype, betas, np.zeros_like(poses) if rest else poses)
-        if rest:
-            rv, rj = ref["shape_vertices"], ref["shape_joints"]
+        if rest:  # libsmpl's float shape batch against smplx float32 (older references: double)
+            suffix = "_float" if dtype == "float32" and "shape_vertices_float" in ref else ""
+            rv, rj = ref["shape_vertices" + suffix], ref["shape_joints" + suffix]
         else:
             rv, rj = ref[key % "vertices"], ref[key % "joints"]
         dv = float(np.abs(v.reshape(n, -1) - rv).max())

@@ -122,16 +122,17 @@ SMPL_KERNEL_VARIANTS(blend,
 
 // One step of K vectors T of rows r.. for G bodies (body g's betas at beta + g * bstride, its
 // output at out + g * ostride): acc_g = t, then acc_g += beta_g[b] * S_b for b = 0, 1, ... in
-// this order, as blend_body computes each output. T may be double (the tail rows).
-template <typename T, int G, int K>
-inline __attribute__((always_inline)) void blend_step(const double* t, const double* S,
+// this order, as blend_body computes each output. Scalar is double (shape_batch into BodyBatch)
+// or float (into BodyBatchF, betas rounded to float by the caller); T is a vector of Scalar, or
+// Scalar itself for the tail rows.
+template <typename Scalar, typename T, int G, int K>
+inline __attribute__((always_inline)) void blend_step(const Scalar* t, const Scalar* S,
                                                       Eigen::Index ld, Eigen::Index r,
-                                                      const double* beta, Eigen::Index bstride,
-                                                      Eigen::Index nb, double* out,
+                                                      const Scalar* beta, Eigen::Index bstride,
+                                                      Eigen::Index nb, Scalar* out,
                                                       Eigen::Index ostride) {
-  // T is a vector of doubles, or double itself for the tail rows (one lane).
   constexpr Eigen::Index kLanes = static_cast<Eigen::Index>(
-      sizeof(T) / sizeof(double));  // NOLINT(bugprone-sizeof-expression): T = double is one lane
+      sizeof(T) / sizeof(Scalar));  // NOLINT(bugprone-sizeof-expression): T = Scalar is one lane
   T a[G][K];
 #pragma GCC unroll 8
   for (int k = 0; k < K; ++k) {
@@ -146,7 +147,7 @@ inline __attribute__((always_inline)) void blend_step(const double* t, const dou
     for (int k = 0; k < K; ++k) std::memcpy(&x[k], S + b * ld + r + k * kLanes, sizeof(T));
 #pragma GCC unroll 4
     for (int g = 0; g < G; ++g) {
-      const double c = beta[g * bstride + b];
+      const Scalar c = beta[g * bstride + b];
 #pragma GCC unroll 8
       for (int k = 0; k < K; ++k) a[g][k] += c * x[k];
     }
@@ -161,60 +162,95 @@ inline __attribute__((always_inline)) void blend_step(const double* t, const dou
 
 // Rows [0, rows) of G bodies: steps of K vectors V, then of one vector, then the tail rows one at a
 // time.
-template <typename V, int G, int K>
-inline __attribute__((always_inline)) void blend_group(const double* t, const double* S,
+template <typename Scalar, typename V, int G, int K>
+inline __attribute__((always_inline)) void blend_group(const Scalar* t, const Scalar* S,
                                                        Eigen::Index ld, Eigen::Index rows,
-                                                       const double* beta, Eigen::Index bstride,
-                                                       Eigen::Index nb, double* out,
+                                                       const Scalar* beta, Eigen::Index bstride,
+                                                       Eigen::Index nb, Scalar* out,
                                                        Eigen::Index ostride) {
-  constexpr Eigen::Index kRows = K * static_cast<Eigen::Index>(sizeof(V) / sizeof(double));
-  constexpr Eigen::Index kLanes = static_cast<Eigen::Index>(sizeof(V) / sizeof(double));
+  constexpr Eigen::Index kLanes = static_cast<Eigen::Index>(sizeof(V) / sizeof(Scalar));
+  constexpr Eigen::Index kRows = K * kLanes;
   Eigen::Index r = 0;
   for (; r + kRows <= rows; r += kRows)
-    blend_step<V, G, K>(t, S, ld, r, beta, bstride, nb, out, ostride);
+    blend_step<Scalar, V, G, K>(t, S, ld, r, beta, bstride, nb, out, ostride);
   for (; r + kLanes <= rows; r += kLanes)
-    blend_step<V, G, 1>(t, S, ld, r, beta, bstride, nb, out, ostride);
-  for (; r < rows; ++r) blend_step<double, G, 1>(t, S, ld, r, beta, bstride, nb, out, ostride);
+    blend_step<Scalar, V, G, 1>(t, S, ld, r, beta, bstride, nb, out, ostride);
+  for (; r < rows; ++r)
+    blend_step<Scalar, Scalar, G, 1>(t, S, ld, r, beta, bstride, nb, out, ostride);
 }
 
 // blend() for `nbodies` bodies over the same rows: body n's betas at beta + n * bstride, its
 // output at out + n * ostride. Groups of 4 bodies share every loaded vector of S (2 vectors of
 // rows per step, 4 with AVX-512's 32 registers: 8 or 16 accumulators), so a block of S small
-// enough for the L1 cache is read from it once per 4 bodies; each output has the bits of blend()
-// (same operations, same order).
-SMPL_KERNEL_BODY
-void blend_batch_body(const double* t, const double* S, Eigen::Index ld, Eigen::Index rows,
-                      const double* beta, Eigen::Index bstride, Eigen::Index nb,
-                      Eigen::Index nbodies, double* out, Eigen::Index ostride) {
-  typedef typename Vec<double, kVecBytes>::type V;
+// enough for the L1 cache is read from it once per 4 bodies; with Scalar = double each output
+// has the bits of blend() (same operations, same order).
+template <int kVecBytes, typename Scalar>
+inline __attribute__((always_inline)) void blend_batch_of(const Scalar* t, const Scalar* S,
+                                                          Eigen::Index ld, Eigen::Index rows,
+                                                          const Scalar* beta, Eigen::Index bstride,
+                                                          Eigen::Index nb, Eigen::Index nbodies,
+                                                          Scalar* out, Eigen::Index ostride) {
+  typedef typename Vec<Scalar, kVecBytes>::type V;
   constexpr int K = kVecBytes >= 64 ? 4 : 2;
   Eigen::Index n = 0;
   for (; n + 4 <= nbodies; n += 4)
-    blend_group<V, 4, K>(t, S, ld, rows, beta + n * bstride, bstride, nb, out + n * ostride,
-                         ostride);
-  const double* bn = beta + n * bstride;
-  double* on = out + n * ostride;
+    blend_group<Scalar, V, 4, K>(t, S, ld, rows, beta + n * bstride, bstride, nb, out + n * ostride,
+                                 ostride);
+  const Scalar* bn = beta + n * bstride;
+  Scalar* on = out + n * ostride;
   // The last 1-3 bodies: more vectors of rows per step, so that enough independent sums are in
   // flight to hide the latency of the additions (8 for one body, as blend() has).
   switch (nbodies - n) {
     case 3:
-      blend_group<V, 3, K + 1>(t, S, ld, rows, bn, bstride, nb, on, ostride);
+      blend_group<Scalar, V, 3, K + 1>(t, S, ld, rows, bn, bstride, nb, on, ostride);
       break;
     case 2:
-      blend_group<V, 2, 2 * K>(t, S, ld, rows, bn, bstride, nb, on, ostride);
+      blend_group<Scalar, V, 2, 2 * K>(t, S, ld, rows, bn, bstride, nb, on, ostride);
       break;
     case 1:
-      blend_group<V, 1, 8>(t, S, ld, rows, bn, bstride, nb, on, ostride);
+      blend_group<Scalar, V, 1, 8>(t, S, ld, rows, bn, bstride, nb, on, ostride);
       break;
     default:
       break;
   }
+}
+
+SMPL_KERNEL_BODY
+void blend_batch_body(const double* t, const double* S, Eigen::Index ld, Eigen::Index rows,
+                      const double* beta, Eigen::Index bstride, Eigen::Index nb,
+                      Eigen::Index nbodies, double* out, Eigen::Index ostride) {
+  blend_batch_of<kVecBytes, double>(t, S, ld, rows, beta, bstride, nb, nbodies, out, ostride);
 }
 SMPL_KERNEL_VARIANTS(blend_batch,
                      (const double* t, const double* S, Eigen::Index ld, Eigen::Index rows,
                       const double* beta, Eigen::Index bstride, Eigen::Index nb,
                       Eigen::Index nbodies, double* out, Eigen::Index ostride),
                      (t, S, ld, rows, beta, bstride, nb, nbodies, out, ostride))
+
+// The same in float (shape_batch into BodyBatchF): twice the lanes per vector, half the bytes.
+SMPL_KERNEL_BODY
+void blend_batch_f32_body(const float* t, const float* S, Eigen::Index ld, Eigen::Index rows,
+                          const float* beta, Eigen::Index bstride, Eigen::Index nb,
+                          Eigen::Index nbodies, float* out, Eigen::Index ostride) {
+  blend_batch_of<kVecBytes, float>(t, S, ld, rows, beta, bstride, nb, nbodies, out, ostride);
+}
+SMPL_KERNEL_VARIANTS(blend_batch_f32,
+                     (const float* t, const float* S, Eigen::Index ld, Eigen::Index rows,
+                      const float* beta, Eigen::Index bstride, Eigen::Index nb,
+                      Eigen::Index nbodies, float* out, Eigen::Index ostride),
+                     (t, S, ld, rows, beta, bstride, nb, nbodies, out, ostride))
+
+// Overloads for shape_rows.
+void blend_batch_any(const double* t, const double* S, Eigen::Index ld, Eigen::Index rows,
+                     const double* beta, Eigen::Index bstride, Eigen::Index nb,
+                     Eigen::Index nbodies, double* out, Eigen::Index ostride) {
+  blend_batch(t, S, ld, rows, beta, bstride, nb, nbodies, out, ostride);
+}
+void blend_batch_any(const float* t, const float* S, Eigen::Index ld, Eigen::Index rows,
+                     const float* beta, Eigen::Index bstride, Eigen::Index nb, Eigen::Index nbodies,
+                     float* out, Eigen::Index ostride) {
+  blend_batch_f32(t, S, ld, rows, beta, bstride, nb, nbodies, out, ostride);
+}
 
 // v += P[:, c0:c0+nc] * f[c0:c0+nc] for the double pose blend shapes (P column-major, leading
 // dimension ld). Blocks of 512 rows (4 KB per column segment: long sequential runs that the
@@ -673,14 +709,19 @@ void parallel_for(int threads, Eigen::Index n, const F& f) {
 
 // shape() for bodies [n0, n1) of a batch, blocked over vertices: each block of shapedirs rows is
 // applied to every body, then the joint regressor's entries of that block of vertices are added
-// (per joint in the regressor's storage order, as in shaped_rest).
-void shape_rows(const BodyModel& model, const Eigen::Ref<const RowMatrixXd>& betas, Eigen::Index n0,
-                Eigen::Index n1, RowMatrixXd& vertices, RowMatrixXd& joints) {
-  const Eigen::Index V = model.v_template.rows(), nb = betas.cols();
+// (per joint in the regressor's storage order, as in shaped_rest; summed in double). Scalar is the
+// precision of the template `t` (V x 3 row-major), `shapedirs` (3V x nb columns, leading dimension
+// ld) and the outputs: double (BodyBatch, the model's own arrays) or float (BodyBatchF, the
+// workspace's float copies).
+template <typename Scalar, typename Out>
+void shape_rows(const BodyModel& model, const Scalar* t, const Scalar* shapedirs, Eigen::Index ld,
+                const Scalar* beta, Eigen::Index bstride, Eigen::Index nb, Eigen::Index n0,
+                Eigen::Index n1, Out& vertices, Out& joints) {
+  const Eigen::Index V = model.v_template.rows();
   const Eigen::Index K = model.j_regressor.rows();
   const SparseMatrix& J = model.j_regressor;
-  // Vertices per block: the block of shapedirs (3 x 8 bytes x nb per vertex) within 24 KB, so that
-  // it stays in the L1 cache while every group of 4 bodies passes over it.
+  // Vertices per block: the block of shapedirs (3 x 8 bytes x nb per vertex in double) within
+  // 24 KB, so that it stays in the L1 cache while every group of 4 bodies passes over it.
   const Eigen::Index block = std::max<Eigen::Index>(
       32, (24 * Eigen::Index{1024}) / (24 * std::max<Eigen::Index>(nb, 1)) / 32 * 32);
   std::vector<Eigen::Index> cursor(static_cast<size_t>(K)), end(static_cast<size_t>(K));
@@ -696,9 +737,9 @@ void shape_rows(const BodyModel& model, const Eigen::Ref<const RowMatrixXd>& bet
   for (Eigen::Index v0 = 0; v0 < V; v0 += block) {
     const Eigen::Index v1 = std::min(V, v0 + block);
     if (n1 > n0) {
-      blend_batch(model.v_template.data() + 3 * v0, model.shapedirs.data() + 3 * v0,
-                  model.shapedirs.rows(), 3 * (v1 - v0), betas.row(n0).data(), betas.outerStride(),
-                  nb, n1 - n0, vertices.row(n0).data() + 3 * v0, vertices.outerStride());
+      blend_batch_any(t + 3 * v0, shapedirs + 3 * v0, ld, 3 * (v1 - v0), beta + n0 * bstride,
+                      bstride, nb, n1 - n0, vertices.row(n0).data() + 3 * v0,
+                      vertices.outerStride());
     }
     for (Eigen::Index k = 0; k < K; ++k) {
       const Eigen::Index lo = cursor[static_cast<size_t>(k)];
@@ -707,21 +748,40 @@ void shape_rows(const BodyModel& model, const Eigen::Ref<const RowMatrixXd>& bet
       cursor[static_cast<size_t>(k)] = hi;
       if (hi == lo) continue;
       for (Eigen::Index n = n0; n < n1; ++n) {
-        double* j = joints.row(n).data() + 3 * k;
-        const double* x = vertices.row(n).data();
+        Scalar* j = joints.row(n).data() + 3 * k;
+        const Scalar* x = vertices.row(n).data();
         double j0 = j[0], j1 = j[1], j2 = j[2];
         for (Eigen::Index e = lo; e < hi; ++e) {
           const double w = value[e];
-          const double* xv = x + 3 * static_cast<Eigen::Index>(inner[e]);
+          const Scalar* xv = x + 3 * static_cast<Eigen::Index>(inner[e]);
           j0 += w * xv[0];
           j1 += w * xv[1];
           j2 += w * xv[2];
         }
-        j[0] = j0;
-        j[1] = j1;
-        j[2] = j2;
+        j[0] = static_cast<Scalar>(j0);
+        j[1] = static_cast<Scalar>(j1);
+        j[2] = static_cast<Scalar>(j2);
       }
     }
+  }
+}
+
+// shape_rows on the model's own (double) template and shapedirs.
+void shape_rows(const BodyModel& model, const Eigen::Ref<const RowMatrixXd>& betas, Eigen::Index n0,
+                Eigen::Index n1, RowMatrixXd& vertices, RowMatrixXd& joints) {
+  shape_rows(model, model.v_template.data(), model.shapedirs.data(), model.shapedirs.rows(),
+             betas.data(), betas.outerStride(), betas.cols(), n0, n1, vertices, joints);
+}
+
+// The float copies of v_template and shapedirs in ws, (re)made when missing or from another model.
+void ensure_float_shapedirs(const BodyModel& model, Workspace& ws) {
+  if (ws.shapedirs_f_source != model.shapedirs.data() ||
+      ws.shapedirs_f.rows() != model.shapedirs.rows() ||
+      ws.shapedirs_f.cols() != model.shapedirs.cols() ||
+      ws.v_template_f.rows() != model.v_template.rows()) {
+    ws.shapedirs_f = model.shapedirs.cast<float>();
+    ws.v_template_f = model.v_template.cast<float>();
+    ws.shapedirs_f_source = model.shapedirs.data();
   }
 }
 
@@ -820,6 +880,22 @@ void shape_batch(const BodyModel& model, const Eigen::Ref<const RowMatrixXd>& be
   out.joints.resize(N, 3 * model.j_regressor.rows());
   parallel_for(threads, N, [&](Eigen::Index n0, Eigen::Index n1) {
     shape_rows(model, betas, n0, n1, out.vertices, out.joints);
+  });
+}
+
+void shape_batch(const BodyModel& model, const Eigen::Ref<const RowMatrixXd>& betas, Workspace& ws,
+                 BodyBatchF& out, int threads) {
+  threads = resolve_threads(threads, "smpl::shape_batch");
+  check_betas(model, betas.cols());
+  ensure_float_shapedirs(model, ws);
+  const Eigen::Index N = betas.rows();
+  out.vertices.resize(N, 3 * model.v_template.rows());
+  out.joints.resize(N, 3 * model.j_regressor.rows());
+  const RowMatrixXf beta_f = betas.cast<float>();
+  parallel_for(threads, N, [&](Eigen::Index n0, Eigen::Index n1) {
+    shape_rows(model, ws.v_template_f.data(), ws.shapedirs_f.data(), ws.shapedirs_f.rows(),
+               beta_f.data(), beta_f.outerStride(), beta_f.cols(), n0, n1, out.vertices,
+               out.joints);
   });
 }
 

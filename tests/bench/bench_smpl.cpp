@@ -189,6 +189,26 @@ void BM_ShapeBatch(benchmark::State& state, smpl::SimdLevel level) {
       1e-6 * n, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
+// smpl::shape_batch into float vertices and joints (BodyBatchF): range(0) = N, range(1) = threads.
+void BM_ShapeBatchF(benchmark::State& state, smpl::SimdLevel level) {
+  const smpl::ScopedSimdLevel pin(level);
+  const auto& m = model();
+  const int n = static_cast<int>(state.range(0)), threads = static_cast<int>(state.range(1));
+  const smpl::RowMatrixXd betas = batch_betas(n);
+  smpl::Workspace ws;
+  smpl::BodyBatchF out;
+  smpl::shape_batch(m, betas, ws, out, threads);
+  for (auto _ : state) {
+    smpl::shape_batch(m, betas, ws, out, threads);
+    benchmark::DoNotOptimize(out.vertices.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["bodies_per_s"] =
+      benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["per_body_us"] = benchmark::Counter(
+      1e-6 * n, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
 // smpl::evaluate_batch, every joint rotated: range(0) = N, range(1) = 1 for float posedirs,
 // range(2) = threads.
 void BM_EvaluateBatch(benchmark::State& state, smpl::SimdLevel level) {
@@ -277,6 +297,9 @@ void register_per_variant() {
             ->Args({n, 2})
             ->UseRealTime()
             ->Unit(benchmark::kMicrosecond);
+        benchmark::RegisterBenchmark(("BM_ShapeBatchF/" + v).c_str(), BM_ShapeBatchF, level)
+            ->Args({n, 1})
+            ->Unit(benchmark::kMicrosecond);
         benchmark::RegisterBenchmark(("BM_EvaluateBatch/" + v).c_str(), BM_EvaluateBatch, level)
             ->Args({n, 0, 1})
             ->Args({n, 1, 1})
@@ -285,6 +308,11 @@ void register_per_variant() {
       continue;
     }
     benchmark::RegisterBenchmark(("BM_ShapeBatch/" + v).c_str(), BM_ShapeBatch, level)
+        ->Args({1, 1})
+        ->Args({64, 1})
+        ->Args({1024, 1})
+        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark(("BM_ShapeBatchF/" + v).c_str(), BM_ShapeBatchF, level)
         ->Args({1, 1})
         ->Args({64, 1})
         ->Args({1024, 1})
@@ -321,7 +349,8 @@ void register_per_variant() {
 // SMPL-layout .npz (v_template, shapedirs, posedirs, J_regressor, weights, kintree_table, f), the
 // file tools/bench_vs_smplx.py gives both sides. --write_reference=PATH: for that model, the
 // betas and poses of the first 8 bodies of the batch benchmarks and libsmpl's vertices for them
-// (shape_batch; evaluate_batch with double and float pose blend shapes), so that the script can
+// (shape_batch in double and float; evaluate_batch with double and float pose blend shapes), so
+// that the script can
 // check that smplx computes the same bodies before it times them.
 void write_reference(const std::string& path) {
   const auto& m = model();
@@ -335,6 +364,11 @@ void write_reference(const std::string& path) {
   smpl::shape_batch(m, betas, batch);
   out["shape_vertices"] = smpl::make_npy(batch.vertices);
   out["shape_joints"] = smpl::make_npy(batch.joints);
+  smpl::Workspace fws;
+  smpl::BodyBatchF batch_f;
+  smpl::shape_batch(m, betas, fws, batch_f);
+  out["shape_vertices_float"] = smpl::make_npy(smpl::RowMatrixXd(batch_f.vertices.cast<double>()));
+  out["shape_joints_float"] = smpl::make_npy(smpl::RowMatrixXd(batch_f.joints.cast<double>()));
   for (const bool single : {false, true}) {
     smpl::Workspace ws;
     ws.single_precision_pose_blend_shapes = single;

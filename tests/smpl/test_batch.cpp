@@ -94,6 +94,49 @@ TEST(Batch, ShapeBatchHasTheBitsOfSingleCallsForAnyThreadCount) {
   }
 }
 
+TEST(Batch, FloatShapeBatchIsWithinAMicrometreOfDoubleForAnyThreadCount) {
+  caliper::test::RandomModelOptions mo;
+  mo.num_betas = 13;
+  const smpl::BodyModel model = caliper::test::make_random_model(mo);
+  const int N = 9;  // every group size, as above
+  const Inputs in = make_inputs(N, 11, 24, false, 41);
+  smpl::BodyBatch ref;
+  smpl::shape_batch(model, in.betas, ref);
+  smpl::Workspace ws;
+  smpl::BodyBatchF first;
+  for (int threads : {1, 2, 3}) {
+    smpl::BodyBatchF batch;
+    smpl::shape_batch(model, in.betas, ws, batch, threads);
+    ASSERT_EQ(batch.vertices.rows(), N);
+    ASSERT_EQ(batch.vertices.cols(), 3 * model.num_vertices());
+    ASSERT_EQ(batch.joints.cols(), 3 * model.num_joints());
+    EXPECT_TRUE(caliper::test::matrices_near(batch.vertices, ref.vertices, 1e-6)) << threads;
+    EXPECT_TRUE(caliper::test::matrices_near(batch.joints, ref.joints, 1e-6)) << threads;
+    if (threads == 1) {
+      first = batch;
+      continue;
+    }
+    EXPECT_TRUE(same_bits(first.vertices.data(), batch.vertices.data(), first.vertices.size()))
+        << threads << " threads changed the result";
+    EXPECT_TRUE(same_bits(first.joints.data(), batch.joints.data(), first.joints.size()))
+        << threads << " threads changed the result";
+  }
+  // Strided betas, and the same workspace with another model: its float copies are remade.
+  caliper::test::RandomModelOptions mo2;
+  mo2.num_betas = 8;
+  const smpl::BodyModel other = caliper::test::make_random_model(mo2);
+  smpl::BodyBatch ref2;
+  smpl::shape_batch(other, in.betas.leftCols(6), ref2);
+  smpl::BodyBatchF strided;
+  smpl::shape_batch(other, in.betas.leftCols(6), ws, strided);
+  EXPECT_TRUE(caliper::test::matrices_near(strided.vertices, ref2.vertices, 1e-6));
+  EXPECT_TRUE(caliper::test::matrices_near(strided.joints, ref2.joints, 1e-6));
+  EXPECT_THROW(smpl::shape_batch(other, in.betas, ws, strided), std::invalid_argument)
+      << "11 betas for a model of 8";
+  EXPECT_THROW(smpl::shape_batch(other, in.betas.leftCols(6), ws, strided, -1),
+               std::invalid_argument);
+}
+
 void check_evaluate_batch(bool single_precision, bool sparse) {
   const smpl::BodyModel model = caliper::test::make_random_model(10, 24, true, 3);
   const int N = 9;  // two groups of 4 bodies and a tail of 1

@@ -25,6 +25,7 @@ using caliper::test::same_bits;
 struct Outputs {
   smpl::Body shaped, posed, posed_float;
   smpl::BodyBatch shape_batch, batch, batch_float;
+  smpl::BodyBatchF shape_batch_float;
 };
 
 Outputs run(const smpl::BodyModel& model, const Eigen::VectorXd& betas,
@@ -44,6 +45,7 @@ Outputs run(const smpl::BodyModel& model, const Eigen::VectorXd& betas,
   }
   smpl::shape_batch(model, b, o.shape_batch);
   smpl::Workspace bws;
+  smpl::shape_batch(model, b, bws, o.shape_batch_float);
   smpl::evaluate_batch(model, b, p, t, bws, o.batch);
   bws.single_precision_pose_blend_shapes = true;
   smpl::evaluate_batch(model, b, p, t, bws, o.batch_float, 2);
@@ -81,6 +83,12 @@ TEST(Simd, EveryVariantGivesTheSameBits) {
     const Eigen::Index nb = base.batch.vertices.size();
     EXPECT_TRUE(same_bits(base.shape_batch.vertices.data(), o.shape_batch.vertices.data(), nb))
         << smpl::simd_level_name(level) << ": shape_batch differs from baseline";
+    EXPECT_TRUE(
+        same_bits(base.shape_batch_float.vertices.data(), o.shape_batch_float.vertices.data(), nb))
+        << smpl::simd_level_name(level) << ": shape_batch (float) differs from baseline";
+    EXPECT_TRUE(same_bits(base.shape_batch_float.joints.data(), o.shape_batch_float.joints.data(),
+                          base.shape_batch_float.joints.size()))
+        << smpl::simd_level_name(level) << ": shape_batch (float) joints differ from baseline";
     EXPECT_TRUE(same_bits(base.batch.vertices.data(), o.batch.vertices.data(), nb))
         << smpl::simd_level_name(level) << ": evaluate_batch (double) differs from baseline";
     EXPECT_TRUE(same_bits(base.batch_float.vertices.data(), o.batch_float.vertices.data(), nb))

@@ -60,6 +60,11 @@ inline bool same_bits(const double* a, const double* b, Eigen::Index n) {
   return std::memcmp(a, b, static_cast<std::size_t>(n) * sizeof(double)) == 0;
 }
 
+/// The same for n floats.
+inline bool same_bits(const float* a, const float* b, Eigen::Index n) {
+  return std::memcmp(a, b, static_cast<std::size_t>(n) * sizeof(float)) == 0;
+}
+
 }  // namespace caliper::test
 
 /// EXPECT_MATRIX_NEAR(a, b, tol): see caliper::test::matrices_near.
