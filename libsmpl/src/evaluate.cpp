@@ -34,29 +34,30 @@ constexpr double kSmallAngle = 1e-3;
   template <int kVecBytes> \
   inline __attribute__((always_inline))
 // NOLINTBEGIN(bugprone-macro-parentheses): args is a parenthesised argument list, name##_body<16>
-// args
-#define SMPL_KERNEL_VARIANTS(name, params, args)                 \
-  void name##_baseline params {                                  \
-    name##_body<16> args;                                        \
-  }                                                              \
-  __attribute__((target("avx2"))) void name##_avx2 params {      \
-    name##_body<32> args;                                        \
-  }                                                              \
-  __attribute__((target("avx512f"))) void name##_avx512 params { \
-    name##_body<64> args;                                        \
-  }                                                              \
-  void name params {                                             \
-    switch (simd_level()) {                                      \
-      case SimdLevel::kAvx512:                                   \
-        name##_avx512 args;                                      \
-        return;                                                  \
-      case SimdLevel::kAvx2:                                     \
-        name##_avx2 args;                                        \
-        return;                                                  \
-      case SimdLevel::kBaseline:                                 \
-        break;                                                   \
-    }                                                            \
-    name##_baseline args;                                        \
+// args. `head` goes before each function: empty, or `template <typename Scalar>` for a kernel
+// written once for float and double (the body template deduces Scalar from the arguments).
+#define SMPL_KERNEL_VARIANTS_WITH(head, name, params, args)           \
+  head void name##_baseline params {                                  \
+    name##_body<16> args;                                             \
+  }                                                                   \
+  head __attribute__((target("avx2"))) void name##_avx2 params {      \
+    name##_body<32> args;                                             \
+  }                                                                   \
+  head __attribute__((target("avx512f"))) void name##_avx512 params { \
+    name##_body<64> args;                                             \
+  }                                                                   \
+  head void name params {                                             \
+    switch (simd_level()) {                                           \
+      case SimdLevel::kAvx512:                                        \
+        name##_avx512 args;                                           \
+        return;                                                       \
+      case SimdLevel::kAvx2:                                          \
+        name##_avx2 args;                                             \
+        return;                                                       \
+      case SimdLevel::kBaseline:                                      \
+        break;                                                        \
+    }                                                                 \
+    name##_baseline args;                                             \
   }
 // NOLINTEND(bugprone-macro-parentheses)
 #else
@@ -64,11 +65,12 @@ constexpr double kSmallAngle = 1e-3;
 #define SMPL_KERNEL_BODY   \
   template <int kVecBytes> \
   inline
-#define SMPL_KERNEL_VARIANTS(name, params, args) \
-  void name params {                             \
-    name##_body<16> args;                        \
+#define SMPL_KERNEL_VARIANTS_WITH(head, name, params, args) \
+  head void name params {                                   \
+    name##_body<16> args;                                   \
   }
 #endif
+#define SMPL_KERNEL_VARIANTS(name, params, args) SMPL_KERNEL_VARIANTS_WITH(, name, params, args)
 
 constexpr size_t kFloatBytes = sizeof(float);
 
@@ -185,11 +187,12 @@ inline __attribute__((always_inline)) void blend_group(const Scalar* t, const Sc
 // enough for the L1 cache is read from it once per 4 bodies; with Scalar = double each output
 // has the bits of blend() (same operations, same order).
 template <int kVecBytes, typename Scalar>
-inline __attribute__((always_inline)) void blend_batch_of(const Scalar* t, const Scalar* S,
-                                                          Eigen::Index ld, Eigen::Index rows,
-                                                          const Scalar* beta, Eigen::Index bstride,
-                                                          Eigen::Index nb, Eigen::Index nbodies,
-                                                          Scalar* out, Eigen::Index ostride) {
+inline __attribute__((always_inline)) void blend_batch_body(const Scalar* t, const Scalar* S,
+                                                            Eigen::Index ld, Eigen::Index rows,
+                                                            const Scalar* beta,
+                                                            Eigen::Index bstride, Eigen::Index nb,
+                                                            Eigen::Index nbodies, Scalar* out,
+                                                            Eigen::Index ostride) {
   typedef typename Vec<Scalar, kVecBytes>::type V;
   constexpr int K = kVecBytes >= 64 ? 4 : 2;
   Eigen::Index n = 0;
@@ -215,42 +218,13 @@ inline __attribute__((always_inline)) void blend_batch_of(const Scalar* t, const
   }
 }
 
-SMPL_KERNEL_BODY
-void blend_batch_body(const double* t, const double* S, Eigen::Index ld, Eigen::Index rows,
-                      const double* beta, Eigen::Index bstride, Eigen::Index nb,
-                      Eigen::Index nbodies, double* out, Eigen::Index ostride) {
-  blend_batch_of<kVecBytes, double>(t, S, ld, rows, beta, bstride, nb, nbodies, out, ostride);
-}
-SMPL_KERNEL_VARIANTS(blend_batch,
-                     (const double* t, const double* S, Eigen::Index ld, Eigen::Index rows,
-                      const double* beta, Eigen::Index bstride, Eigen::Index nb,
-                      Eigen::Index nbodies, double* out, Eigen::Index ostride),
-                     (t, S, ld, rows, beta, bstride, nb, nbodies, out, ostride))
-
-// The same in float (shape_batch into BodyBatchF): twice the lanes per vector, half the bytes.
-SMPL_KERNEL_BODY
-void blend_batch_f32_body(const float* t, const float* S, Eigen::Index ld, Eigen::Index rows,
-                          const float* beta, Eigen::Index bstride, Eigen::Index nb,
-                          Eigen::Index nbodies, float* out, Eigen::Index ostride) {
-  blend_batch_of<kVecBytes, float>(t, S, ld, rows, beta, bstride, nb, nbodies, out, ostride);
-}
-SMPL_KERNEL_VARIANTS(blend_batch_f32,
-                     (const float* t, const float* S, Eigen::Index ld, Eigen::Index rows,
-                      const float* beta, Eigen::Index bstride, Eigen::Index nb,
-                      Eigen::Index nbodies, float* out, Eigen::Index ostride),
-                     (t, S, ld, rows, beta, bstride, nb, nbodies, out, ostride))
-
-// Overloads for shape_rows.
-void blend_batch_any(const double* t, const double* S, Eigen::Index ld, Eigen::Index rows,
-                     const double* beta, Eigen::Index bstride, Eigen::Index nb,
-                     Eigen::Index nbodies, double* out, Eigen::Index ostride) {
-  blend_batch(t, S, ld, rows, beta, bstride, nb, nbodies, out, ostride);
-}
-void blend_batch_any(const float* t, const float* S, Eigen::Index ld, Eigen::Index rows,
-                     const float* beta, Eigen::Index bstride, Eigen::Index nb, Eigen::Index nbodies,
-                     float* out, Eigen::Index ostride) {
-  blend_batch_f32(t, S, ld, rows, beta, bstride, nb, nbodies, out, ostride);
-}
+// One dispatcher per precision: double for shape_batch into BodyBatch, float (twice the lanes per
+// vector, half the bytes) for shape_batch into BodyBatchF.
+SMPL_KERNEL_VARIANTS_WITH(template <typename Scalar>, blend_batch,
+                          (const Scalar* t, const Scalar* S, Eigen::Index ld, Eigen::Index rows,
+                           const Scalar* beta, Eigen::Index bstride, Eigen::Index nb,
+                           Eigen::Index nbodies, Scalar* out, Eigen::Index ostride),
+                          (t, S, ld, rows, beta, bstride, nb, nbodies, out, ostride))
 
 // v += P[:, c0:c0+nc] * f[c0:c0+nc] for the double pose blend shapes (P column-major, leading
 // dimension ld). Blocks of 512 rows (4 KB per column segment: long sequential runs that the
@@ -737,9 +711,8 @@ void shape_rows(const BodyModel& model, const Scalar* t, const Scalar* shapedirs
   for (Eigen::Index v0 = 0; v0 < V; v0 += block) {
     const Eigen::Index v1 = std::min(V, v0 + block);
     if (n1 > n0) {
-      blend_batch_any(t + 3 * v0, shapedirs + 3 * v0, ld, 3 * (v1 - v0), beta + n0 * bstride,
-                      bstride, nb, n1 - n0, vertices.row(n0).data() + 3 * v0,
-                      vertices.outerStride());
+      blend_batch(t + 3 * v0, shapedirs + 3 * v0, ld, 3 * (v1 - v0), beta + n0 * bstride, bstride,
+                  nb, n1 - n0, vertices.row(n0).data() + 3 * v0, vertices.outerStride());
     }
     for (Eigen::Index k = 0; k < K; ++k) {
       const Eigen::Index lo = cursor[static_cast<size_t>(k)];

@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "caliper_test/random_model.hpp"
@@ -168,38 +169,28 @@ smpl::RowMatrixXd batch_poses(int n, int num_joints) {
   return poses;
 }
 
-// smpl::shape_batch: range(0) = N bodies, range(1) = threads. "per_body" is the time per body
-// (CPU time of the calling thread for 1 thread; with more threads the benchmark uses wall time,
-// and bodies_per_s is the throughput of all of them).
+// smpl::shape_batch: range(0) = N bodies, range(1) = threads; kFloat: into float vertices and
+// joints (BodyBatchF). "per_body" is the time per body (CPU time of the calling thread for 1
+// thread; with more threads the benchmark uses wall time, and bodies_per_s is the throughput of
+// all of them).
+template <bool kFloat>
 void BM_ShapeBatch(benchmark::State& state, smpl::SimdLevel level) {
   const smpl::ScopedSimdLevel pin(level);
   const auto& m = model();
   const int n = static_cast<int>(state.range(0)), threads = static_cast<int>(state.range(1));
   const smpl::RowMatrixXd betas = batch_betas(n);
-  smpl::BodyBatch out;
-  smpl::shape_batch(m, betas, out, threads);
-  for (auto _ : state) {
-    smpl::shape_batch(m, betas, out, threads);
-    benchmark::DoNotOptimize(out.vertices.data());
-    benchmark::ClobberMemory();
-  }
-  state.counters["bodies_per_s"] =
-      benchmark::Counter(static_cast<double>(n), benchmark::Counter::kIsIterationInvariantRate);
-  state.counters["per_body_us"] = benchmark::Counter(
-      1e-6 * n, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
-}
-
-// smpl::shape_batch into float vertices and joints (BodyBatchF): range(0) = N, range(1) = threads.
-void BM_ShapeBatchF(benchmark::State& state, smpl::SimdLevel level) {
-  const smpl::ScopedSimdLevel pin(level);
-  const auto& m = model();
-  const int n = static_cast<int>(state.range(0)), threads = static_cast<int>(state.range(1));
-  const smpl::RowMatrixXd betas = batch_betas(n);
   smpl::Workspace ws;
-  smpl::BodyBatchF out;
-  smpl::shape_batch(m, betas, ws, out, threads);
+  std::conditional_t<kFloat, smpl::BodyBatchF, smpl::BodyBatch> out;
+  const auto run = [&] {
+    if constexpr (kFloat) {
+      smpl::shape_batch(m, betas, ws, out, threads);
+    } else {
+      smpl::shape_batch(m, betas, out, threads);
+    }
+  };
+  run();
   for (auto _ : state) {
-    smpl::shape_batch(m, betas, ws, out, threads);
+    run();
     benchmark::DoNotOptimize(out.vertices.data());
     benchmark::ClobberMemory();
   }
@@ -290,14 +281,14 @@ void register_per_variant() {
       // CALIPER_BENCH_BATCH_SIZES (tools/bench_vs_smplx.py): these batch sizes, one thread
       // (CPU time), and shape only with two threads (wall time, .../2/real_time).
       for (int n : custom_batches) {
-        benchmark::RegisterBenchmark(("BM_ShapeBatch/" + v).c_str(), BM_ShapeBatch, level)
+        benchmark::RegisterBenchmark(("BM_ShapeBatch/" + v).c_str(), BM_ShapeBatch<false>, level)
             ->Args({n, 1})
             ->Unit(benchmark::kMicrosecond);
-        benchmark::RegisterBenchmark(("BM_ShapeBatch/" + v).c_str(), BM_ShapeBatch, level)
+        benchmark::RegisterBenchmark(("BM_ShapeBatch/" + v).c_str(), BM_ShapeBatch<false>, level)
             ->Args({n, 2})
             ->UseRealTime()
             ->Unit(benchmark::kMicrosecond);
-        benchmark::RegisterBenchmark(("BM_ShapeBatchF/" + v).c_str(), BM_ShapeBatchF, level)
+        benchmark::RegisterBenchmark(("BM_ShapeBatchF/" + v).c_str(), BM_ShapeBatch<true>, level)
             ->Args({n, 1})
             ->Unit(benchmark::kMicrosecond);
         benchmark::RegisterBenchmark(("BM_EvaluateBatch/" + v).c_str(), BM_EvaluateBatch, level)
@@ -307,12 +298,12 @@ void register_per_variant() {
       }
       continue;
     }
-    benchmark::RegisterBenchmark(("BM_ShapeBatch/" + v).c_str(), BM_ShapeBatch, level)
+    benchmark::RegisterBenchmark(("BM_ShapeBatch/" + v).c_str(), BM_ShapeBatch<false>, level)
         ->Args({1, 1})
         ->Args({64, 1})
         ->Args({1024, 1})
         ->Unit(benchmark::kMicrosecond);
-    benchmark::RegisterBenchmark(("BM_ShapeBatchF/" + v).c_str(), BM_ShapeBatchF, level)
+    benchmark::RegisterBenchmark(("BM_ShapeBatchF/" + v).c_str(), BM_ShapeBatch<true>, level)
         ->Args({1, 1})
         ->Args({64, 1})
         ->Args({1024, 1})
@@ -320,7 +311,7 @@ void register_per_variant() {
     // Two threads: N = 1024 writes 170 MB per pass (bound by writing it to memory); 64-256
     // bodies (10-42 MB of output, the smaller ones within the 32 MB L3) are what a caller
     // processing a large set in chunks would use.
-    benchmark::RegisterBenchmark(("BM_ShapeBatch/" + v).c_str(), BM_ShapeBatch, level)
+    benchmark::RegisterBenchmark(("BM_ShapeBatch/" + v).c_str(), BM_ShapeBatch<false>, level)
         ->Args({64, 2})
         ->Args({128, 2})
         ->Args({256, 2})
