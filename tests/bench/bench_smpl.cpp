@@ -135,7 +135,8 @@ void BM_Evaluate(benchmark::State& state, smpl::SimdLevel level) {
   const auto& m = model();
   const Eigen::VectorXd betas = caliper::test::random_betas(10, 1.0, 3);
   Eigen::VectorXd pose = caliper::test::random_pose(24, 1.0, 4);
-  for (int k = 1 + static_cast<int>(state.range(1)); k < 24; ++k) pose.segment<3>(3 * k).setZero();
+  for (int k = 1 + static_cast<int>(state.range(1)); k < 24; ++k)
+    pose.segment<3>(3 * Eigen::Index{k}).setZero();
   smpl::Workspace ws;
   ws.single_precision_pose_blend_shapes = state.range(0) == 1;
   smpl::Body body;
