@@ -23,10 +23,10 @@ vertices without joints; libsmpl: shape_batch, vertices and joints) and posed (r
 float32 and float64, every batch size; libsmpl runs the SIMD variant it picks for the CPU
 (or --simd's). libsmpl's posed "float" is its single-precision pose blend shapes (vertices
 stay double); its shape-only float32 rows are shape_batch into float vertices and joints
-(smpl::BodyBatchF), the float64 rows shape_batch into double ones. Times are CPU time per body. For each case the table gives the median per-body time of
-each side over the rounds and the speed-up smplx / libsmpl (above 1: libsmpl is faster) as the
-median of the per-round speed-ups with their range (min-max), so the spread shows how noisy the
-machine was.
+(smpl::BodyBatchF), the float64 rows shape_batch into double ones. Times are CPU time per
+body. For each case the table gives the median per-body time of each side over the rounds and
+the speed-up smplx / libsmpl (above 1: libsmpl is faster) as the median of the per-round
+speed-ups with their range (min-max), so the spread shows how noisy the machine was.
 
 --two-cores adds, in every round, the two-core throughput: smplx posed (float32 and float64) with
 torch.set_num_threads(2) and libsmpl's shape only with two threads (bench_smpl's
@@ -270,8 +270,8 @@ def check_same_bodies(args, side):
                                     ("posed", "float64", False, "posed_%s_double"),
                                     ("posed", "float32", False, "posed_%s_float")]:
         v, j = side.forward(dtype, betas, np.zeros_like(poses) if rest else poses)
-        if rest:  # libsmpl's float shape batch against smplx float32 (older references: double)
-            suffix = "_float" if dtype == "float32" and "shape_vertices_float" in ref else ""
+        if rest:  # libsmpl's float shape batch against smplx float32
+            suffix = "_float" if dtype == "float32" else ""
             rv, rj = ref["shape_vertices" + suffix], ref["shape_joints" + suffix]
         else:
             rv, rj = ref[key % "vertices"], ref[key % "joints"]

@@ -864,10 +864,10 @@ void shape_batch(const BodyModel& model, const Eigen::Ref<const RowMatrixXd>& be
   const Eigen::Index N = betas.rows();
   out.vertices.resize(N, 3 * model.v_template.rows());
   out.joints.resize(N, 3 * model.j_regressor.rows());
-  const RowMatrixXf beta_f = betas.cast<float>();
+  ws.betas_f = betas.cast<float>();  // reuses ws's buffer when the batch has the same size
   parallel_for(threads, N, [&](Eigen::Index n0, Eigen::Index n1) {
     shape_rows(model, ws.v_template_f.data(), ws.shapedirs_f.data(), ws.shapedirs_f.rows(),
-               beta_f.data(), beta_f.outerStride(), beta_f.cols(), n0, n1, out.vertices,
+               ws.betas_f.data(), ws.betas_f.outerStride(), ws.betas_f.cols(), n0, n1, out.vertices,
                out.joints);
   });
 }

@@ -342,8 +342,7 @@ void register_per_variant() {
 // file tools/bench_vs_smplx.py gives both sides. --write_reference=PATH: for that model, the
 // betas and poses of the first 8 bodies of the batch benchmarks and libsmpl's vertices for them
 // (shape_batch in double and float; evaluate_batch with double and float pose blend shapes), so
-// that the script can
-// check that smplx computes the same bodies before it times them.
+// that the script can check that smplx computes the same bodies before it times them.
 void write_reference(const std::string& path) {
   const auto& m = model();
   constexpr int kBodies = 8;

@@ -69,6 +69,8 @@ struct Workspace {
   Eigen::Matrix<float, Eigen::Dynamic, 3, Eigen::RowMajor> v_template_f;
   Eigen::MatrixXf shapedirs_f;                 ///< float copy of shapedirs.
   const double* shapedirs_f_source = nullptr;  ///< shapedirs.data() the copies were made from.
+  /// The batch's betas rounded to float (N x B, row-major).
+  Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> betas_f;
 };
 
 /// Same as evaluate(), writing into `out` and using `ws`; allocates nothing once `out` and `ws`
