@@ -6,6 +6,8 @@
 // ends in /baseline, /avx2 or /avx512), each next to the bare read of the same array with that
 // variant's vector width (BM_StreamSum/...), so each variant is compared with its own bandwidth
 // bound in the same run. The variants the CPU has are printed in the context ("simd_levels").
+// BM_ShapeTraffic/<variant> is the shape kernel's whole memory traffic done bare, and
+// BM_StreamSum/l2_edge_* the bare read from 1.65 to 3.3 MB: where this CPU's L2 ends.
 // The pose blend shapes are a 20670 x 207 double matrix (34 MB) read once per posed evaluation.
 // --write_model=PATH and --write_reference=PATH write the model and reference vertices for
 // tools/bench_vs_smplx.py instead of running benchmarks (see write_files below).
@@ -68,9 +70,28 @@ inline __attribute__((always_inline)) T stream_sum_body(const T* a, size_t n) {
   return total;
 }
 
+// out[i] = a[i] + 1 with the same vectors: one read stream and one write stream.
+template <typename T, int kBytes>
+inline __attribute__((always_inline)) void stream_copy_body(const T* a, size_t n, T* out) {
+  typedef T V __attribute__((vector_size(kBytes)));
+  constexpr size_t kLanes = kBytes / sizeof(T);
+  size_t i = 0;
+  for (; i + kLanes <= n; i += kLanes) {
+    V x;
+    std::memcpy(&x, a + i, kBytes);
+    x += T{1};
+    std::memcpy(out + i, &x, kBytes);
+  }
+  for (; i < n; ++i) out[i] = a[i] + T{1};
+}
+
 template <typename T>
 T stream_sum_baseline(const T* a, size_t n) {
   return stream_sum_body<T, 16>(a, n);
+}
+template <typename T>
+void stream_copy_baseline(const T* a, size_t n, T* out) {
+  stream_copy_body<T, 16>(a, n, out);
 }
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 template <typename T>
@@ -80,6 +101,14 @@ __attribute__((target("avx2"))) T stream_sum_avx2(const T* a, size_t n) {
 template <typename T>
 __attribute__((target("avx512f"))) T stream_sum_avx512(const T* a, size_t n) {
   return stream_sum_body<T, 64>(a, n);
+}
+template <typename T>
+__attribute__((target("avx2"))) void stream_copy_avx2(const T* a, size_t n, T* out) {
+  stream_copy_body<T, 32>(a, n, out);
+}
+template <typename T>
+__attribute__((target("avx512f"))) void stream_copy_avx512(const T* a, size_t n, T* out) {
+  stream_copy_body<T, 64>(a, n, out);
 }
 #endif
 
@@ -94,6 +123,16 @@ T stream_sum(smpl::SimdLevel level, const T* a, size_t n) {
 }
 
 template <typename T>
+void stream_copy(smpl::SimdLevel level, const T* a, size_t n, T* out) {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  if (level == smpl::SimdLevel::kAvx512) return stream_copy_avx512(a, n, out);
+  if (level == smpl::SimdLevel::kAvx2) return stream_copy_avx2(a, n, out);
+#endif
+  (void)level;
+  stream_copy_baseline(a, n, out);
+}
+
+template <typename T>
 void BM_StreamSum(benchmark::State& state, smpl::SimdLevel level, size_t columns) {
   const size_t n = 20670 * columns;
   std::vector<T> a(n);
@@ -104,6 +143,27 @@ void BM_StreamSum(benchmark::State& state, smpl::SimdLevel level, size_t columns
   }
   state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) *
                           static_cast<int64_t>(n * sizeof(T)));
+}
+
+// The shape kernel's own memory traffic without its arithmetic: read the model's shapedirs and
+// v_template once and write a vertex array once (what smpl::shape cannot avoid; 1.98 MB on the
+// full-size model). On a CPU whose L2 holds the 1.65 MB shapedirs but not these 1.98 MB, the bare
+// read of shapedirs alone comes from L2 while the kernel's data cannot: this is the bound the
+// kernel is compared with there as well (docs/performance.md).
+void BM_ShapeTraffic(benchmark::State& state, smpl::SimdLevel level) {
+  const auto& m = model();
+  smpl::Vertices out(m.v_template.rows(), 3);
+  const auto ns = static_cast<size_t>(m.shapedirs.size());
+  const auto nt = static_cast<size_t>(m.v_template.size());
+  for (auto _ : state) {
+    double sum = stream_sum(level, m.shapedirs.data(), ns);
+    stream_copy(level, m.v_template.data(), nt, out.data());
+    benchmark::DoNotOptimize(sum);
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetBytesProcessed(static_cast<int64_t>(state.iterations()) *
+                          static_cast<int64_t>((ns + 2 * nt) * sizeof(double)));
 }
 
 void BM_Shape(benchmark::State& state, smpl::SimdLevel level) {
@@ -257,6 +317,16 @@ void register_per_variant() {
       pos = comma + 1;
     }
   }
+  // The bare read's bandwidth against the array's size (1.65 MB = shapedirs, 1.98 MB = the shape
+  // kernel's traffic, up to 3.3 MB), best variant: where the L2 cache ends on this CPU.
+  for (size_t columns : {10, 11, 12, 13, 14, 20}) {
+    const std::string name = "BM_StreamSum/l2_edge_f64_" +
+                             std::to_string(columns * 20670 * 8 / 1000) + "KB/" +
+                             smpl::simd_level_name(smpl::default_simd_level());
+    benchmark::RegisterBenchmark(name.c_str(), BM_StreamSum<double>, smpl::default_simd_level(),
+                                 columns)
+        ->Unit(benchmark::kMicrosecond);
+  }
   std::string levels;
   for (smpl::SimdLevel level : smpl::supported_simd_levels()) {
     const std::string v = smpl::simd_level_name(level);
@@ -265,6 +335,8 @@ void register_per_variant() {
                                  BM_StreamSum<double>, level, size_t{10})
         ->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark(("BM_Shape/" + v).c_str(), BM_Shape, level)
+        ->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark(("BM_ShapeTraffic/" + v).c_str(), BM_ShapeTraffic, level)
         ->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark(("BM_StreamSum/posedirs_f64_34MB/" + v).c_str(),
                                  BM_StreamSum<double>, level, size_t{207})
