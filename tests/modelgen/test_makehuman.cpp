@@ -432,6 +432,20 @@ TEST(MakeHumanRig, TemplateModelIsValidAndDeterministic) {
   EXPECT_TRUE(back.uv_faces == m1.uv_faces);
   const smpl::Joints j = m1.j_regressor * m1.v_template;
   EXPECT_LT(j.row(0).norm(), 1e-12);  // origin at the pelvis joint
+  // The mirror map (vert_sym_idxs): an involution whose pairs are exact mirror images, the 188
+  // midline vertices of MakeHuman's skin their own.
+  ASSERT_EQ(static_cast<Eigen::Index>(m1.mirror.size()), m1.num_vertices());
+  int midline = 0;
+  for (Eigen::Index i = 0; i < m1.num_vertices(); ++i) {
+    const int k = m1.mirror[static_cast<size_t>(i)];
+    ASSERT_EQ(m1.mirror[static_cast<size_t>(k)], i);
+    midline += k == i ? 1 : 0;
+    EXPECT_EQ(m1.v_template(i, 0), -m1.v_template(k, 0)) << i;
+    EXPECT_EQ(m1.v_template(i, 1), m1.v_template(k, 1)) << i;
+    EXPECT_EQ(m1.v_template(i, 2), m1.v_template(k, 2)) << i;
+  }
+  EXPECT_EQ(midline, 188);
+  EXPECT_TRUE(back.mirror == m1.mirror);
   const smpl::BodyModel m2 = mh::template_model(a, mh::default_regressor_targets());
   EXPECT_TRUE(m1.v_template == m2.v_template);
   EXPECT_TRUE(smpl::SparseMatrix(m1.j_regressor - m2.j_regressor).norm() == 0.0);

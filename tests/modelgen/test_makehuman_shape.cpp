@@ -171,14 +171,25 @@ void check_principal_components(const Registered& s) {
       worst = std::max(worst, std::abs(m.v_template(r, c) - mean[3 * r + c]));
   }
   EXPECT_LT(worst, 1e-9) << "the template is not the mean registered body";
+  // Left/right symmetric: the template exactly, every component to rounding (the basis is).
+  ASSERT_EQ(static_cast<Eigen::Index>(m.mirror.size()), m.num_vertices());
+  for (Eigen::Index r = 0; r < m.num_vertices(); ++r) {
+    const auto k = static_cast<Eigen::Index>(m.mirror[static_cast<size_t>(r)]);
+    ASSERT_EQ(m.v_template(r, 0), -m.v_template(k, 0)) << r;
+    ASSERT_EQ(m.v_template(r, 1), m.v_template(k, 1)) << r;
+    for (int b = 0; b < m.num_betas(); ++b) {
+      constexpr double kRounding = 1e-12;  // metres per unit beta
+      ASSERT_NEAR(m.shapedirs(3 * r, b), -m.shapedirs(3 * k, b), kRounding) << r << " " << b;
+      ASSERT_NEAR(m.shapedirs(3 * r + 2, b), m.shapedirs(3 * k + 2, b), kRounding) << r << " " << b;
+    }
+  }
   // The iliac crest landmarks (the NHANES and WHO waist): a left/right pair at one height on the
   // torso sides, so that libcaliper measures waist_iliac_circumference on the model.
   ASSERT_TRUE(m.landmarks.count("left_iliac_crest") && m.landmarks.count("right_iliac_crest"));
   const Eigen::RowVector3d l = m.v_template.row(m.landmarks.at("left_iliac_crest").at(0));
   const Eigen::RowVector3d r = m.v_template.row(m.landmarks.at("right_iliac_crest").at(0));
-  constexpr double kMirrorTol = 0.002;  // m: MakeHuman's mesh is symmetric to well under 1 mm
-  EXPECT_NEAR(l.y(), r.y(), kMirrorTol);
-  EXPECT_NEAR(l.x(), -r.x(), kMirrorTol);
+  EXPECT_EQ(l.y(), r.y());  // mirror vertices of a symmetric template
+  EXPECT_EQ(l.x(), -r.x());
   EXPECT_GT(l.x(), 0.1);  // the subject's left is +x, at the side of the torso
   const caliper::MeasurementMap girths =
       caliper::circumferences(m.v_template, m.faces, caliper::landmarks_for(m));

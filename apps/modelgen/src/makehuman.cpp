@@ -3,11 +3,14 @@
 #include "makehuman.hpp"
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 #include <nlohmann/json.hpp>
 
@@ -344,6 +347,37 @@ BoneWeights read_weights(const std::string& path, int num_vertices) {
 // Skin mesh
 // ------------------------------------------------------------------------------------------------
 
+namespace {
+
+/// The mirror map of the skin vertices `source` (base-mesh indices): the skin vertex whose
+/// base-mesh position is exactly (-x, y, z). MakeHuman's base mesh is built symmetric to the
+/// last bit, so the images are looked up exactly, not by nearest neighbour.
+std::vector<int> skin_mirror(const BaseMesh& base, const std::vector<int>& source) {
+  std::map<std::array<double, 3>, int> at;
+  for (std::size_t i = 0; i < source.size(); ++i) {
+    const auto r = static_cast<Eigen::Index>(source[i]);
+    at.emplace(std::array<double, 3>{base.vertices(r, 0), base.vertices(r, 1), base.vertices(r, 2)},
+               static_cast<int>(i));
+  }
+  std::vector<int> mirror(source.size(), -1);
+  for (std::size_t i = 0; i < source.size(); ++i) {
+    const auto r = static_cast<Eigen::Index>(source[i]);
+    const auto it = at.find({-base.vertices(r, 0), base.vertices(r, 1), base.vertices(r, 2)});
+    if (it == at.end()) {
+      throw AssetError(
+          "the base mesh's skin is not left/right symmetric: the mirror image of "
+          "vertex " +
+          std::to_string(source[i] + 1) +
+          " (1-based, as in base.obj) is not a skin vertex; use MakeHuman's "
+          "unmodified hm08 base.obj");
+    }
+    mirror[i] = it->second;
+  }
+  return mirror;
+}
+
+}  // namespace
+
 SkinMesh skin_mesh(const BaseMesh& base) {
   const auto g = std::find(base.groups.begin(), base.groups.end(), "body");
   if (g == base.groups.end()) {
@@ -422,7 +456,24 @@ SkinMesh skin_mesh(const BaseMesh& base) {
     skin.faces.row(r) << tris[k][0], tris[k][1], tris[k][2];
     skin.uv_faces.row(r) << tris[k][3], tris[k][4], tris[k][5];
   }
+  skin.mirror = skin_mirror(base, skin.source_vertex);
   return skin;
+}
+
+void symmetrize(Eigen::Ref<smpl::Vertices> v, const std::vector<int>& mirror) {
+  if (static_cast<Eigen::Index>(mirror.size()) != v.rows()) {
+    throw std::invalid_argument("symmetrize: the mirror map has " + std::to_string(mirror.size()) +
+                                " entries for " + std::to_string(v.rows()) + " vertices");
+  }
+  for (Eigen::Index i = 0; i < v.rows(); ++i) {
+    const Eigen::Index m = mirror[static_cast<std::size_t>(i)];
+    if (m < i) continue;  // done with its pair
+    const double x = 0.5 * (v(i, 0) - v(m, 0));
+    const double y = 0.5 * (v(i, 1) + v(m, 1));
+    const double z = 0.5 * (v(i, 2) + v(m, 2));
+    v.row(i) << x, y, z;
+    v.row(m) << -x, y, z;  // the midline (m == i): x = 0
+  }
 }
 
 smpl::Vertices skin_vertices(const SkinMesh& skin, const Positions& positions) {

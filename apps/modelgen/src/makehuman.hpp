@@ -121,13 +121,23 @@ struct SkinMesh {
   smpl::Faces faces;               ///< F x 3, counter-clockwise seen from outside
   smpl::Faces uv_faces;            ///< F x 3 indices into uvs
   TexCoords uvs;                   ///< T x 2, the texture coordinates the skin uses
+  /// V: the skin vertex at the left/right mirror image (x -> -x) of each skin vertex on the base
+  /// mesh (an involution; the vertices on the midline are their own image).
+  std::vector<int> mirror;
 };
 
-/// Builds the skin mesh from `base`. Throws AssetError if there is no `body` group or a body
-/// face has no texture coordinates.
+/// Builds the skin mesh from `base`. Throws AssetError if there is no `body` group, a body
+/// face has no texture coordinates or the skin is not exactly left/right symmetric on the base
+/// mesh (MakeHuman's is: every skin vertex's mirror image is a skin vertex).
 SkinMesh skin_mesh(const BaseMesh& base);
 
 /// Skin vertex positions in metres (V x 3) taken from base-mesh `positions` (decimetres).
 smpl::Vertices skin_vertices(const SkinMesh& skin, const Positions& positions);
+
+/// Makes `v` (V x 3, or a V x 3 offset such as a shape component) exactly left/right symmetric
+/// under `mirror`: each vertex and its mirror vertex get the mean of their positions with x
+/// reflected (x = 0 on the midline). Removes the micrometre asymmetries that the T-pose bake and
+/// the fitted targets leave, so that mirrored landmarks and measurements agree to rounding.
+void symmetrize(Eigen::Ref<smpl::Vertices> v, const std::vector<int>& mirror);
 
 }  // namespace modelgen::mh

@@ -32,8 +32,6 @@ constexpr double kAcromionFrontBack = 0.04;
 /// Weight of the position in the score among marker vertices moved alike (decimetres of
 /// displacement against metres: only breaks ties).
 constexpr double kTieBreak = 1e-6;
-/// A right landmark's mirror vertex must be this close to the mirrored left position.
-constexpr double kMirrorTolerance = 0.001;
 
 int best(const smpl::Vertices& v, const char* name, const std::function<bool(int)>& keep,
          const std::function<double(int)>& score) {
@@ -80,21 +78,6 @@ std::vector<double> marker(const Assets& assets, const std::string& relative) {
 }
 
 }  // namespace
-
-int mirror_vertex(const smpl::Vertices& v, int vertex, double mid_x, double* distance) {
-  const Eigen::RowVector3d p(2.0 * mid_x - v(vertex, 0), v(vertex, 1), v(vertex, 2));
-  int arg = -1;
-  double d2 = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < static_cast<int>(v.rows()); ++i) {
-    const double d = (v.row(i) - p).squaredNorm();
-    if (d < d2) {
-      d2 = d;
-      arg = i;
-    }
-  }
-  if (distance != nullptr) *distance = std::sqrt(d2);
-  return arg;
-}
 
 std::map<std::string, std::vector<int>> template_landmarks(const Assets& assets,
                                                            const smpl::Vertices& v,
@@ -146,14 +129,7 @@ std::map<std::string, std::vector<int>> template_landmarks(const Assets& assets,
   for (const char* name :
        {"fingertip", "wrist", "elbow", "shoulder", "hip", "nipple", "heel", "sole"}) {
     const std::string left = std::string("left_") + name;
-    double d = 0.0;
-    const int right = mirror_vertex(v, L.at(left).front(), mid, &d);
-    if (d > kMirrorTolerance) {
-      throw std::invalid_argument(
-          "MakeHuman landmarks: '" + left + "' (vertex " + std::to_string(L.at(left).front()) +
-          ") has no mirror vertex within 1 mm (nearest " + std::to_string(d * 1000.0) +
-          " mm): the template is not symmetric");
-    }
+    const int right = assets.skin.mirror[static_cast<std::size_t>(L.at(left).front())];
     L[std::string("right_") + name] = {right};
   }
   return L;

@@ -44,15 +44,11 @@ using Joints24 = Eigen::Matrix<double, 24, 3, Eigen::RowMajor>;
 /// The torso sides and back (waist, chest, torso_back) are not set here: template_model() adds
 /// them with the measurement library's rule (caliper::derive_torso_landmarks), as for every
 /// model.
-/// Throws std::invalid_argument naming the landmark when its rule selects no vertex, or when a
-/// left vertex has no mirror vertex within 1 mm; AssetError when a marker target is missing.
+/// The right landmarks are the left ones' mirror vertices (SkinMesh::mirror).
+/// Throws std::invalid_argument naming the landmark when its rule selects no vertex;
+/// AssetError when a marker target is missing.
 std::map<std::string, std::vector<int>> template_landmarks(const Assets& assets,
                                                            const smpl::Vertices& vertices,
                                                            const Joints24& joints);
-
-/// The vertex closest to `vertex` mirrored in the plane x = `mid_x`, and its distance (metres)
-/// in `distance` when not null.
-int mirror_vertex(const smpl::Vertices& vertices, int vertex, double mid_x,
-                  double* distance = nullptr);
 
 }  // namespace modelgen::mh

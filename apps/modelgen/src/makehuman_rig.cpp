@@ -532,6 +532,21 @@ Eigen::VectorXd joint_weights(const std::vector<TPoseBody>& bodies, const std::v
 
 }  // namespace
 
+namespace {
+
+/// The SMPL joint on the other side (left_* <-> right_*), or `j` itself on the midline.
+int mirror_joint(int j) {
+  const std::vector<std::string>& names = smpl::smpl_joint_names();
+  const std::string& n = names[static_cast<std::size_t>(j)];
+  std::string other;
+  if (n.rfind("left_", 0) == 0) other = "right_" + n.substr(5);
+  if (n.rfind("right_", 0) == 0) other = "left_" + n.substr(6);
+  if (other.empty()) return j;
+  return static_cast<int>(std::find(names.begin(), names.end(), other) - names.begin());
+}
+
+}  // namespace
+
 smpl::SparseMatrix fit_joint_regressor(const Assets& assets, const std::vector<TPoseBody>& bodies) {
   if (bodies.empty()) {
     throw std::invalid_argument("fit_joint_regressor: needs at least one body");
@@ -548,8 +563,13 @@ smpl::SparseMatrix fit_joint_regressor(const Assets& assets, const std::vector<T
     std::sort(chosen.begin(), chosen.end());
     const int k = static_cast<int>(chosen.size());
     const Eigen::VectorXd w = joint_weights(bodies, src, chosen, j);
+    // Left/right symmetric: half the weight on the chosen vertex for this joint, half on its
+    // mirror vertex for the mirror joint (the rows stay sums of 1).
+    const int jm = mirror_joint(j);
     for (int p = 0; p < k; ++p) {
-      trip.emplace_back(j, chosen[static_cast<std::size_t>(p)], w(p));
+      const int v = chosen[static_cast<std::size_t>(p)];
+      trip.emplace_back(j, v, 0.5 * w(p));
+      trip.emplace_back(jm, assets.skin.mirror[static_cast<std::size_t>(v)], 0.5 * w(p));
     }
   }
   smpl::SparseMatrix r(24, nv);
@@ -613,7 +633,9 @@ smpl::BodyModel template_model(const Assets& assets, const std::vector<std::stri
   for (Eigen::Index i = 0; i < v.rows(); ++i) {
     v.row(i) -= pelvis;
   }
+  symmetrize(v, assets.skin.mirror);
   model.v_template = v;
+  model.mirror = assets.skin.mirror;
   Joints24 joints = bodies.front().joints * kMetresPerUnit;
   for (Eigen::Index j = 0; j < joints.rows(); ++j) {
     joints.row(j) -= pelvis;

@@ -93,8 +93,11 @@ Eigen::Matrix<double, 24, 3, Eigen::RowMajor> smpl_joints(const Assets& assets,
 /// rays from the joint first meet the skin on bodies.front() are chosen (rings across the limb),
 /// and their weights solved (rows sum to 1) so that they reproduce the joint over all `bodies`
 /// (T-posed, with their joints) in the least-squares sense, with a small ridge towards equal
-/// weights that keeps the row well-posed. Throws std::invalid_argument for no bodies, AssetError
-/// if fewer than 3 vertices surround a joint.
+/// weights that keeps the row well-posed. The regressor is then made left/right symmetric: each
+/// row is the mean of its own weights and its mirror joint's weights on the mirror vertices
+/// (SkinMesh::mirror), so that a symmetric body has mirror-image joints and its pelvis on the
+/// midline. Throws std::invalid_argument for no bodies, AssetError if fewer than 3 vertices
+/// surround a joint.
 smpl::SparseMatrix fit_joint_regressor(const Assets& assets, const std::vector<TPoseBody>& bodies);
 
 /// The T-posed template model of the base mesh (no shape space: 0 betas): skin vertices in

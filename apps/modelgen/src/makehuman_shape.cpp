@@ -211,7 +211,11 @@ ShapeBasis shape_basis(const Assets& assets, const smpl::BodyModel& tmpl) {
       add_target(target("macrodetails/" + std::string(e) + "-" + sex + "-young.target"), 1.0 / 3.0,
                  mean);
     }
-    const smpl::Vertices m = centred_t_pose(assets, tmpl, mean);
+    // Every body of the basis exactly left/right symmetric (the T-pose bake and the targets leave
+    // micrometres of asymmetry), so that the registered bodies and their principal components
+    // are symmetric too.
+    smpl::Vertices m = centred_t_pose(assets, tmpl, mean);
+    symmetrize(m, assets.skin.mirror);
     (sex == "female" ? b.female_mean : b.male_mean) = m;
     const Eigen::VectorXd fm = flat(m);
     for (const std::string& name : direction_names(sex)) {
@@ -225,7 +229,9 @@ ShapeBasis shape_basis(const Assets& assets, const smpl::BodyModel& tmpl) {
         if (plus == std::string::npos) break;
         start = plus + 1;
       }
-      cols.push_back(flat(centred_t_pose(assets, tmpl, p)) - fm);
+      smpl::Vertices body = centred_t_pose(assets, tmpl, p);
+      symmetrize(body, assets.skin.mirror);
+      cols.push_back(flat(body) - fm);
       b.names.push_back(name);
       b.sex.push_back(sex);
     }
@@ -798,6 +804,13 @@ smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl
     if (dir.sum() < 0.0) dir = -dir;
     model.shapedirs.col(b) = dir;
   }
+  // The basis is symmetric, so the mean and the components are to rounding; made exact here
+  // (mirrored landmarks then agree to the last bit).
+  const Eigen::Index nv = model.v_template.rows();
+  symmetrize(model.v_template, model.mirror);
+  for (int b = 0; b < kept; ++b) {
+    symmetrize(Eigen::Map<smpl::Vertices>(model.shapedirs.col(b).data(), nv, 3), model.mirror);
+  }
   model.posedirs = Eigen::MatrixXd::Zero(A.rows(), 0);
   // The iliac crest (the NHANES and WHO waist level) as landmarks: the vertex the fit measured
   // every subject of the sex at (the rule placed on the sex's MakeHuman average, as the fit's
@@ -806,7 +819,7 @@ smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl
   // vertex 10707 instead of the fit's 10772, 22 mm less girth at the mean; docs/evaluation.md).
   // The neutral model, fitted through both sexes, takes the rule on the mean of the two
   // averages (on the general population's neutral mean body the knee rule finds no vertex).
-  // The right one is the left's mirror vertex.
+  // The right one is the left's mirror vertex (the template's exact mirror map).
   const smpl::Vertices both = 0.5 * (basis.female_mean + basis.male_mean);
   const smpl::Vertices& rest = sex == "female" ? basis.female_mean
                                : sex == "male" ? basis.male_mean
@@ -814,7 +827,7 @@ smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl
   const SurveyVertices at =
       survey_vertices(rest, tmpl.faces, tmpl.j_regressor, caliper::landmarks_for(tmpl));
   model.landmarks["left_iliac_crest"] = {at.iliac_crest};
-  model.landmarks["right_iliac_crest"] = {mirror_vertex(rest, at.iliac_crest, at.midline_x)};
+  model.landmarks["right_iliac_crest"] = {model.mirror[static_cast<std::size_t>(at.iliac_crest)]};
   model.meta.name = "caliper-makehuman-" + sex;
   model.meta.gender = sex;
   model.meta.source =
