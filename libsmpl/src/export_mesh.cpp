@@ -2,6 +2,7 @@
 // (text) and PLY 1.0 (binary little endian), with per-vertex normals, an axis convention and
 // the avatar's metadata in a comment.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdarg>
 #include <cstdint>
@@ -264,6 +265,41 @@ SeamSplit split_at_seams(const BodyModel& model, const std::string& context) {
     s.uvs.row(static_cast<Eigen::Index>(V + i)) = model.uvs.row(extra_uv[i]);
   }
   return s;
+}
+
+SeamJoin join_seams(const Vertices& vertices, const Faces& faces) {
+  struct Key {
+    std::array<std::uint64_t, 3> bits;
+    bool operator==(const Key& o) const { return bits == o.bits; }
+  };
+  struct Hash {
+    size_t operator()(const Key& k) const {
+      std::uint64_t h = k.bits[0];
+      h = h * 0x9E3779B97F4A7C15ULL ^ k.bits[1];
+      h = h * 0x9E3779B97F4A7C15ULL ^ k.bits[2];
+      return static_cast<size_t>(h ^ (h >> 29));
+    }
+  };
+  SeamJoin j;
+  const auto n = static_cast<size_t>(vertices.rows());
+  j.to_kept.resize(n);
+  std::unordered_map<Key, int, Hash> first;
+  first.reserve(n);
+  for (size_t i = 0; i < n; ++i) {
+    Key k{};
+    for (int c = 0; c < 3; ++c) {
+      const double x = vertices(static_cast<Eigen::Index>(i), c);
+      std::memcpy(&k.bits[static_cast<size_t>(c)], &x, sizeof x);
+    }
+    const auto [it, added] = first.emplace(k, static_cast<int>(j.kept.size()));
+    if (added) j.kept.push_back(static_cast<int>(i));
+    j.to_kept[i] = it->second;
+  }
+  j.faces.resize(faces.rows(), 3);
+  for (Eigen::Index f = 0; f < faces.rows(); ++f) {
+    for (int c = 0; c < 3; ++c) j.faces(f, c) = j.to_kept[static_cast<size_t>(faces(f, c))];
+  }
+  return j;
 }
 
 void write_obj(const std::string& path, const Vertices& vertices_y_up, const Faces& faces,

@@ -125,7 +125,10 @@ def test_exports(model, regressors, work):
     with open(os.path.join(work, "avatar.glb"), "rb") as f:
         assert f.read() == a.glb_bytes()
     back = caliper.read_gltf(os.path.join(work, "avatar.glb"))
-    assert back["vertices"].shape == (model.num_vertices, 3)
+    # A textured model's file is split at its texture seams: its vertices are the model's,
+    # then copies of those on a seam.
+    assert back["vertices"].shape[0] >= model.num_vertices and back["vertices"].shape[1] == 3
+    assert len(np.unique(back["vertices"], axis=0)) == model.num_vertices
     assert back["extras"]["regressor"] == "R2"
     assert back["joint_names"] == model.joint_names
     caliper.write_gltf(os.path.join(work, "b.gltf"), model, a.betas, pose_correctives=True)

@@ -264,6 +264,14 @@ TEST(Texcoords, GltfAndVrmCarryTexcoord0SplitAtSeams) {
       shown += a.morph_weights[static_cast<size_t>(b)] * a.morph_targets[static_cast<size_t>(b)];
     expect_corners(m, body, a.faces, shown, a.texcoords, name);
     EXPECT_EQ(unique_positions(a.vertices), static_cast<size_t>(V)) << name;
+    // Joined again at the seams: the model's own vertices (the first V, in order) and faces.
+    const smpl::SeamJoin joined = smpl::join_seams(a.vertices, a.faces);
+    ASSERT_EQ(joined.kept.size(), static_cast<size_t>(V)) << name;
+    for (Eigen::Index v = 0; v < V; ++v) ASSERT_EQ(joined.kept[static_cast<size_t>(v)], v) << name;
+    EXPECT_EQ(joined.faces, m.faces) << name;
+    for (Eigen::Index v = 0; v < a.vertices.rows(); ++v) {
+      ASSERT_EQ(a.vertices.row(v), a.vertices.row(joined.to_kept[static_cast<size_t>(v)])) << name;
+    }
     ASSERT_EQ(a.morph_targets.size(), o.pose_correctives ? 2u + 9u * 23u : 2u) << name;
     for (Eigen::Index f = 0; f < m.num_faces(); ++f) {
       for (int c = 0; c < 3; ++c) {

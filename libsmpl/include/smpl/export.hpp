@@ -146,4 +146,16 @@ struct SeamSplit {
 /// not have the faces' rows, indexes outside uvs, or uvs holds NaN or infinity.
 SeamSplit split_at_seams(const BodyModel& model, const std::string& context);
 
+/// A mesh read back from a file split at its texture seams (read_gltf(), read_fbx()) joined
+/// again: every vertex at bit for bit the position of an earlier vertex is joined to that one (a
+/// seam split copies positions exactly; two vertices of a body are never at one place).
+struct SeamJoin {
+  std::vector<int> kept;     ///< the input vertices kept, increasing (0..V-1 for a split model)
+  std::vector<int> to_kept;  ///< every input vertex's row among `kept`
+  Faces faces;               ///< the faces re-indexed into the kept vertices
+};
+
+/// Joins the seams of `vertices` / `faces` (faces must index vertices; not checked further).
+SeamJoin join_seams(const Vertices& vertices, const Faces& faces);
+
 }  // namespace smpl
