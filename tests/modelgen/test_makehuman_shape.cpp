@@ -27,6 +27,7 @@
 #include "makehuman_rig.hpp"
 #include "makehuman_shape.hpp"
 #include "makehuman_test_data.hpp"
+#include "population.hpp"
 
 namespace {
 
@@ -319,6 +320,18 @@ void check_populations(const Registered& s) {
   EXPECT_LT(eig.eigenvalues().maxCoeff(), 1.0 + kCentred)
       << "the NHANES men vary more than the population they belong to";
   EXPECT_GT(betas_of(g, mean_a).norm(), 0.1) << "the soldiers' mean is the population's";
+  // The model file carries each survey's population in its betas (population.hpp): the NHANES
+  // men's moments as projected above, and the ANSUR II men's mean is the projected mean body.
+  const std::optional<modelgen::SurveyPopulation> pn = modelgen::survey_population(g, "nhanes");
+  const std::optional<modelgen::SurveyPopulation> pa = modelgen::survey_population(g, "ansur2");
+  ASSERT_TRUE(pn && pa);
+  EXPECT_EQ(pn->survey, "NHANES");
+  EXPECT_EQ(pn->subjects, static_cast<int>(nhanes.size()));
+  EXPECT_EQ(pa->subjects, na);
+  constexpr double kProjection = 1e-9;  // betas: two ways of the same projection
+  EXPECT_LT((pn->mean - sum_g / n).norm(), kProjection);
+  EXPECT_LT((pn->cov - (cov - (sum_g / n) * (sum_g / n).transpose())).norm(), kProjection);
+  EXPECT_LT((pa->mean - betas_of(g, mean_a)).norm(), kProjection);
 }
 
 // One test for both: the registration of the 242 subjects is most of the time (about 15 s of

@@ -18,6 +18,7 @@
 #include "ansur_stats.hpp"
 #include "caliper/measurements.hpp"
 #include "caliper/random.hpp"
+#include "population.hpp"
 #include "smpl/body_model.hpp"
 
 namespace modelgen {
@@ -99,9 +100,11 @@ struct ValidationFigures {
 /// acromion-radiale + radiale-stylion length.
 ValidationFigures survey_figures(const SurveyStats& stats, const std::string& gender);
 
-/// Samples `samples` bodies with betas ~ N(0, I) (fixed seed) and measures them with libcaliper
-/// (validation_measurements()).
-ValidationFigures model_figures(const smpl::BodyModel& model, int samples, std::uint64_t seed);
+/// Samples `samples` bodies with betas ~ N(0, I) (fixed seed), or ~ N(population->mean,
+/// population->cov) when `population` is given (a survey's subjects in the model's shape space,
+/// population.hpp), and measures them with libcaliper (validation_measurements()).
+ValidationFigures model_figures(const smpl::BodyModel& model, int samples, std::uint64_t seed,
+                                const SurveyPopulation* population = nullptr);
 
 /// What generate_model() did, for the log and the docs.
 struct GenerationReport {

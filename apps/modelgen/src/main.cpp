@@ -201,17 +201,24 @@ void write_makehuman_shape_models(const modelgen::mh::Assets& assets, const smpl
   if (!quiet) std::printf("shape models in %.1f s\n", seconds(t0));
 }
 
-/// --validate: the model's bodies (betas ~ N(0, I)) against the survey statistics, as a
-/// markdown table.
+/// --validate: the model's bodies against the survey statistics, as a markdown table. The
+/// bodies are drawn from the model's ANSUR II population when the file carries one (the v2
+/// models: their betas ~ N(0, I) are the general population), else with betas ~ N(0, I).
 void print_validation(const std::string& validate, const std::string& stats_path, int samples) {
   const modelgen::SurveyStats st = modelgen::read_stats_table(stats_path);
   const smpl::BodyModel model = smpl::load_model(validate);
+  const std::optional<modelgen::SurveyPopulation> ansur =
+      modelgen::survey_population(model, "ansur2");
   const auto t0 = std::chrono::steady_clock::now();
-  const modelgen::ValidationFigures m = modelgen::model_figures(model, samples, 12345);
+  const modelgen::ValidationFigures m =
+      modelgen::model_figures(model, samples, 12345, ansur ? &*ansur : nullptr);
   const modelgen::ValidationFigures s = modelgen::survey_figures(st, model.meta.gender);
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("%s: %d bodies with betas ~ N(0, I) vs ANSUR II (%d subjects), %.1f s\n",
-              validate.c_str(), samples, s.count, secs);
+  const std::string drawn = ansur ? "betas ~ the model's ANSUR II population (" +
+                                        std::to_string(ansur->subjects) + " registered subjects)"
+                                  : std::string("betas ~ N(0, I)");
+  std::printf("%s: %d bodies with %s vs ANSUR II (%d subjects), %.1f s\n", validate.c_str(),
+              samples, drawn.c_str(), s.count, secs);
   std::printf(
       "| measurement | model mean | survey mean | mean error | model SD | survey SD | SD ratio "
       "|\n");

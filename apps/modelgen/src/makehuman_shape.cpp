@@ -27,6 +27,7 @@
 #include "caliper/weight.hpp"
 #include "makehuman_landmarks.hpp"
 #include "makehuman_measures.hpp"
+#include "population.hpp"
 #include "smpl/atomic_file.hpp"
 
 namespace modelgen::mh {
@@ -749,6 +750,40 @@ Moments pooled_moments(const std::vector<Subject>& subjects, const FitResult& fi
 
 }  // namespace
 
+namespace {
+
+/// Writes each survey's population in the model's betas (population.hpp; keys "ansur2",
+/// "nhanes"): the moments of the betas of the survey's subjects of `sex` (the neutral model:
+/// both sexes, each weighted to half, as its own population).
+void store_survey_populations(const std::vector<Subject>& subjects, const FitResult& fit,
+                              const std::string& sex, const Eigen::VectorXd& mean,
+                              const Eigen::MatrixXd& to_betas, smpl::BodyModel& model) {
+  for (const auto& [key, survey] : {std::pair<const char*, const char*>{"ansur2", "ANSUR II"},
+                                    std::pair<const char*, const char*>{"nhanes", "NHANES"}}) {
+    std::map<std::string, int> per_sex;
+    for (const Subject& s : subjects) {
+      if (s.source == survey && (sex == "neutral" || s.sex == sex)) ++per_sex[s.sex];
+    }
+    std::vector<std::pair<Eigen::VectorXd, double>> rows;
+    for (size_t i = 0; i < subjects.size(); ++i) {
+      const Subject& s = subjects[i];
+      if (s.source != survey || (sex != "neutral" && s.sex != sex)) continue;
+      const double weight = sex == "neutral" ? 0.5 / per_sex.at(s.sex) : 1.0;
+      rows.emplace_back(to_betas * (coordinates(subjects, fit, i) - mean), weight);
+    }
+    if (rows.size() < 2) continue;
+    const Moments m = weighted_moments(rows);
+    SurveyPopulation p;
+    p.survey = survey;
+    p.subjects = static_cast<int>(rows.size());
+    p.mean = m.mean;
+    p.cov = 0.5 * (m.cov + m.cov.transpose());  // symmetric to the bit
+    set_survey_population(model, key, p);
+  }
+}
+
+}  // namespace
+
 smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
                             const std::vector<Subject>& subjects, const FitResult& fit,
                             const std::string& sex, int num_betas, const Population& population) {
@@ -795,15 +830,19 @@ smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl
     ++kept;
   }
   model.shapedirs.resize(A.rows(), kept);
+  // A subject's betas: beta_b = e_b' R (z - mean) / sqrt(lambda_b), signed as the component.
+  Eigen::MatrixXd to_betas(kept, kall + 1);
   for (int b = 0; b < kept; ++b) {
     const Eigen::Index e = kall - b;  // eigenvalues ascending: the largest last
     const double lambda = std::max(eig.eigenvalues()[e], 0.0);
     Eigen::VectorXd dir = Q * eig.eigenvectors().col(e) * std::sqrt(lambda);
     // Sign convention (an eigenvector's sign is arbitrary): the offsets of +1 SD sum to a
     // positive number, so that +beta means the same on every machine.
-    if (dir.sum() < 0.0) dir = -dir;
-    model.shapedirs.col(b) = dir;
+    const double sign = dir.sum() < 0.0 ? -1.0 : 1.0;
+    model.shapedirs.col(b) = sign * dir;
+    to_betas.row(b) = sign / std::sqrt(lambda) * eig.eigenvectors().col(e).transpose() * R;
   }
+  store_survey_populations(subjects, fit, sex, mean, to_betas, model);
   // The basis is symmetric, so the mean and the components are to rounding; made exact here
   // (mirrored landmarks then agree to the last bit).
   const Eigen::Index nv = model.v_template.rows();
