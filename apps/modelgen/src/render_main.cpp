@@ -1,36 +1,155 @@
 /// \file render_main.cpp
 /// caliper-modelgen-render: the model card's pictures, rendered headless (OSMesa) with the
 /// project's renderer: front, side and three-quarter views of the mean body and of +/- 2 SD
-/// along the first three shape components (one picture per component: -2 SD, mean, +2 SD).
+/// along the first three shape components (one picture per component: -2 SD, mean, +2 SD);
+/// optionally the body in a test pose (--pose), avatars of one height at BMI 18, 25, 35, 45 and
+/// 55 from the model's own R2 regressor (--bmi HEIGHT), close-ups of the face and the left hand
+/// (--closeups), and a checker pattern through the texture coordinates (--checker).
 ///
 ///   caliper-modelgen-render assets/models/caliper-female.npz docs/images/model-female
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <iostream>
 #include <string>
+#include <vector>
 
+#include "caliper/regressor.hpp"
 #include "render/render_mesh.hpp"
 #include "smpl/evaluate.hpp"
+#include "smpl/export.hpp"
 #include "smpl/io.hpp"
+
+namespace {
+
+/// Bodies side by side (1.9 m apart along x) as one mesh, so that sizes compare at one scale.
+void render_row(const std::vector<smpl::Vertices>& bodies, const smpl::Faces& faces,
+                const std::string& path, caliper::render::RenderOptions o) {
+  const Eigen::Index nv = bodies.front().rows(), nf = faces.rows();
+  const auto n = static_cast<Eigen::Index>(bodies.size());
+  smpl::Vertices v(n * nv, 3);
+  smpl::Faces f(n * nf, 3);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    smpl::Vertices b = bodies[static_cast<size_t>(i)];
+    b.col(0).array() += 1.9 * (static_cast<double>(i) - 0.5 * static_cast<double>(n - 1));
+    v.middleRows(i * nv, nv) = b;
+    f.middleRows(i * nf, nf) = faces.array() + static_cast<int>(i * nv);
+  }
+  caliper::render::render_mesh_png(v, f, path, o);
+}
+
+/// The faces whose three vertices all take most of their skinning weight from one of `joints`,
+/// re-indexed into those vertices (`vertices` gets their positions from `body`).
+smpl::Faces region(const smpl::BodyModel& model, const smpl::Vertices& body,
+                   const std::vector<int>& joints, smpl::Vertices& vertices) {
+  const Eigen::Index nv = model.num_vertices();
+  std::vector<int> index(static_cast<size_t>(nv), -1);
+  std::vector<Eigen::Index> kept;
+  const Eigen::MatrixXd w = Eigen::MatrixXd(model.weights);
+  for (Eigen::Index i = 0; i < nv; ++i) {
+    Eigen::Index top = 0;
+    w.row(i).maxCoeff(&top);
+    if (std::find(joints.begin(), joints.end(), static_cast<int>(top)) == joints.end()) continue;
+    index[static_cast<size_t>(i)] = static_cast<int>(kept.size());
+    kept.push_back(i);
+  }
+  vertices.resize(static_cast<Eigen::Index>(kept.size()), 3);
+  for (size_t k = 0; k < kept.size(); ++k)
+    vertices.row(static_cast<Eigen::Index>(k)) = body.row(kept[k]);
+  std::vector<Eigen::Vector3i> tris;
+  for (Eigen::Index f = 0; f < model.num_faces(); ++f) {
+    const int a = index[static_cast<size_t>(model.faces(f, 0))];
+    const int b = index[static_cast<size_t>(model.faces(f, 1))];
+    const int c = index[static_cast<size_t>(model.faces(f, 2))];
+    if (a >= 0 && b >= 0 && c >= 0) tris.emplace_back(a, b, c);
+  }
+  smpl::Faces out(static_cast<Eigen::Index>(tris.size()), 3);
+  for (size_t k = 0; k < tris.size(); ++k) out.row(static_cast<Eigen::Index>(k)) = tris[k];
+  return out;
+}
+
+/// Avatars of `height` metres at BMI 18, 25, 35, 45 and 55: betas from the model's plain R2
+/// regressor (the paper's corner training; weight enters through the volume).
+void render_bmi(const smpl::BodyModel& model, double height, const std::string& prefix,
+                caliper::render::RenderOptions o) {
+  caliper::TrainOptions t;
+  t.noise_aware = false;
+  const caliper::RegressorSet set = caliper::train_regressors(model, t);
+  const caliper::LinearRegressor* r2 = set.find("R2");
+  std::vector<smpl::Vertices> bodies;
+  for (const double bmi : {18.0, 25.0, 35.0, 45.0, 55.0}) {
+    const Eigen::VectorXd b =
+        r2->predict(caliper::MeasurementMap{{"height", height}, {"weight", bmi * height * height}});
+    Eigen::VectorXd betas = Eigen::VectorXd::Zero(model.num_betas());
+    betas.head(b.size()) = b;
+    bodies.push_back(smpl::shape(model, betas).vertices);
+  }
+  o.view = "front";
+  o.width = 1600;
+  o.height = 400;
+  o.fill = true;
+  o.floor_grid = false;
+  render_row(bodies, model.faces, prefix + "-bmi.png", o);
+}
+
+/// The mean body split at its texture seams, coloured by a checker of 24 x 24 cells over the
+/// texture square (per vertex of the split mesh, so the cells' edges are soft): stretched cells
+/// show stretched texture, a mirrored pattern a flipped island.
+void render_checker(const smpl::BodyModel& model, const smpl::Vertices& mean,
+                    const std::string& prefix, caliper::render::RenderOptions o) {
+  const smpl::SeamSplit split = smpl::split_at_seams(model, "checker");
+  const auto n = static_cast<Eigen::Index>(split.source.size());
+  smpl::Vertices v(n, 3);
+  o.vertex_colours.resize(static_cast<size_t>(3 * n));
+  constexpr double kCells = 24.0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    v.row(i) = mean.row(split.source[static_cast<size_t>(i)]);
+    const auto cu = static_cast<long>(std::floor(split.uvs(i, 0) * kCells));
+    const auto cv = static_cast<long>(std::floor(split.uvs(i, 1) * kCells));
+    const bool dark = ((cu + cv) % 2) != 0;
+    const float c[3] = {dark ? 0.25f : 0.95f, dark ? 0.30f : 0.85f, dark ? 0.55f : 0.60f};
+    for (int k = 0; k < 3; ++k) o.vertex_colours[static_cast<size_t>(3 * i + k)] = c[k];
+  }
+  for (const char* view : {"front", "back"}) {
+    o.view = view;
+    caliper::render::render_mesh_png(v, split.faces, prefix + "-checker-" + view + ".png", o);
+  }
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   try {
     if (argc < 3) {
       std::cerr << "usage: caliper-modelgen-render MODEL.npz PREFIX [--components N] [--pose]\n"
+                   "                              [--bmi HEIGHT_M] [--closeups] [--checker]\n"
                    "writes PREFIX-mean-{front,side,three_quarter}.png and\n"
-                   "PREFIX-pc<k>.png (-2 SD, mean, +2 SD) for k = 1..N (default 3)\n";
+                   "PREFIX-pc<k>.png (-2 SD, mean, +2 SD) for k = 1..N (default 3);\n"
+                   "--pose: PREFIX-posed-{front,three_quarter}.png; --bmi: PREFIX-bmi.png\n"
+                   "(BMI 18, 25, 35, 45, 55 at that height, the model's R2); --closeups:\n"
+                   "PREFIX-face.png, PREFIX-hand.png; --checker: PREFIX-checker-{front,back}.png\n";
       return 2;
     }
     const std::string model_path = argv[1], prefix = argv[2];
     int components = 3;
-    bool pose = false;
+    bool pose = false, closeups = false, checker = false;
+    double bmi_height = 0.0;
     for (int i = 3; i < argc; ++i) {
       const std::string a = argv[i];
       if (a == "--components" && i + 1 < argc) {
         components = std::stoi(argv[++i]);
-      }
-      if (a == "--pose") {
+      } else if (a == "--bmi" && i + 1 < argc) {
+        bmi_height = std::stod(argv[++i]);
+      } else if (a == "--pose") {
         pose = true;
+      } else if (a == "--closeups") {
+        closeups = true;
+      } else if (a == "--checker") {
+        checker = true;
+      } else {
+        std::cerr << "caliper-modelgen-render: unknown option '" << a << "'\n";
+        return 2;
       }
     }
     const smpl::BodyModel model = smpl::load_model(model_path);
@@ -49,19 +168,13 @@ int main(int argc, char** argv) {
     o.width = 1200;
     o.height = 560;
     for (int k = 0; k < components && k < model.num_betas(); ++k) {
-      const Eigen::Index nv = model.num_vertices(), nf = model.num_faces();
-      smpl::Vertices v(3 * nv, 3);
-      smpl::Faces f(3 * nf, 3);
+      std::vector<smpl::Vertices> bodies;
       for (int s = -1; s <= 1; ++s) {
         betas.setZero();
         betas[k] = 2.0 * s;
-        smpl::Vertices b = smpl::shape(model, betas).vertices;
-        b.col(0).array() += 1.9 * s;
-        const Eigen::Index slot = s + 1;
-        v.middleRows(slot * nv, nv) = b;
-        f.middleRows(slot * nf, nf) = model.faces.array() + static_cast<int>(slot * nv);
+        bodies.push_back(smpl::shape(model, betas).vertices);
       }
-      caliper::render::render_mesh_png(v, f, prefix + "-pc" + std::to_string(k + 1) + ".png", o);
+      render_row(bodies, model.faces, prefix + "-pc" + std::to_string(k + 1) + ".png", o);
     }
     o.width = 480;
     o.height = 640;
@@ -81,6 +194,23 @@ int main(int argc, char** argv) {
                                          prefix + "-posed-" + view + ".png", o);
       }
     }
+    if (bmi_height > 0.0) render_bmi(model, bmi_height, prefix, o);
+    if (closeups) {
+      caliper::render::RenderOptions c = o;
+      c.fill = true;
+      c.floor_grid = false;
+      c.width = 480;
+      c.height = 480;
+      smpl::Vertices part;
+      const smpl::Faces head = region(model, mean.vertices, {15}, part);  // head
+      c.view = "front";
+      caliper::render::render_mesh_png(part, head, prefix + "-face.png", c);
+      const smpl::Faces hand = region(model, mean.vertices, {20, 22}, part);  // left wrist, hand
+      c.azimuth_degrees = 0.0f;
+      c.elevation_degrees = 80.0f;  // from above: the back of the T-posed hand
+      caliper::render::render_mesh_png(part, hand, prefix + "-hand.png", c);
+    }
+    if (checker && model.has_uvs()) render_checker(model, mean.vertices, prefix, o);
     return 0;
   } catch (const std::exception& e) {
     std::cerr << "caliper-modelgen-render: " << e.what() << "\n";
