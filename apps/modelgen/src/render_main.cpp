@@ -95,7 +95,7 @@ void render_bmi(const smpl::BodyModel& model, double height, const std::string& 
 
 /// The mean body split at its texture seams, coloured by a checker of 24 x 24 cells over the
 /// texture square (per vertex of the split mesh, so the cells' edges are soft): stretched cells
-/// show stretched texture, a mirrored pattern a flipped island.
+/// show stretched texture (a checker cannot show a flipped island: it is its own mirror image).
 void render_checker(const smpl::BodyModel& model, const smpl::Vertices& mean,
                     const std::string& prefix, caliper::render::RenderOptions o) {
   const smpl::SeamSplit split = smpl::split_at_seams(model, "checker");
