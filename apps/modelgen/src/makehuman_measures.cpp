@@ -14,7 +14,7 @@
 namespace modelgen::mh {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
 
 /// SMPL joint indices.
 constexpr int kLeftHip = 1, kRightHip = 2, kLeftKnee = 4, kLeftAnkle = 7, kNeck = 12, kHead = 15;
@@ -74,7 +74,7 @@ std::vector<Eigen::Vector2d> clip_left(const std::vector<caliper::SliceLoop>& lo
 /// Tape girth of the left leg at height `h` (NaN when the plane meets no leg).
 double left_leg_girth(const smpl::Vertices& v, const smpl::Faces& f, double h, double mid) {
   const std::vector<Eigen::Vector2d> p = clip_left(caliper::slice_mesh(v, f, h), mid);
-  return p.size() < 3 ? kNaN : caliper::convex_hull_perimeter(p);
+  return p.size() < 3 ? kNoValue : caliper::convex_hull_perimeter(p);
 }
 
 /// Tape girth of the one loop of `loops` whose centroid is nearest `near` (NaN for no loop).
@@ -84,7 +84,7 @@ double nearest_loop_girth(const std::vector<caliper::SliceLoop>& loops,
   for (const caliper::SliceLoop& l : loops) {
     if (best == nullptr || (l.centroid - near).norm() < (best->centroid - near).norm()) best = &l;
   }
-  return best == nullptr ? kNaN : caliper::convex_hull_perimeter(best->points);
+  return best == nullptr ? kNoValue : caliper::convex_hull_perimeter(best->points);
 }
 
 /// The loops of the plane x = `x`, points (y, z).
@@ -119,7 +119,7 @@ int nearest_vertex(const smpl::Vertices& v, const Eigen::Vector3d& p, const char
 
 /// The rearmost point (least z) of the left leg's slice at `h`, or NaN z when none.
 Eigen::Vector3d left_leg_back(const smpl::Vertices& v, const smpl::Faces& f, double h, double mid) {
-  Eigen::Vector3d back(0.0, h, kNaN);
+  Eigen::Vector3d back(0.0, h, kNoValue);
   for (const Eigen::Vector2d& p : clip_left(caliper::slice_mesh(v, f, h), mid)) {
     if (p.x() > mid && !(p.y() >= back.z())) back = Eigen::Vector3d(p.x(), h, p.y());
   }
@@ -152,7 +152,7 @@ int gluteal_fold(const smpl::Vertices& v, const smpl::Faces& f, double crotch_y,
 /// and `y1`; `rule` names it in errors.
 int leg_level(const smpl::Vertices& v, const smpl::Faces& f, double y0, double y1, double mid,
               bool largest, const char* rule) {
-  double best_girth = largest ? 0.0 : std::numeric_limits<double>::infinity(), best_y = kNaN;
+  double best_girth = largest ? 0.0 : std::numeric_limits<double>::infinity(), best_y = kNoValue;
   for (double y = y0; y <= y1; y += kScanStep) {
     const double g = left_leg_girth(v, f, y, mid);
     if (std::isfinite(g) && (largest ? g > best_girth : g < best_girth)) {
@@ -171,7 +171,7 @@ int leg_level(const smpl::Vertices& v, const smpl::Faces& f, double y0, double y
 /// Tape girth of the neck at height `h`: the largest loop near the midline (the skin also
 /// dips into the mouth, whose loops are smaller and inside).
 double neck_girth(const smpl::Vertices& v, const smpl::Faces& f, double h, double mid) {
-  double best = kNaN;
+  double best = kNoValue;
   for (const caliper::SliceLoop& l : caliper::slice_mesh(v, f, h)) {
     if (std::abs(l.centroid.x() - mid) > kNeckHalfWidth) continue;
     const double g = caliper::convex_hull_perimeter(l.points);
@@ -212,7 +212,7 @@ SurveyVertices survey_vertices(const smpl::Vertices& t, const smpl::Faces& f,
   // Neck: the narrowest neck slice between the neck and head joints (below the jaw); the
   // front midline vertex at that level.
   const Eigen::Vector3d neck_joint = joint(t, j_regressor, kNeck);
-  double neck_y = kNaN, neck_best = std::numeric_limits<double>::infinity();
+  double neck_y = kNoValue, neck_best = std::numeric_limits<double>::infinity();
   for (double y = neck_joint.y(); y <= joint(t, j_regressor, kHead).y(); y += kScanStep) {
     const double g = neck_girth(t, f, y, mid);
     if (g < neck_best) {
@@ -288,9 +288,9 @@ Eigen::VectorXd Measurer::operator()(const smpl::Vertices& v) const {
       torso.insert(torso.end(), l.points.begin(), l.points.end());
     }
   }
-  all["waist_iliac_circumference"] = torso.empty() ? kNaN : caliper::convex_hull_perimeter(torso);
+  all["waist_iliac_circumference"] = torso.empty() ? kNoValue : caliper::convex_hull_perimeter(torso);
   const Eigen::Vector3d neck = v.row(at.neck_front).transpose();
-  double neck_min = kNaN;
+  double neck_min = kNoValue;
   for (double d = -kNeckBelow; d <= kNeckAbove; d += kNeckStep) {
     const double g = neck_girth(v, neck_faces, neck.y() + d, mid);
     if (!(g >= neck_min)) neck_min = g;
@@ -305,7 +305,7 @@ Eigen::VectorXd Measurer::operator()(const smpl::Vertices& v) const {
   Eigen::VectorXd out(static_cast<Eigen::Index>(fit_measures().size()));
   for (size_t i = 0; i < fit_measures().size(); ++i) {
     const auto it = all.find(fit_measures()[i].id);
-    out[static_cast<Eigen::Index>(i)] = it == all.end() ? kNaN : it->second;
+    out[static_cast<Eigen::Index>(i)] = it == all.end() ? kNoValue : it->second;
   }
   return out;
 }
