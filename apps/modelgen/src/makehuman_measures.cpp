@@ -288,7 +288,8 @@ Eigen::VectorXd Measurer::operator()(const smpl::Vertices& v) const {
       torso.insert(torso.end(), l.points.begin(), l.points.end());
     }
   }
-  all["waist_iliac_circumference"] = torso.empty() ? kNoValue : caliper::convex_hull_perimeter(torso);
+  all["waist_iliac_circumference"] =
+      torso.empty() ? kNoValue : caliper::convex_hull_perimeter(torso);
   const Eigen::Vector3d neck = v.row(at.neck_front).transpose();
   double neck_min = kNoValue;
   for (double d = -kNeckBelow; d <= kNeckAbove; d += kNeckStep) {
