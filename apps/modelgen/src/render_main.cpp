@@ -25,7 +25,7 @@ namespace {
 
 /// Bodies side by side (1.9 m apart along x) as one mesh, so that sizes compare at one scale.
 void render_row(const std::vector<smpl::Vertices>& bodies, const smpl::Faces& faces,
-                const std::string& path, caliper::render::RenderOptions o) {
+                const std::string& path, const caliper::render::RenderOptions& o) {
   const Eigen::Index nv = bodies.front().rows(), nf = faces.rows();
   const auto n = static_cast<Eigen::Index>(bodies.size());
   smpl::Vertices v(n * nv, 3);
