@@ -530,10 +530,6 @@ Eigen::VectorXd joint_weights(const std::vector<TPoseBody>& bodies, const std::v
   return w;
 }
 
-}  // namespace
-
-namespace {
-
 /// The SMPL joint on the other side (left_* <-> right_*), or `j` itself on the midline.
 int mirror_joint(int j) {
   const std::vector<std::string>& names = smpl::smpl_joint_names();

@@ -748,10 +748,6 @@ Moments pooled_moments(const std::vector<Subject>& subjects, const FitResult& fi
   return weighted_moments(rows);
 }
 
-}  // namespace
-
-namespace {
-
 /// Writes each survey's population in the model's betas (population.hpp; keys "ansur2",
 /// "nhanes"): the moments of the betas of the survey's subjects of `sex` (the neutral model:
 /// both sexes, each weighted to half, as its own population).

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <iostream>
 #include <string>
@@ -138,9 +139,21 @@ int main(int argc, char** argv) {
     for (int i = 3; i < argc; ++i) {
       const std::string a = argv[i];
       if (a == "--components" && i + 1 < argc) {
-        components = std::stoi(argv[++i]);
+        char* end = nullptr;
+        components = static_cast<int>(std::strtol(argv[++i], &end, 10));
+        if (*end != '\0' || end == argv[i] || components < 0) {
+          std::cerr << "caliper-modelgen-render: --components needs a count (0 or more), got '"
+                    << argv[i] << "'\n";
+          return 2;
+        }
       } else if (a == "--bmi" && i + 1 < argc) {
-        bmi_height = std::stod(argv[++i]);
+        bmi_height = std::atof(argv[++i]);
+        if (!(bmi_height >= 0.5 && bmi_height <= 2.5)) {
+          std::cerr << "caliper-modelgen-render: --bmi needs a height in metres between 0.5 and "
+                       "2.5 (e.g. --bmi 1.65), got '"
+                    << argv[i] << "'\n";
+          return 2;
+        }
       } else if (a == "--pose") {
         pose = true;
       } else if (a == "--closeups") {
