@@ -280,6 +280,8 @@ SeamJoin join_seams(const Vertices& vertices, const Faces& faces) {
       return static_cast<size_t>(h ^ (h >> 29));
     }
   };
+  check_mesh(vertices, faces, "join_seams");
+  // Keys are the coordinates' bits: exact, and a NaN a hostile file may hold is one key too.
   SeamJoin j;
   const auto n = static_cast<size_t>(vertices.rows());
   j.to_kept.resize(n);

@@ -269,6 +269,9 @@ TEST(Texcoords, GltfAndVrmCarryTexcoord0SplitAtSeams) {
     ASSERT_EQ(joined.kept.size(), static_cast<size_t>(V)) << name;
     for (Eigen::Index v = 0; v < V; ++v) ASSERT_EQ(joined.kept[static_cast<size_t>(v)], v) << name;
     EXPECT_EQ(joined.faces, m.faces) << name;
+    smpl::Faces outside = a.faces;
+    outside(0, 0) = static_cast<int>(a.vertices.rows());
+    EXPECT_THROW(smpl::join_seams(a.vertices, outside), smpl::ModelError) << name;
     for (Eigen::Index v = 0; v < a.vertices.rows(); ++v) {
       ASSERT_EQ(a.vertices.row(v), a.vertices.row(joined.to_kept[static_cast<size_t>(v)])) << name;
     }

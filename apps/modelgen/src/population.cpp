@@ -42,6 +42,11 @@ std::optional<SurveyPopulation> survey_population(const smpl::BodyModel& model,
   if (it == model.meta.extra.end()) return std::nullopt;
   const std::string where = "the model's '" + population_meta_key(key) + "' metadata";
   const Eigen::Index b = model.num_betas();
+  // Every error says what to do: the entry is the generator's, so a new file replaces it.
+  const auto bad = [&where](const std::string& what) {
+    return std::runtime_error(where + what +
+                              "; regenerate the model with caliper-modelgen --source makehuman");
+  };
   SurveyPopulation p;
   try {
     const nlohmann::json j = nlohmann::json::parse(it->second);
@@ -50,31 +55,29 @@ std::optional<SurveyPopulation> survey_population(const smpl::BodyModel& model,
     const auto mean = j.at("mean").get<std::vector<double>>();
     const auto cov = j.at("cov").get<std::vector<std::vector<double>>>();
     if (static_cast<Eigen::Index>(mean.size()) != b || static_cast<Eigen::Index>(cov.size()) != b) {
-      throw std::runtime_error(where + " is for " + std::to_string(mean.size()) +
-                               " betas, the model has " + std::to_string(b));
+      throw bad(" is for " + std::to_string(mean.size()) + " betas, the model has " +
+                std::to_string(b));
     }
     p.mean = Eigen::Map<const Eigen::VectorXd>(mean.data(), b);
     p.cov.resize(b, b);
     for (Eigen::Index r = 0; r < b; ++r) {
       if (static_cast<Eigen::Index>(cov[static_cast<size_t>(r)].size()) != b) {
-        throw std::runtime_error(where + ": covariance row " + std::to_string(r) + " is not " +
-                                 std::to_string(b) + " long");
+        throw bad(": covariance row " + std::to_string(r) + " is not " + std::to_string(b) +
+                  " long");
       }
       for (Eigen::Index c = 0; c < b; ++c)
         p.cov(r, c) = cov[static_cast<size_t>(r)][static_cast<size_t>(c)];
     }
   } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(where +
-                             " is not a population (survey, subjects, mean, cov): " + e.what());
+    throw bad(std::string(" is not a population (survey, subjects, mean, cov): ") + e.what());
   }
   if (!p.mean.allFinite() || !p.cov.allFinite()) {
-    throw std::runtime_error(where + " holds NaN or infinity");
+    throw bad(" holds NaN or infinity");
   }
   for (Eigen::Index r = 0; r < b; ++r) {
-    if (p.cov(r, r) < 0.0) throw std::runtime_error(where + ": a negative variance");
+    if (p.cov(r, r) < 0.0) throw bad(": a negative variance");
     for (Eigen::Index c = 0; c < r; ++c) {
-      if (p.cov(r, c) != p.cov(c, r))
-        throw std::runtime_error(where + ": covariance not symmetric");
+      if (p.cov(r, c) != p.cov(c, r)) throw bad(": covariance not symmetric");
     }
   }
   return p;

@@ -155,7 +155,8 @@ struct SeamJoin {
   Faces faces;               ///< the faces re-indexed into the kept vertices
 };
 
-/// Joins the seams of `vertices` / `faces` (faces must index vertices; not checked further).
+/// Joins the seams of `vertices` / `faces`. Throws ModelError when a face names a vertex that
+/// `vertices` does not have.
 SeamJoin join_seams(const Vertices& vertices, const Faces& faces);
 
 }  // namespace smpl
