@@ -118,54 +118,103 @@ void render_checker(const smpl::BodyModel& model, const smpl::Vertices& mean,
   }
 }
 
+struct RenderArgs {
+  std::string model_path, prefix;
+  int components = 3;
+  bool pose = false, closeups = false, checker = false;
+  double bmi_height = 0.0;
+};
+
+// Parses the command line into `args`; on a bad command line prints why and returns false.
+bool parse_args(int argc, char** argv, RenderArgs& args) {
+  if (argc < 3) {
+    std::cerr << "usage: caliper-modelgen-render MODEL.npz PREFIX [--components N] [--pose]\n"
+                 "                              [--bmi HEIGHT_M] [--closeups] [--checker]\n"
+                 "writes PREFIX-mean-{front,side,three_quarter}.png and\n"
+                 "PREFIX-pc<k>.png (-2 SD, mean, +2 SD) for k = 1..N (default 3);\n"
+                 "--pose: PREFIX-posed-{front,three_quarter}.png; --bmi: PREFIX-bmi.png\n"
+                 "(BMI 18, 25, 35, 45, 55 at that height, the model's R2); --closeups:\n"
+                 "PREFIX-face.png, PREFIX-hand.png; --checker: PREFIX-checker-{front,back}.png\n";
+    return false;
+  }
+  args.model_path = argv[1];
+  args.prefix = argv[2];
+  for (int i = 3; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--components" && i + 1 < argc) {
+      char* end = nullptr;
+      args.components = static_cast<int>(std::strtol(argv[++i], &end, 10));
+      if (*end != '\0' || end == argv[i] || args.components < 0) {
+        std::cerr << "caliper-modelgen-render: --components needs a count (0 or more), got '"
+                  << argv[i] << "'\n";
+        return false;
+      }
+    } else if (a == "--bmi" && i + 1 < argc) {
+      args.bmi_height = std::atof(argv[++i]);
+      if (!(args.bmi_height >= 0.5 && args.bmi_height <= 2.5)) {
+        std::cerr << "caliper-modelgen-render: --bmi needs a height in metres between 0.5 and "
+                     "2.5 (e.g. --bmi 1.65), got '"
+                  << argv[i] << "'\n";
+        return false;
+      }
+    } else if (a == "--pose") {
+      args.pose = true;
+    } else if (a == "--closeups") {
+      args.closeups = true;
+    } else if (a == "--checker") {
+      args.checker = true;
+    } else {
+      std::cerr << "caliper-modelgen-render: unknown option '" << a << "'\n";
+      return false;
+    }
+  }
+  return true;
+}
+
+// The mean body in a test pose (elbows, a knee and a hip bent), front and three-quarter.
+void render_posed(const smpl::BodyModel& model, const std::string& prefix,
+                  caliper::render::RenderOptions o) {
+  Eigen::VectorXd theta = Eigen::VectorXd::Zero(3 * Eigen::Index{model.num_joints()});
+  const Eigen::VectorXd betas = Eigen::VectorXd::Zero(model.num_betas());
+  const auto joint = [&theta](Eigen::Index k) { return theta.segment<3>(3 * k); };
+  joint(18) = Eigen::Vector3d(0, -1.5708, 0);  // left elbow bent forward
+  joint(19) = Eigen::Vector3d(0, 1.5708, 0);   // right elbow
+  joint(4) = Eigen::Vector3d(1.5708, 0, 0);    // left knee
+  joint(2) = Eigen::Vector3d(-1.5708, 0, 0);   // right hip flexed
+  joint(16) = Eigen::Vector3d(0, 0, -1.2);     // left shoulder down
+  const smpl::Body b = smpl::evaluate(model, betas, theta);
+  for (const char* view : {"front", "three_quarter"}) {
+    o.view = view;
+    caliper::render::render_mesh_png(b.vertices, model.faces, prefix + "-posed-" + view + ".png",
+                                     o);
+  }
+}
+
+// Close-ups of the mean body's face and left hand.
+void render_closeups(const smpl::BodyModel& model, const smpl::Vertices& mean,
+                     const std::string& prefix, caliper::render::RenderOptions c) {
+  c.fill = true;
+  c.floor_grid = false;
+  c.width = 480;
+  c.height = 480;
+  smpl::Vertices part;
+  const smpl::Faces head = region(model, mean, {15}, part);  // head
+  c.view = "front";
+  caliper::render::render_mesh_png(part, head, prefix + "-face.png", c);
+  const smpl::Faces hand = region(model, mean, {20, 22}, part);  // left wrist, hand
+  c.azimuth_degrees = 0.0f;
+  c.elevation_degrees = 80.0f;  // from above: the back of the T-posed hand
+  caliper::render::render_mesh_png(part, hand, prefix + "-hand.png", c);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   try {
-    if (argc < 3) {
-      std::cerr << "usage: caliper-modelgen-render MODEL.npz PREFIX [--components N] [--pose]\n"
-                   "                              [--bmi HEIGHT_M] [--closeups] [--checker]\n"
-                   "writes PREFIX-mean-{front,side,three_quarter}.png and\n"
-                   "PREFIX-pc<k>.png (-2 SD, mean, +2 SD) for k = 1..N (default 3);\n"
-                   "--pose: PREFIX-posed-{front,three_quarter}.png; --bmi: PREFIX-bmi.png\n"
-                   "(BMI 18, 25, 35, 45, 55 at that height, the model's R2); --closeups:\n"
-                   "PREFIX-face.png, PREFIX-hand.png; --checker: PREFIX-checker-{front,back}.png\n";
-      return 2;
-    }
-    const std::string model_path = argv[1], prefix = argv[2];
-    int components = 3;
-    bool pose = false, closeups = false, checker = false;
-    double bmi_height = 0.0;
-    for (int i = 3; i < argc; ++i) {
-      const std::string a = argv[i];
-      if (a == "--components" && i + 1 < argc) {
-        char* end = nullptr;
-        components = static_cast<int>(std::strtol(argv[++i], &end, 10));
-        if (*end != '\0' || end == argv[i] || components < 0) {
-          std::cerr << "caliper-modelgen-render: --components needs a count (0 or more), got '"
-                    << argv[i] << "'\n";
-          return 2;
-        }
-      } else if (a == "--bmi" && i + 1 < argc) {
-        bmi_height = std::atof(argv[++i]);
-        if (!(bmi_height >= 0.5 && bmi_height <= 2.5)) {
-          std::cerr << "caliper-modelgen-render: --bmi needs a height in metres between 0.5 and "
-                       "2.5 (e.g. --bmi 1.65), got '"
-                    << argv[i] << "'\n";
-          return 2;
-        }
-      } else if (a == "--pose") {
-        pose = true;
-      } else if (a == "--closeups") {
-        closeups = true;
-      } else if (a == "--checker") {
-        checker = true;
-      } else {
-        std::cerr << "caliper-modelgen-render: unknown option '" << a << "'\n";
-        return 2;
-      }
-    }
-    const smpl::BodyModel model = smpl::load_model(model_path);
+    RenderArgs args;
+    if (!parse_args(argc, argv, args)) return 2;
+    const std::string& prefix = args.prefix;
+    const smpl::BodyModel model = smpl::load_model(args.model_path);
     caliper::render::RenderOptions o;
     o.width = 480;
     o.height = 640;
@@ -180,7 +229,7 @@ int main(int argc, char** argv) {
     o.view = "front";
     o.width = 1200;
     o.height = 560;
-    for (int k = 0; k < components && k < model.num_betas(); ++k) {
+    for (int k = 0; k < args.components && k < model.num_betas(); ++k) {
       std::vector<smpl::Vertices> bodies;
       for (int s = -1; s <= 1; ++s) {
         betas.setZero();
@@ -191,39 +240,10 @@ int main(int argc, char** argv) {
     }
     o.width = 480;
     o.height = 640;
-    if (pose) {
-      Eigen::VectorXd theta = Eigen::VectorXd::Zero(3 * Eigen::Index{model.num_joints()});
-      betas.setZero();
-      const auto joint = [&theta](Eigen::Index k) { return theta.segment<3>(3 * k); };
-      joint(18) = Eigen::Vector3d(0, -1.5708, 0);  // left elbow bent forward
-      joint(19) = Eigen::Vector3d(0, 1.5708, 0);   // right elbow
-      joint(4) = Eigen::Vector3d(1.5708, 0, 0);    // left knee
-      joint(2) = Eigen::Vector3d(-1.5708, 0, 0);   // right hip flexed
-      joint(16) = Eigen::Vector3d(0, 0, -1.2);     // left shoulder down
-      const smpl::Body b = smpl::evaluate(model, betas, theta);
-      for (const char* view : {"front", "three_quarter"}) {
-        o.view = view;
-        caliper::render::render_mesh_png(b.vertices, model.faces,
-                                         prefix + "-posed-" + view + ".png", o);
-      }
-    }
-    if (bmi_height > 0.0) render_bmi(model, bmi_height, prefix, o);
-    if (closeups) {
-      caliper::render::RenderOptions c = o;
-      c.fill = true;
-      c.floor_grid = false;
-      c.width = 480;
-      c.height = 480;
-      smpl::Vertices part;
-      const smpl::Faces head = region(model, mean.vertices, {15}, part);  // head
-      c.view = "front";
-      caliper::render::render_mesh_png(part, head, prefix + "-face.png", c);
-      const smpl::Faces hand = region(model, mean.vertices, {20, 22}, part);  // left wrist, hand
-      c.azimuth_degrees = 0.0f;
-      c.elevation_degrees = 80.0f;  // from above: the back of the T-posed hand
-      caliper::render::render_mesh_png(part, hand, prefix + "-hand.png", c);
-    }
-    if (checker && model.has_uvs()) render_checker(model, mean.vertices, prefix, o);
+    if (args.pose) render_posed(model, prefix, o);
+    if (args.bmi_height > 0.0) render_bmi(model, args.bmi_height, prefix, o);
+    if (args.closeups) render_closeups(model, mean.vertices, prefix, o);
+    if (args.checker && model.has_uvs()) render_checker(model, mean.vertices, prefix, o);
     return 0;
   } catch (const std::exception& e) {
     std::cerr << "caliper-modelgen-render: " << e.what() << "\n";
