@@ -113,12 +113,17 @@ void check_residuals(const Registered& s) {
   // Bounds on |fitted - survey| and on the RMS over these subjects, fit_measures() order:
   // height, weight (kg), span, crotch height, biacromial, hip breadth, chest, waist (navel),
   // buttock circumference, iliac crest height, waist at the iliac crest, neck, thigh, calf,
-  // ankle and wrist circumferences, knee height. About twice the worst and twice the RMS seen
-  // over the whole surveys (docs/models.md), so that a change that makes the fits worse fails.
-  const double bound[] = {0.005, 6.0,   0.003, 0.007, 0.006, 0.020, 0.125, 0.125, 0.050,
-                          0.007, 0.060, 0.090, 0.100, 0.023, 0.013, 0.009, 0.004};
-  const double rms_bound[] = {0.001, 0.5,   0.001, 0.0025, 0.003, 0.010,  0.019, 0.017, 0.008,
-                              0.002, 0.007, 0.004, 0.024,  0.003, 0.0025, 0.002, 0.0015};
+  // ankle and wrist circumferences, knee height, hanging arm, hand length, acromial height. About
+  // twice the worst and twice the RMS seen over the whole surveys (docs/models.md), so that a
+  // change that makes the fits worse fails. Span and biacromial breadth are met less closely
+  // since the hanging arm is fitted too (ANSUR II's span is shorter than its shoulders, arms and
+  // hands laid end to end; the fit shares the difference: span +4.8 mm, biacromial -4.5 mm,
+  // arm -9.7 mm on the men's mean).
+  const double bound[] = {0.005, 6.0,   0.027, 0.007, 0.024, 0.020, 0.125, 0.125, 0.050, 0.007,
+                          0.060, 0.090, 0.100, 0.023, 0.013, 0.009, 0.004, 0.055, 0.015, 0.015};
+  const double rms_bound[] = {0.001,  1.2,   0.011,  0.0025, 0.0097, 0.010, 0.019,
+                              0.017,  0.008, 0.002,  0.007,  0.004,  0.024, 0.003,
+                              0.0025, 0.002, 0.0015, 0.0215, 0.0055, 0.0035};
   ASSERT_EQ(std::size(bound), mh::fit_measures().size());
   std::vector<double> sq(mh::fit_measures().size(), 0.0);
   std::vector<int> n(mh::fit_measures().size(), 0);

@@ -9,6 +9,7 @@
 
 #include "caliper/circumference.hpp"
 #include "caliper/volume.hpp"
+#include "generator.hpp"
 #include "makehuman_shape.hpp"
 
 namespace modelgen::mh {
@@ -257,7 +258,8 @@ smpl::Faces region_faces(const smpl::Faces& faces, Keep keep) {
 }  // namespace
 
 Measurer::Measurer(const smpl::BodyModel& tmpl, const smpl::Vertices& rest, const std::string& sex)
-    : faces(tmpl.faces),
+    : model(tmpl),
+      faces(tmpl.faces),
       landmarks(caliper::landmarks_for(tmpl)),
       formula(caliper::weight_formula_for(sex)),
       at(survey_vertices(rest, tmpl.faces, tmpl.j_regressor, landmarks)) {
@@ -303,6 +305,9 @@ Eigen::VectorXd Measurer::operator()(const smpl::Vertices& v) const {
                                                   Eigen::Vector2d(wrist.y(), wrist.z() - 0.025));
   all["ankle_circumference"] = left_leg_girth(v, leg_faces, v(at.ankle_back, 1), mid);
   all["knee_height"] = v(at.knee_lateral, 1) - floor;
+  all["arm_length"] = hanging_arm_length(model, v);
+  all["acromial_height"] = shoulder.y() - floor;
+  all["hand_length"] = (caliper::landmark_point(v, landmarks.at("left_fingertip")) - wrist).norm();
   Eigen::VectorXd out(static_cast<Eigen::Index>(fit_measures().size()));
   for (size_t i = 0; i < fit_measures().size(); ++i) {
     const auto it = all.find(fit_measures()[i].id);

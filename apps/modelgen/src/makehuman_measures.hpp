@@ -21,7 +21,15 @@
 /// - wrist_circumference: the girth of the left forearm's slice perpendicular to the T-posed arm
 ///   through the wrist landmark (ANSUR II: at the styloid processes);
 /// - knee_height: the lateral vertex of the left knee at the SMPL knee joint above the floor
-///   (ANSUR II's lateral femoral epicondyle height).
+///   (ANSUR II's lateral femoral epicondyle height);
+/// - arm_length: acromion to wrist with the arm hanging at the side (hanging_arm_length(): the
+///   shoulder joint turned down, the wrist following by the template's skinning weights), ANSUR
+///   II's acromion-radiale plus radiale-stylion length; without it the fit met the span with the
+///   men's arms 6.5 % short and their hands long;
+/// - hand_length: the left wrist landmark to the middle fingertip in the T-pose (ANSUR II: from
+///   the wrist crease at the stylion to the tip of the middle finger);
+/// - acromial_height: the left acromion (shoulder landmark) above the floor; with the arm's
+///   length it places the hanging wrist (ANSUR II's wrist height).
 /// Girths are tape measures: the perimeter of the convex hull of the slice.
 #pragma once
 
@@ -62,6 +70,7 @@ struct Measurer {
   Measurer(const smpl::BodyModel& tmpl, const smpl::Vertices& rest, const std::string& sex);
   Eigen::VectorXd operator()(const smpl::Vertices& v) const;
 
+  const smpl::BodyModel& model;  ///< the template (joint regressor, weights for the hanging arm)
   const smpl::Faces& faces;
   caliper::LandmarkTable landmarks;
   caliper::WeightFormula formula;

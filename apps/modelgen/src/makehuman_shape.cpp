@@ -55,7 +55,10 @@ const std::vector<FitMeasure>& fit_measures() {
                                             {"calf_circumference", 0.01},
                                             {"ankle_circumference", 0.005},
                                             {"wrist_circumference", 0.005},
-                                            {"knee_height", 0.01}};
+                                            {"knee_height", 0.01},
+                                            {"arm_length", 0.01},
+                                            {"hand_length", 0.005},
+                                            {"acromial_height", 0.01}};
   return m;
 }
 
@@ -74,7 +77,11 @@ void add_survey(const std::string& path, const std::string& sex, const std::stri
     s.source = source;
     s.values = Eigen::VectorXd::Constant(m, kNaN);
     for (size_t c = 0; c < columns.size(); ++c) {
-      s.values[measure[c]] = t(r, static_cast<Eigen::Index>(c)) * scale[c];
+      // Columns that share a measure add up (ANSUR II's arm: acromion-radiale plus
+      // radiale-stylion length).
+      const double x = t(r, static_cast<Eigen::Index>(c)) * scale[c];
+      double& value = s.values[measure[c]];
+      value = std::isnan(value) ? x : value + x;
     }
     out.push_back(s);
   }
@@ -100,8 +107,13 @@ std::vector<Subject> read_subjects(const std::string& ansur_dir, const std::stri
                                           "calfcircumference",
                                           "anklecircumference",
                                           "wristcircumference",
-                                          "lateralfemoralepicondyleheight"};
-  const std::vector<int> ansur_measure = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 12, 13, 14, 15, 16};
+                                          "lateralfemoralepicondyleheight",
+                                          "acromionradialelength",
+                                          "radialestylionlength",
+                                          "handlength",
+                                          "acromialheight"};
+  const std::vector<int> ansur_measure = {0,  1,  2,  3,  4,  5,  6,  7,  8,  9,
+                                          11, 12, 13, 14, 15, 16, 17, 17, 18, 19};
   std::vector<double> ansur_scale(ansur.size(), 1e-3);
   ansur_scale[1] = 0.1;
   add_survey(ansur_dir + "/ANSUR_II_FEMALE_Public.csv", "female", "ANSUR II", ansur, ansur_measure,
@@ -163,6 +175,8 @@ std::vector<std::string> direction_names(const std::string& sex) {
       d.push_back(std::string("armslegs/l-") + part + "-fat-" + s + ".target+armslegs/r-" + part +
                   "-fat-" + s + ".target");
     }
+    d.push_back(std::string("armslegs/l-hand-scale-") + s + ".target+armslegs/r-hand-scale-" + s +
+                ".target");
   }
   return d;
 }

@@ -52,13 +52,15 @@ struct Subject {
 /// The measurements fitted, in Subject::values order: height, weight, arm span, crotch height,
 /// shoulder (biacromial) width, hip width, chest, waist (navel level) and hip (buttock)
 /// circumferences, iliac crest height, the waist at the iliac crest (the NHANES and WHO waist),
-/// neck, thigh (gluteal furrow), calf, ankle and wrist circumferences and knee height (from the
-/// iliac crest height on defined in makehuman_measures.hpp, the others are libcaliper's).
+/// neck, thigh (gluteal furrow), calf, ankle and wrist circumferences, knee height, the hanging
+/// arm's length, the hand's and the acromion's height (from the iliac crest height on defined in
+/// makehuman_measures.hpp, the others are libcaliper's).
 const std::vector<FitMeasure>& fit_measures();
 
 /// ANSUR II subjects of both files under `ansur_dir` (stature, weightkg, span, crotchheight,
 /// biacromialbreadth, hipbreadth, chest-, waist- and buttockcircumference, iliocristaleheight,
-/// neck-, thigh-, calf-, ankle- and wristcircumference, lateralfemoralepicondyleheight)
+/// neck-, thigh-, calf-, ankle- and wristcircumference, lateralfemoralepicondyleheight,
+/// acromionradialelength + radialestylionlength, handlength, acromialheight)
 /// and NHANES subjects of both development files under `nhanes_dir` (BMXHT, BMXWT, BMXHIP,
 /// BMXWAIST). Throws std::runtime_error naming the file for a missing or malformed one.
 std::vector<Subject> read_subjects(const std::string& ansur_dir, const std::string& nhanes_dir);
