@@ -10,12 +10,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <exception>
 #include <iostream>
 #include <string>
 #include <vector>
 
+#include "app/cli_style.hpp"
 #include "caliper/regressor.hpp"
 #include "render/render_mesh.hpp"
 #include "smpl/evaluate.hpp"
@@ -125,50 +125,55 @@ struct RenderArgs {
   double bmi_height = 0.0;
 };
 
-// Parses the command line into `args`; on a bad command line prints why and returns false.
-bool parse_args(int argc, char** argv, RenderArgs& args) {
-  if (argc < 3) {
-    std::cerr << "usage: caliper-modelgen-render MODEL.npz PREFIX [--components N] [--pose]\n"
-                 "                              [--bmi HEIGHT_M] [--closeups] [--checker]\n"
-                 "writes PREFIX-mean-{front,side,three_quarter}.png and\n"
-                 "PREFIX-pc<k>.png (-2 SD, mean, +2 SD) for k = 1..N (default 3);\n"
-                 "--pose: PREFIX-posed-{front,three_quarter}.png; --bmi: PREFIX-bmi.png\n"
-                 "(BMI 18, 25, 35, 45, 55 at that height, the model's R2); --closeups:\n"
-                 "PREFIX-face.png, PREFIX-hand.png; --checker: PREFIX-checker-{front,back}.png\n";
-    return false;
-  }
-  args.model_path = argv[1];
-  args.prefix = argv[2];
-  for (int i = 3; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--components" && i + 1 < argc) {
-      char* end = nullptr;
-      args.components = static_cast<int>(std::strtol(argv[++i], &end, 10));
-      if (*end != '\0' || end == argv[i] || args.components < 0) {
-        std::cerr << "caliper-modelgen-render: --components needs a count (0 or more), got '"
-                  << argv[i] << "'\n";
-        return false;
-      }
-    } else if (a == "--bmi" && i + 1 < argc) {
-      args.bmi_height = std::atof(argv[++i]);
-      if (!(args.bmi_height >= 0.5 && args.bmi_height <= 2.5)) {
-        std::cerr << "caliper-modelgen-render: --bmi needs a height in metres between 0.5 and "
-                     "2.5 (e.g. --bmi 1.65), got '"
-                  << argv[i] << "'\n";
-        return false;
-      }
-    } else if (a == "--pose") {
-      args.pose = true;
-    } else if (a == "--closeups") {
-      args.closeups = true;
-    } else if (a == "--checker") {
-      args.checker = true;
-    } else {
-      std::cerr << "caliper-modelgen-render: unknown option '" << a << "'\n";
+// Parses the command line into `args` in the programs' common style (app/cli_style.hpp); false
+// when the program is done (--help printed: `code` 0; a usage error printed: `code` 2).
+bool parse_args(int argc, char** argv, RenderArgs& args, int& code) {
+  namespace app = caliper::app;
+  CLI::App cli("", "caliper-modelgen-render");
+  app::apply_style(
+      cli, {{"caliper-modelgen-render MODEL.npz PREFIX [--components N] [--pose]",
+             "                        [--bmi HEIGHT_M] [--closeups] [--checker]"},
+            "Writes PREFIX-mean-{front,side,three_quarter}.png and PREFIX-pc<k>.png (-2 SD, mean,\n"
+            "+2 SD) for k = 1..N; --pose: PREFIX-posed-{front,three_quarter}.png; --bmi:\n"
+            "PREFIX-bmi.png (BMI 18, 25, 35, 45, 55 at that height, the model's R2); --closeups:\n"
+            "PREFIX-face.png, PREFIX-hand.png; --checker: PREFIX-checker-{front,back}.png.",
+            "exit codes: 0 ok, 1 error, 2 usage error"});
+  app::add_value(cli, "--components", args.components, "N",
+                 "components drawn at -2 SD, mean and +2 SD")
+      ->check(app::non_negative());
+  app::add_value(cli, "--bmi", args.bmi_height, "HEIGHT_M",
+                 "height in metres of the BMI row, between 0.5 and 2.5 (e.g. 1.65)")
+      ->default_str("")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            double h = 0;
+            if (!CLI::detail::lexical_cast(text, h)) return "'" + text + "' is not a number";
+            return h >= 0.5 && h <= 2.5
+                       ? std::string()
+                       : "needs a height in metres between 0.5 and 2.5, not " + text;
+          },
+          ""));
+  app::add_flag(cli, "--pose", args.pose, "the mean body in a test pose");
+  app::add_flag(cli, "--closeups", args.closeups, "face and left hand of the mean body");
+  app::add_flag(cli, "--checker", args.checker, "a checker texture through the UVs");
+  try {
+    const app::CommandLine line =
+        app::parse_command_line(cli, std::vector<std::string>(argv + 1, argv + argc));
+    if (line.help) {
+      std::cout << cli.help();
+      code = 0;
       return false;
     }
+    if (line.positional.size() != 2)
+      throw app::CommandLineError("give the model file and the output prefix (MODEL.npz PREFIX)");
+    args.model_path = line.positional[0];
+    args.prefix = line.positional[1];
+    return true;
+  } catch (const app::CommandLineError& e) {
+    std::cerr << app::usage_error_line("caliper-modelgen-render", e.what());
+    code = 2;
+    return false;
   }
-  return true;
 }
 
 // The mean body in a test pose (elbows, a knee and a hip bent), front and three-quarter.
@@ -212,7 +217,8 @@ void render_closeups(const smpl::BodyModel& model, const smpl::Vertices& mean,
 int main(int argc, char** argv) {
   try {
     RenderArgs args;
-    if (!parse_args(argc, argv, args)) return 2;
+    int code = 0;
+    if (!parse_args(argc, argv, args, code)) return code;
     const std::string& prefix = args.prefix;
     const smpl::BodyModel model = smpl::load_model(args.model_path);
     caliper::render::RenderOptions o;

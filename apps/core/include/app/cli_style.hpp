@@ -1,8 +1,9 @@
 /// \file cli_style.hpp
 /// The one style of every program's command line (caliper, caliper-editor, caliper-vr,
-/// caliper-modelgen), on CLI11 (libcli11-dev): options are declared on a CLI::App, CLI11 parses
-/// them and writes --help; this header gives all four programs the same --help layout and the
-/// same usage errors. Header-only (CMake target caliper_cli_style); it prints nothing itself.
+/// caliper-modelgen, caliper-modelgen-render), on CLI11 (libcli11-dev): options are declared on
+/// a CLI::App, CLI11 parses them and writes --help; this header gives all the programs the same
+/// --help layout and the same usage errors. Header-only (CMake target caliper_cli_style); it
+/// prints nothing itself.
 ///
 /// --help layout:
 ///   usage: PROGRAM ...            (one line per way of calling it)
