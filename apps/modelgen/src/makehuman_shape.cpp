@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <exception>
 #include <fstream>
@@ -78,10 +79,11 @@ void add_survey(const std::string& path, const std::string& sex, const std::stri
     s.values = Eigen::VectorXd::Constant(m, kNaN);
     for (size_t c = 0; c < columns.size(); ++c) {
       // Columns that share a measure add up (ANSUR II's arm: acromion-radiale plus
-      // radiale-stylion length).
+      // radiale-stylion length); a missing part (NaN) leaves the sum missing.
       const double x = t(r, static_cast<Eigen::Index>(c)) * scale[c];
+      const auto before = measure.begin() + static_cast<std::ptrdiff_t>(c);
       double& value = s.values[measure[c]];
-      value = std::isnan(value) ? x : value + x;
+      value = std::find(measure.begin(), before, measure[c]) == before ? x : value + x;
     }
     out.push_back(s);
   }
