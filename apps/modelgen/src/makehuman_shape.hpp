@@ -17,7 +17,9 @@
 /// surrogate of every measurement is fitted over random bodies of the basis, each subject's
 /// weights are solved against it (weighted least squares with a Gaussian prior on each weight),
 /// and then corrected four times with the true measurements of the fitted body (the surrogate's
-/// error at that body subtracted from the targets). Subjects measured in part (NHANES) take the
+/// error at that body subtracted from the targets); a subject still more than three tolerances
+/// off on a measurement then takes Gauss-Newton steps on the true measurements (a numerical
+/// Jacobian at the fitted body). Subjects measured in part (NHANES) take the
 /// fitted population of the fully measured ones (ANSUR II) as their prior. Units: metres,
 /// kilograms.
 #pragma once
