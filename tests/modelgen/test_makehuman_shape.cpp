@@ -54,7 +54,7 @@ double bmi(const mh::Subject& s) {
   return s.values[1] / (s.values[0] * s.values[0]);
 }
 
-/// 100 ANSUR II subjects per sex (more than the 78 directions of a sex, so that the NHANES
+/// 100 ANSUR II subjects per sex (more than the 80 directions of a sex, so that the NHANES
 /// subjects get the population prior), 10 NHANES subjects per sex and the NHANES subject of each
 /// sex with the highest BMI.
 const Registered& registered() {
