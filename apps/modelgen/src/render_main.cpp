@@ -144,15 +144,8 @@ bool parse_args(int argc, char** argv, RenderArgs& args, int& code) {
   app::add_value(cli, "--bmi", args.bmi_height, "HEIGHT_M",
                  "height in metres of the BMI row, between 0.5 and 2.5 (e.g. 1.65)")
       ->default_str("")
-      ->check(CLI::Validator(
-          [](std::string& text) {
-            double h = 0;
-            if (!CLI::detail::lexical_cast(text, h)) return "'" + text + "' is not a number";
-            return h >= 0.5 && h <= 2.5
-                       ? std::string()
-                       : "needs a height in metres between 0.5 and 2.5, not " + text;
-          },
-          ""));
+      ->check(app::number_check([](double h) { return h >= 0.5 && h <= 2.5; },
+                                "needs a height in metres between 0.5 and 2.5"));
   app::add_flag(cli, "--pose", args.pose, "the mean body in a test pose");
   app::add_flag(cli, "--closeups", args.closeups, "face and left hand of the mean body");
   app::add_flag(cli, "--checker", args.checker, "a checker texture through the UVs");

@@ -24,10 +24,12 @@
 
 #include <algorithm>
 #include <cctype>
+#include <functional>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "app/help_text.hpp"
@@ -153,15 +155,21 @@ inline CLI::Option* add_flag(CLI::App& app, const std::string& names, bool& targ
   return app.add_flag(names, target, help)->disable_flag_override();
 }
 
-/// A check that a number is 0 or more, with a message that says so.
-inline CLI::Validator non_negative() {
+/// A check that an option's value is a number for which `ok` holds; otherwise the message is
+/// `need` and the value given ("must be 0 or more, not -3").
+inline CLI::Validator number_check(std::function<bool(double)> ok, std::string need) {
   return CLI::Validator(
-      [](std::string& text) {
+      [ok = std::move(ok), need = std::move(need)](std::string& text) {
         double v = 0;
         if (!CLI::detail::lexical_cast(text, v)) return "'" + text + "' is not a number";
-        return v >= 0 ? std::string() : "must be 0 or more, not " + text;
+        return ok(v) ? std::string() : need + ", not " + text;
       },
       "");
+}
+
+/// A check that a number is 0 or more, with a message that says so.
+inline CLI::Validator non_negative() {
+  return number_check([](double v) { return v >= 0; }, "must be 0 or more");
 }
 
 /// The plain-words message of a CLI11 parse error of `app`.
