@@ -1,0 +1,285 @@
+/// \file contact.cpp
+#include "contact.hpp"
+
+#include <algorithm>
+#include <cstddef>
+#include <numeric>
+#include <thread>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "makehuman.hpp"
+#include "mesh_checks.hpp"
+
+namespace modelgen {
+
+namespace {
+
+/// Outward unit vertex normals of `v` (area-weighted face normals, faces in order).
+smpl::Vertices vertex_normals(const smpl::Vertices& v, const smpl::Faces& f) {
+  smpl::Vertices n = smpl::Vertices::Zero(v.rows(), 3);
+  for (Eigen::Index t = 0; t < f.rows(); ++t) {
+    const Eigen::Vector3d a = v.row(f(t, 0)), b = v.row(f(t, 1)), c = v.row(f(t, 2));
+    const Eigen::RowVector3d fn = (b - a).cross(c - a).transpose();
+    for (int k = 0; k < 3; ++k) n.row(f(t, k)) += fn;
+  }
+  for (Eigen::Index i = 0; i < n.rows(); ++i) {
+    const double len = n.row(i).norm();
+    if (len > 0.0) n.row(i) /= len;
+  }
+  return n;
+}
+
+/// Check body `b`'s vertices: 0 the mean, then -sd and +sd along each component (a plain loop:
+/// the same bits on every CPU).
+smpl::Vertices check_body(const smpl::BodyModel& model, int b, double sd) {
+  smpl::Vertices v = model.v_template;
+  if (b == 0) return v;
+  const Eigen::Index c = (b - 1) / 2;
+  const double beta = (b % 2 == 1) ? -sd : sd;
+  for (Eigen::Index i = 0; i < v.rows(); ++i) {
+    for (int d = 0; d < 3; ++d) v(i, d) += beta * model.shapedirs(3 * i + d, c);
+  }
+  return v;
+}
+
+/// The 1-ring of every vertex, each list increasing.
+std::vector<std::vector<int>> neighbours(Eigen::Index n, const smpl::Faces& f) {
+  std::vector<std::vector<int>> ring(static_cast<std::size_t>(n));
+  for (Eigen::Index t = 0; t < f.rows(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      ring[static_cast<std::size_t>(f(t, k))].push_back(f(t, (k + 1) % 3));
+      ring[static_cast<std::size_t>(f(t, (k + 1) % 3))].push_back(f(t, k));
+    }
+  }
+  for (auto& r : ring) {
+    std::sort(r.begin(), r.end());
+    r.erase(std::unique(r.begin(), r.end()), r.end());
+  }
+  return ring;
+}
+
+/// A plane through `p` with unit normal `n`: the other sheet where a vertex went through it.
+struct Plane {
+  Eigen::Vector3d p, n;
+  double behind(const Eigen::Vector3d& x) const { return -(x - p).dot(n); }
+};
+
+/// How far each vertex of body `v` must move back along its inward normal this round (capped),
+/// into `need`; returns the number of intersecting triangle pairs. Seeds: for every intersecting
+/// pair, the vertices of each triangle behind the other's plane. From the seeds the region that
+/// went through is flooded over the mesh's edges (breadth first, seeds in pair order) while the
+/// vertices stay behind the plane that their seed went through and within `kReach` of it: the
+/// vertices wholly inside the other sheet, whose triangles cross nothing. Each vertex moves half
+/// its depth behind that plane plus the gap (the other sheet moves too).
+int vertex_needs(const smpl::Vertices& v, const smpl::Faces& f,
+                 const std::vector<std::vector<int>>& ring, const smpl::Vertices& inward,
+                 const Eigen::VectorXd& cap, const ContactOptions& o, Eigen::VectorXd& need) {
+  constexpr double kReach = 0.02;  // metres from the seed: a flood stays local
+  // A vertex faces the other sheet when its outward normal is more than 120 degrees from the
+  // other sheet's (inward . n > cos 60): skin that only grazes it (the top of a toe beside its
+  // neighbour's side) is not moved.
+  constexpr double kFacing = 0.5;
+  auto facing = [&](int x, const Eigen::Vector3d& n) {
+    return inward.row(x).dot(n.transpose()) > kFacing;
+  };
+  need.setZero(v.rows());
+  const auto pairs = self_intersections(v, f);
+  std::vector<int> plane_of(static_cast<std::size_t>(v.rows()), -1);
+  std::vector<Plane> planes;
+  std::vector<int> queue;
+  auto seed = [&](int a, int b) {  // a's vertices behind b's plane
+    const Eigen::Vector3d p = v.row(f(b, 0)), q = v.row(f(b, 1)), r = v.row(f(b, 2));
+    const Eigen::Vector3d n = (q - p).cross(r - p);
+    if (n.norm() == 0.0) return;
+    const Plane plane{p, n / n.norm()};
+    for (int k = 0; k < 3; ++k) {
+      const int x = f(a, k);
+      if (x == f(b, 0) || x == f(b, 1) || x == f(b, 2)) continue;  // shared corner
+      if (plane_of[static_cast<std::size_t>(x)] >= 0) continue;
+      if (plane.behind(v.row(x)) > 0.0 && facing(x, plane.n)) {
+        planes.push_back(plane);
+        plane_of[static_cast<std::size_t>(x)] = static_cast<int>(planes.size()) - 1;
+        queue.push_back(x);
+      }
+    }
+  };
+  for (const auto& [i, j] : pairs) {
+    seed(i, j);
+    seed(j, i);
+  }
+  std::vector<Eigen::Vector3d> origin;  // each queued vertex's seed position
+  origin.reserve(queue.size());
+  for (const int x : queue) origin.emplace_back(v.row(x));
+  for (std::size_t head = 0; head < queue.size(); ++head) {
+    const int x = queue[head];
+    const Plane& plane = planes[static_cast<std::size_t>(plane_of[static_cast<std::size_t>(x)])];
+    const double d = plane.behind(v.row(x));
+    need[x] = std::max(need[x], std::min(0.5 * d + o.gap, cap[x]));
+    for (const int y : ring[static_cast<std::size_t>(x)]) {
+      if (plane_of[static_cast<std::size_t>(y)] >= 0) continue;
+      const Eigen::Vector3d py = v.row(y);
+      const Eigen::Vector3d from = origin[head];
+      if (plane.behind(py) <= 0.0 || !facing(y, plane.n) || (py - from).norm() > kReach) continue;
+      plane_of[static_cast<std::size_t>(y)] = plane_of[static_cast<std::size_t>(x)];
+      queue.push_back(y);
+      origin.push_back(from);
+    }
+  }
+  return static_cast<int>(pairs.size());
+}
+
+/// Spreads `need` to the 1-ring at half strength, twice, so that a moved vertex takes its
+/// neighbours along (a dent one vertex wide would fold).
+void spread(const smpl::Faces& f, Eigen::VectorXd& need) {
+  for (int pass = 0; pass < 2; ++pass) {
+    Eigen::VectorXd out = need;
+    for (Eigen::Index t = 0; t < f.rows(); ++t) {
+      for (int k = 0; k < 3; ++k) {
+        const int a = f(t, k), b = f(t, (k + 1) % 3);
+        out[a] = std::max(out[a], 0.5 * need[b]);
+        out[b] = std::max(out[b], 0.5 * need[a]);
+      }
+    }
+    need = out;
+  }
+}
+
+}  // namespace
+
+namespace {
+
+/// Each vertex's largest move per round: `max_step`, or half its shortest edge on `v` if less
+/// (a move longer than the edges folds the skin: the lips' edges are 1-2 mm, the thighs' 10).
+Eigen::VectorXd step_caps(const smpl::Vertices& v, const smpl::Faces& f, double max_step) {
+  Eigen::VectorXd cap = Eigen::VectorXd::Constant(v.rows(), max_step);
+  for (Eigen::Index t = 0; t < f.rows(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const int a = f(t, k), b = f(t, (k + 1) % 3);
+      const double half = 0.5 * (v.row(a) - v.row(b)).norm();
+      cap[a] = std::min(cap[a], half);
+      cap[b] = std::min(cap[b], half);
+    }
+  }
+  return cap;
+}
+
+/// One round's moves: the linear offset a + beta_c b_c per vertex that gives each check body
+/// its need (see the header), along the inward normals; scaled down where the vertex's moves
+/// so far (`moved`, on its worst check body, summed over the rounds) would pass `limit`.
+void apply_needs(const std::vector<Eigen::VectorXd>& need, const smpl::Vertices& inward, int k,
+                 double sd, double limit, Eigen::VectorXd& moved, smpl::BodyModel& model) {
+  Eigen::VectorXd b(k);
+  for (Eigen::Index i = 0; i < model.v_template.rows(); ++i) {
+    double a = need[0][i];
+    for (int c = 0; c < k; ++c) {
+      const auto lo = static_cast<std::size_t>(1 + 2 * c);
+      a = std::max(a, 0.5 * (need[lo][i] + need[lo + 1][i]));
+    }
+    double worst = a;
+    for (int c = 0; c < k; ++c) {
+      const auto lo = static_cast<std::size_t>(1 + 2 * c);
+      b[c] = (need[lo + 1][i] - need[lo][i]) / (2.0 * sd);
+      worst = std::max(worst, a + sd * std::abs(b[c]));
+    }
+    if (worst == 0.0) continue;
+    const double scale = std::clamp((limit - moved[i]) / worst, 0.0, 1.0);
+    moved[i] += scale * worst;
+    for (int c = 0; c < k; ++c) {
+      for (int d = 0; d < 3; ++d) model.shapedirs(3 * i + d, c) += scale * b[c] * inward(i, d);
+    }
+    for (int d = 0; d < 3; ++d) model.v_template(i, d) += scale * a * inward(i, d);
+  }
+}
+
+}  // namespace
+
+ContactReport separate_contacts(smpl::BodyModel& model, const ContactOptions& options) {
+  const int k = std::min(options.components, model.num_betas());
+  const int bodies = 1 + 2 * k;
+  const Eigen::Index nv = model.v_template.rows();
+  const smpl::Vertices inward = -vertex_normals(model.v_template, model.faces);
+  const bool mirrored = static_cast<Eigen::Index>(model.mirror.size()) == nv;
+  const std::vector<std::vector<int>> ring = neighbours(nv, model.faces);
+  ContactOptions o = options;
+  const Eigen::VectorXd cap = step_caps(model.v_template, model.faces, options.max_step);
+  const smpl::BodyModel original = model;
+  Eigen::VectorXd moved = Eigen::VectorXd::Zero(nv);
+
+  ContactReport report;
+  report.bodies = bodies;
+  std::vector<Eigen::VectorXd> need(static_cast<std::size_t>(bodies));
+  std::vector<int> pairs(static_cast<std::size_t>(bodies), 0);
+  // The state with the fewest intersecting pairs over the check bodies is kept: a round can
+  // make more than it removes (a crease pushed into a fold), and the rounds after it rarely
+  // recover.
+  smpl::Vertices best_template;
+  Eigen::MatrixXd best_dirs;
+  long best_total = -1;
+  const int threads = std::max(1, options.threads);
+  for (int round = 0;; ++round) {
+    // Check every body (independent: threads take every threads-th body).
+    std::vector<std::thread> pool;
+    for (int w = 0; w < threads; ++w) {
+      pool.emplace_back([&, w] {
+        for (int b = w; b < bodies; b += threads) {
+          const smpl::Vertices v = check_body(model, b, o.sd);
+          pairs[static_cast<std::size_t>(b)] =
+              vertex_needs(v, model.faces, ring, inward, cap, o, need[static_cast<std::size_t>(b)]);
+        }
+      });
+    }
+    for (std::thread& t : pool) t.join();
+    if (round == 0) report.pairs_before = pairs;
+    const long total = std::accumulate(pairs.begin(), pairs.end(), 0L);
+    if (best_total < 0 || total < best_total) {
+      best_total = total;
+      best_template = model.v_template;
+      best_dirs = model.shapedirs.leftCols(k);
+      report.pairs_after = pairs;
+      report.kept_round = round;
+    }
+    if (total == 0 || round == o.max_rounds) break;
+    report.rounds = round + 1;
+    for (Eigen::VectorXd& n : need) {
+      spread(model.faces, n);
+      if (mirrored) {  // the model stays left/right symmetric
+        const Eigen::VectorXd copy = n;
+        for (Eigen::Index i = 0; i < nv; ++i) {
+          n[i] = std::max(copy[i], copy[model.mirror[static_cast<std::size_t>(i)]]);
+        }
+      }
+    }
+    apply_needs(need, inward, k, o.sd, o.max_move, moved, model);
+  }
+  model.v_template = best_template;
+  model.shapedirs.leftCols(k) = best_dirs;
+  if (mirrored) {
+    // Equal moves on mirror vertices along mirrored normals: symmetric to rounding, exact here
+    // (as shape_model() leaves them).
+    mh::symmetrize(model.v_template, model.mirror);
+    for (int c = 0; c < k; ++c) {
+      mh::symmetrize(Eigen::Map<smpl::Vertices>(model.shapedirs.col(c).data(), nv, 3),
+                     model.mirror);
+    }
+  }
+  for (Eigen::Index i = 0; i < nv; ++i) {
+    const Eigen::RowVector3d a = model.v_template.row(i) - original.v_template.row(i);
+    double worst = a.norm();
+    for (int c = 0; c < k; ++c) {
+      for (const double beta : {-o.sd, o.sd}) {
+        Eigen::RowVector3d d = a;
+        for (int j = 0; j < 3; ++j) {
+          d[j] += beta * (model.shapedirs(3 * i + j, c) - original.shapedirs(3 * i + j, c));
+        }
+        worst = std::max(worst, d.norm());
+      }
+    }
+    if (worst > 0.0) ++report.moved_vertices;
+    report.largest_move = std::max(report.largest_move, worst);
+  }
+  return report;
+}
+
+}  // namespace modelgen

@@ -1,0 +1,64 @@
+/// \file contact.hpp
+/// Separation of touching skin in a linear shape space (issue 11, "Must show" 2: no
+/// self-intersection at the mean and at +/- 2 SD along the first 10 components).
+///
+/// The registered bodies are linear blends of MakeHuman targets, and where soft tissue meets
+/// (inner thighs, the gluteal cleft, under the breasts, between the toes, the lips) the blend
+/// pushes one sheet of skin through the other instead of flattening both against each other.
+/// Real tissue flattens at a contact; this step does the same, as far as a linear model can.
+/// Each round checks the mean and the bodies at +/- s SD along the first components
+/// (self_intersections()); the vertices of each crossing triangle that lie behind the other
+/// triangle's plane, and the vertices flooded from them over the mesh that stay behind that
+/// plane within 2 cm and face it (normals more than 120 degrees apart; the skin wholly inside
+/// the other sheet, whose triangles cross nothing), need to move back along their inward normal
+/// (the mean body's) by half their depth plus a gap (the other sheet moves too), spread to two
+/// rings at half strength each so that no one-vertex dent folds, at most half the vertex's
+/// shortest edge per round. The moves go into the mean and the components: along one component
+/// the need is p0 at the mean and p+, p- at +/- s SD; a linear offset a + s b meets all three
+/// when a >= max(p0, (p+ + p-) / 2) and b = (p+ - p-) / (2 s), so the mean takes half of what
+/// the far bodies need (a flatter contact on the mean body, which is where the thighs of the
+/// average woman already touch). A round can make more crossings than it removes (a crease
+/// pushed into a fold); the state with the fewest pairs over the check bodies is kept.
+/// Measured on the v2 models in docs/models.md ("Touching skin").
+#pragma once
+
+#include <vector>
+
+#include "smpl/body_model.hpp"
+
+namespace modelgen {
+
+/// What separate_contacts() did.
+struct ContactReport {
+  int bodies = 0;                 ///< check bodies per round (1 + 2 x components)
+  int rounds = 0;                 ///< rounds run (each: check every body, then move)
+  int kept_round = 0;             ///< the state kept: after this many rounds (fewest pairs)
+  std::vector<int> pairs_before;  ///< intersecting triangle pairs per check body, before
+  std::vector<int> pairs_after;   ///< in the state kept (mean, then -s and +s per component)
+  int moved_vertices = 0;         ///< vertices whose mean or components changed
+  double largest_move = 0.0;      ///< largest move of a vertex on any check body, metres
+};
+
+/// Options of separate_contacts(). The defaults are the issue's check (mean and +/- 2 SD along
+/// the first 10 components).
+struct ContactOptions {
+  int components = 10;      ///< components checked (fewer if the model has fewer)
+  double sd = 2.0;          ///< the check bodies' distance from the mean, in SD (betas)
+  int max_rounds = 16;      ///< rounds before giving up (what is left is reported)
+  double gap = 0.0005;      ///< metres each side moves beyond meeting the other sheet
+  double max_step = 0.004;  ///< largest move of a vertex per round, metres, and at most half
+                            ///< its shortest edge (deeper crossings take more rounds)
+  double max_move = 0.03;   ///< largest move of a vertex over all rounds, metres (on its
+                            ///< worst check body): a crease pushed on and on does not run away
+  int threads = 1;          ///< check bodies tested at once (the result does not depend on it)
+};
+
+/// Moves the model's template and the first `components` shape components (left/right
+/// symmetric under model.mirror when the model has one) until none of the check bodies
+/// self-intersects, or `max_rounds` have run. Deterministic to the byte for a given model
+/// (fixed order of every sum; threads only split independent bodies). `model` must be valid
+/// (smpl::validate); posedirs, weights and joints are not changed (the joint regressor sees
+/// the moved vertices, which stay within millimetres of where they were).
+ContactReport separate_contacts(smpl::BodyModel& model, const ContactOptions& options = {});
+
+}  // namespace modelgen
