@@ -12,6 +12,7 @@
 #include <exception>
 #include <fstream>
 #include <iostream>
+#include <numeric>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -21,6 +22,7 @@
 
 #include "ansur_stats.hpp"
 #include "app/cli_style.hpp"
+#include "contact.hpp"
 #include "generator.hpp"
 #include "makehuman_rig.hpp"
 #include "makehuman_shape.hpp"
@@ -101,6 +103,52 @@ void declare_options(CLI::App& cli, Options& o) {
       ->check(CLI::IsMember({"pooled", "general"}));
 }
 
+/// The fit's residuals per survey, sex and measurement (mean, RMS, largest, how many beyond 3
+/// tolerances) and how many subjects shape_model() leaves out (mh::registered()).
+void print_fit_residuals(const std::vector<modelgen::mh::Subject>& subjects,
+                         const modelgen::mh::FitResult& fit) {
+  namespace mh = modelgen::mh;
+  std::printf("residual (fitted body minus survey): mean / RMS / max |.|\n");
+  for (const char* source : {"ANSUR II", "NHANES"}) {
+    for (const char* sex : {"female", "male"}) {
+      for (size_t j = 0; j < mh::fit_measures().size(); ++j) {
+        double sum = 0, sq = 0, worst = 0;
+        int n = 0;
+        for (size_t i = 0; i < subjects.size(); ++i) {
+          const double r =
+              fit.residuals(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+          if (subjects[i].source != source || subjects[i].sex != sex || !std::isfinite(r)) continue;
+          sum += r;
+          sq += r * r;
+          worst = std::max(worst, std::abs(r));
+          ++n;
+        }
+        if (n == 0) continue;
+        int far = 0;  // residuals beyond 3 tolerances
+        for (size_t i = 0; i < subjects.size(); ++i) {
+          const double r =
+              fit.residuals(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+          if (subjects[i].source == source && subjects[i].sex == sex && std::isfinite(r) &&
+              std::abs(r) > 3 * mh::fit_measures()[j].tolerance) {
+            ++far;
+          }
+        }
+        const bool kg = mh::fit_measures()[j].id == "weight";
+        const double scale = kg ? 1.0 : 1000.0;
+        std::printf("  %-8s %-6s %-26s n=%4d  %+7.1f %7.1f %7.1f %s, %d beyond 3 tol.\n", source,
+                    sex, mh::fit_measures()[j].id.c_str(), n, scale * sum / n,
+                    scale * std::sqrt(sq / n), scale * worst, kg ? "kg" : "mm", far);
+      }
+    }
+  }
+  int left_out = 0;
+  for (size_t i = 0; i < subjects.size(); ++i) left_out += !mh::registered(fit, i);
+  std::printf(
+      "%d of %zu subjects beyond 3 tolerances on some measurement: left out of the "
+      "populations\n",
+      left_out, subjects.size());
+}
+
 /// The shape models of the open model v2 (work in progress, issue 11): every survey subject
 /// registered to MakeHuman's targets, principal components per sex; prints the fit residuals.
 void write_makehuman_shape_models(const modelgen::mh::Assets& assets, const smpl::BodyModel& tmpl,
@@ -146,45 +194,25 @@ void write_makehuman_shape_models(const modelgen::mh::Assets& assets, const smpl
       std::printf("fitted in %.1f s%s%s\n", seconds(t1), fit_cache.empty() ? "" : ", saved to ",
                   fit_cache.c_str());
     }
-    std::printf("residual (fitted body minus survey): mean / RMS / max |.|\n");
-    for (const char* source : {"ANSUR II", "NHANES"}) {
-      for (const char* sex : {"female", "male"}) {
-        for (size_t j = 0; j < mh::fit_measures().size(); ++j) {
-          double sum = 0, sq = 0, worst = 0;
-          int n = 0;
-          for (size_t i = 0; i < subjects.size(); ++i) {
-            const double r =
-                fit.residuals(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
-            if (subjects[i].source != source || subjects[i].sex != sex || !std::isfinite(r))
-              continue;
-            sum += r;
-            sq += r * r;
-            worst = std::max(worst, std::abs(r));
-            ++n;
-          }
-          if (n == 0) continue;
-          int far = 0;  // residuals beyond 3 tolerances
-          for (size_t i = 0; i < subjects.size(); ++i) {
-            const double r =
-                fit.residuals(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
-            if (subjects[i].source == source && subjects[i].sex == sex && std::isfinite(r) &&
-                std::abs(r) > 3 * mh::fit_measures()[j].tolerance) {
-              ++far;
-            }
-          }
-          const bool kg = mh::fit_measures()[j].id == "weight";
-          const double scale = kg ? 1.0 : 1000.0;
-          std::printf("  %-8s %-6s %-26s n=%4d  %+7.1f %7.1f %7.1f %s, %d beyond 3 tol.\n", source,
-                      sex, mh::fit_measures()[j].id.c_str(), n, scale * sum / n,
-                      scale * std::sqrt(sq / n), scale * worst, kg ? "kg" : "mm", far);
-        }
-      }
-    }
+    print_fit_residuals(subjects, fit);
   }
   for (const char* sex : {"female", "male", "neutral"}) {
     mh::Population population;
     population.general = general;
-    const smpl::BodyModel m = mh::shape_model(basis, tmpl, subjects, fit, sex, 16, population);
+    smpl::BodyModel m = mh::shape_model(basis, tmpl, subjects, fit, sex, 16, population);
+    const auto tc = std::chrono::steady_clock::now();
+    modelgen::ContactOptions co;
+    co.threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    const modelgen::ContactReport cr = modelgen::separate_contacts(m, co);
+    if (!quiet) {
+      auto sum = [](const std::vector<int>& p) { return std::accumulate(p.begin(), p.end(), 0); };
+      std::printf(
+          "%s: touching skin separated in %d round(s), %.1f s: intersecting pairs over the %d "
+          "check bodies %d -> %d (mean %d -> %d), %d vertices moved, at most %.1f mm\n",
+          sex, cr.rounds, seconds(tc), cr.bodies, sum(cr.pairs_before), sum(cr.pairs_after),
+          cr.pairs_before.front(), cr.pairs_after.front(), cr.moved_vertices,
+          1000.0 * cr.largest_move);
+    }
     const std::string path = out + "/caliper-makehuman-" + sex + ".npz";
     smpl::SaveOptions so;
     so.compress = true;

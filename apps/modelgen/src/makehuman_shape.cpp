@@ -44,8 +44,8 @@ const std::vector<FitMeasure>& fit_measures() {
                                             {"weight", 1.0},
                                             {"arm_span_fingertips", 0.01},
                                             {"inseam_height", 0.01},
-                                            {"shoulder_width", 0.01},
-                                            {"hip_width", 0.01},
+                                            {"shoulder_width", 0.0075},
+                                            {"hip_width", 0.005},
                                             {"chest_circumference", 0.01},
                                             {"waist_circumference", 0.01},
                                             {"hip_circumference", 0.01},
@@ -57,7 +57,7 @@ const std::vector<FitMeasure>& fit_measures() {
                                             {"ankle_circumference", 0.005},
                                             {"wrist_circumference", 0.005},
                                             {"knee_height", 0.01},
-                                            {"arm_length", 0.01},
+                                            {"arm_length", 0.0075},
                                             {"hand_length", 0.005},
                                             {"acromial_height", 0.01}};
   return m;
@@ -721,6 +721,16 @@ std::optional<FitResult> load_fit(const std::string& path, std::uint64_t fingerp
 // Principal components
 // ------------------------------------------------------------------------------------------------
 
+bool registered(const FitResult& fit, size_t i) {
+  for (size_t j = 0; j < fit_measures().size(); ++j) {
+    const double r = fit.residuals(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+    if (std::isfinite(r) && std::abs(r) > kRefineBeyond * fit_measures()[j].tolerance) {
+      return false;
+    }
+  }
+  return true;
+}
+
 namespace {
 
 /// Mean and covariance of a population over z = (w, female?) (K + 1).
@@ -767,7 +777,7 @@ Moments general_moments(const ShapeBasis& basis, const std::vector<Subject>& sub
                         const FitResult& fit, const std::string& sex) {
   std::vector<std::pair<Eigen::VectorXd, double>> ansur, nhanes;
   for (size_t i = 0; i < subjects.size(); ++i) {
-    if (subjects[i].sex != sex) continue;
+    if (subjects[i].sex != sex || !registered(fit, i)) continue;
     (subjects[i].source == "NHANES" ? nhanes : ansur)
         .emplace_back(coordinates(subjects, fit, i), 1.0);
   }
@@ -816,7 +826,9 @@ Moments pooled_moments(const std::vector<Subject>& subjects, const FitResult& fi
                        const std::string& sex, const std::map<std::string, double>& survey_share) {
   int n_female = 0, n_male = 0;
   std::map<std::pair<std::string, std::string>, int> n_survey;  // (sex, source) -> subjects
-  for (const Subject& s : subjects) {
+  for (size_t i = 0; i < subjects.size(); ++i) {
+    if (!registered(fit, i)) continue;
+    const Subject& s = subjects[i];
     (s.sex == "male" ? n_male : n_female) += 1;
     ++n_survey[{s.sex, s.source}];
   }
@@ -832,7 +844,7 @@ Moments pooled_moments(const std::vector<Subject>& subjects, const FitResult& fi
   std::vector<std::pair<Eigen::VectorXd, double>> rows;
   for (size_t i = 0; i < subjects.size(); ++i) {
     const Subject& s = subjects[i];
-    if (sex != "neutral" && s.sex != sex) continue;
+    if ((sex != "neutral" && s.sex != sex) || !registered(fit, i)) continue;
     // Without shares the arithmetic is the original one (1 per subject of a sex), so that the
     // files stay the same to the byte.
     const double weight = survey_share.empty() && sex != "neutral"
@@ -855,13 +867,18 @@ void store_survey_populations(const std::vector<Subject>& subjects, const FitRes
   for (const auto& [key, survey] : {std::pair<const char*, const char*>{"ansur2", "ANSUR II"},
                                     std::pair<const char*, const char*>{"nhanes", "NHANES"}}) {
     std::map<std::string, int> per_sex;
-    for (const Subject& s : subjects) {
-      if (s.source == survey && (sex == "neutral" || s.sex == sex)) ++per_sex[s.sex];
+    for (size_t i = 0; i < subjects.size(); ++i) {
+      const Subject& s = subjects[i];
+      if (s.source == survey && (sex == "neutral" || s.sex == sex) && registered(fit, i)) {
+        ++per_sex[s.sex];
+      }
     }
     std::vector<std::pair<Eigen::VectorXd, double>> rows;
     for (size_t i = 0; i < subjects.size(); ++i) {
       const Subject& s = subjects[i];
-      if (s.source != survey || (sex != "neutral" && s.sex != sex)) continue;
+      if (s.source != survey || (sex != "neutral" && s.sex != sex) || !registered(fit, i)) {
+        continue;
+      }
       const double weight = sex == "neutral" ? 0.5 / per_sex.at(s.sex) : 1.0;
       rows.emplace_back(to_betas * (coordinates(subjects, fit, i) - mean), weight);
     }

@@ -97,6 +97,12 @@ struct FitResult {
 FitResult fit_subjects(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
                        const std::vector<Subject>& subjects, int threads = 1);
 
+/// Whether subject `i` of `fit` was registered: every measurement it has within 3 tolerances
+/// of the survey (fit_measures()). The few that are not (a slice meeting another limb, a body
+/// the targets cannot reach) are left out of the populations of shape_model(), whose covariance
+/// they would widen (docs/models.md).
+bool registered(const FitResult& fit, size_t i);
+
 /// A fingerprint (64-bit FNV-1a) of the inputs fit_subjects() reads: the basis (names, sexes,
 /// both average bodies, the directions), the fit_measures() ids and tolerances, the subjects
 /// (sex, source, values, in order) and the template's faces. Not the fitting code: a cache of a
