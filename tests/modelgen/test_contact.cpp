@@ -187,4 +187,32 @@ TEST(Contact, TheMoveLimitHoldsAndTheStateWithTheFewestPairsIsKept) {
   }
 }
 
+TEST(Contact, BothDirectionsSeparateAndTheBetterIsKept) {
+  smpl::BodyModel a = two_balls(), best = two_balls();
+  modelgen::ContactOptions o;
+  o.components = 2;
+  o.direction = modelgen::ContactDirection::OutOfTheOtherSheet;
+  const modelgen::ContactReport r = modelgen::separate_contacts(a, o);
+  EXPECT_EQ(r.direction, modelgen::ContactDirection::OutOfTheOtherSheet);
+  for (const int p : r.pairs_after) EXPECT_EQ(p, 0);
+  for (int c = 0; c < 2; ++c) {
+    for (const double beta : {-2.0, 0.0, 2.0}) {
+      EXPECT_TRUE(modelgen::self_intersections(body(a, c, beta), a.faces).empty());
+    }
+  }
+  for (Eigen::Index i = 0; i < a.v_template.rows(); ++i) {  // still exactly symmetric
+    const auto j = static_cast<Eigen::Index>(a.mirror[static_cast<size_t>(i)]);
+    EXPECT_EQ(a.v_template(i, 0), -a.v_template(j, 0));
+  }
+  // Both clear the balls: the tie goes to the inward normal, whose model is returned.
+  smpl::BodyModel inward = two_balls();
+  o.direction = modelgen::ContactDirection::InwardNormal;
+  modelgen::separate_contacts(inward, o);
+  o.direction = modelgen::ContactDirection::OutOfTheOtherSheet;  // ignored
+  const modelgen::ContactReport rb = modelgen::separate_contacts_best(best, o);
+  EXPECT_EQ(rb.direction, modelgen::ContactDirection::InwardNormal);
+  EXPECT_TRUE(best.v_template == inward.v_template);
+  EXPECT_TRUE(best.shapedirs == inward.shapedirs);
+}
+
 }  // namespace

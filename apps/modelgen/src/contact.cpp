@@ -72,10 +72,12 @@ struct Plane {
 /// went through is flooded over the mesh's edges (breadth first, seeds in pair order) while the
 /// vertices stay behind the plane that their seed went through and within `kReach` of it: the
 /// vertices wholly inside the other sheet, whose triangles cross nothing. Each vertex moves half
-/// its depth behind that plane plus the gap (the other sheet moves too).
+/// its depth behind that plane plus the gap (the other sheet moves too). `away` sums per vertex
+/// the way out of the other sheet (its plane's normal) weighted by the depth.
 int vertex_needs(const smpl::Vertices& v, const smpl::Faces& f,
                  const std::vector<std::vector<int>>& ring, const smpl::Vertices& inward,
-                 const Eigen::VectorXd& cap, const ContactOptions& o, Eigen::VectorXd& need) {
+                 const Eigen::VectorXd& cap, const ContactOptions& o, Eigen::VectorXd& need,
+                 smpl::Vertices& away) {
   constexpr double kReach = 0.02;  // metres from the seed: a flood stays local
   // A vertex faces the other sheet when its outward normal is more than 120 degrees from the
   // other sheet's (inward . n > cos 60): skin that only grazes it (the top of a toe beside its
@@ -85,6 +87,7 @@ int vertex_needs(const smpl::Vertices& v, const smpl::Faces& f,
     return inward.row(x).dot(n.transpose()) > kFacing;
   };
   need.setZero(v.rows());
+  away.setZero(v.rows(), 3);
   const auto pairs = self_intersections(v, f);
   std::vector<int> plane_of(static_cast<std::size_t>(v.rows()), -1);
   std::vector<Plane> planes;
@@ -117,6 +120,7 @@ int vertex_needs(const smpl::Vertices& v, const smpl::Faces& f,
     const Plane& plane = planes[static_cast<std::size_t>(plane_of[static_cast<std::size_t>(x)])];
     const double d = plane.behind(v.row(x));
     need[x] = std::max(need[x], std::min(0.5 * d + o.gap, cap[x]));
+    away.row(x) += d * plane.n.transpose();
     for (const int y : ring[static_cast<std::size_t>(x)]) {
       if (plane_of[static_cast<std::size_t>(y)] >= 0) continue;
       const Eigen::Vector3d py = v.row(y);
@@ -195,69 +199,116 @@ void apply_needs(const std::vector<Eigen::VectorXd>& need, const smpl::Vertices&
 
 }  // namespace
 
+namespace {
+
+/// The per-round state of separate_contacts().
+struct Rounds {
+  std::vector<Eigen::VectorXd> need;  ///< per check body
+  std::vector<smpl::Vertices> away;   ///< per check body (vertex_needs)
+  std::vector<int> pairs;             ///< per check body
+};
+
+/// Checks every body of `model` into `r` (independent: threads take every threads-th body).
+void check_bodies(const smpl::BodyModel& model, const std::vector<std::vector<int>>& ring,
+                  const smpl::Vertices& inward, const Eigen::VectorXd& cap, const ContactOptions& o,
+                  int threads, Rounds& r) {
+  const int bodies = static_cast<int>(r.pairs.size());
+  std::vector<std::thread> pool;
+  for (int w = 0; w < threads; ++w) {
+    pool.emplace_back([&, w] {
+      for (int b = w; b < bodies; b += threads) {
+        const auto i = static_cast<std::size_t>(b);
+        r.pairs[i] = vertex_needs(check_body(model, b, o.sd), model.faces, ring, inward, cap, o,
+                                  r.need[i], r.away[i]);
+      }
+    });
+  }
+  for (std::thread& t : pool) t.join();
+}
+
+/// ContactDirection::OutOfTheOtherSheet: each vertex that needs a move for the first time takes
+/// the depth-weighted sum of the ways out over the check bodies (its mirror vertex's, reflected,
+/// added: the same direction mirrored on both sides) as its direction from then on.
+void fix_directions(const Rounds& r, const std::vector<int>& mirror, smpl::Vertices& dir,
+                    std::vector<bool>& fixed) {
+  const Eigen::Index nv = dir.rows();
+  for (Eigen::Index i = 0; i < nv; ++i) {
+    if (fixed[static_cast<std::size_t>(i)]) continue;
+    Eigen::RowVector3d t = Eigen::RowVector3d::Zero();
+    for (const smpl::Vertices& a : r.away) t += a.row(i);
+    if (!mirror.empty()) {
+      Eigen::RowVector3d u = Eigen::RowVector3d::Zero();
+      for (const smpl::Vertices& a : r.away) u += a.row(mirror[static_cast<std::size_t>(i)]);
+      u.x() = -u.x();
+      t += u;
+    }
+    if (t.norm() > 0.0) {
+      dir.row(i) = t / t.norm();
+      fixed[static_cast<std::size_t>(i)] = true;
+    }
+  }
+}
+
+}  // namespace
+
 ContactReport separate_contacts(smpl::BodyModel& model, const ContactOptions& options) {
   const int k = std::min(options.components, model.num_betas());
   const int bodies = 1 + 2 * k;
   const Eigen::Index nv = model.v_template.rows();
   const smpl::Vertices inward = -vertex_normals(model.v_template, model.faces);
   const bool mirrored = static_cast<Eigen::Index>(model.mirror.size()) == nv;
+  const std::vector<int> no_mirror;
+  const std::vector<int>& mirror = mirrored ? model.mirror : no_mirror;
   const std::vector<std::vector<int>> ring = neighbours(nv, model.faces);
-  ContactOptions o = options;
+  const ContactOptions& o = options;
   const Eigen::VectorXd cap = step_caps(model.v_template, model.faces, options.max_step);
   const smpl::BodyModel original = model;
   Eigen::VectorXd moved = Eigen::VectorXd::Zero(nv);
+  smpl::Vertices dir = inward;  // each vertex's direction of move
+  std::vector<bool> fixed(static_cast<std::size_t>(nv), false);
 
   ContactReport report;
   report.bodies = bodies;
-  std::vector<Eigen::VectorXd> need(static_cast<std::size_t>(bodies));
-  std::vector<int> pairs(static_cast<std::size_t>(bodies), 0);
+  report.direction = o.direction;
+  Rounds r{std::vector<Eigen::VectorXd>(static_cast<std::size_t>(bodies)),
+           std::vector<smpl::Vertices>(static_cast<std::size_t>(bodies)),
+           std::vector<int>(static_cast<std::size_t>(bodies), 0)};
   // The state with the fewest intersecting pairs over the check bodies is kept: a round can
   // make more than it removes (a crease pushed into a fold), and the rounds after it rarely
   // recover.
   smpl::Vertices best_template;
   Eigen::MatrixXd best_dirs;
   long best_total = -1;
-  const int threads = std::max(1, options.threads);
   for (int round = 0;; ++round) {
-    // Check every body (independent: threads take every threads-th body).
-    std::vector<std::thread> pool;
-    for (int w = 0; w < threads; ++w) {
-      pool.emplace_back([&, w] {
-        for (int b = w; b < bodies; b += threads) {
-          const smpl::Vertices v = check_body(model, b, o.sd);
-          pairs[static_cast<std::size_t>(b)] =
-              vertex_needs(v, model.faces, ring, inward, cap, o, need[static_cast<std::size_t>(b)]);
-        }
-      });
-    }
-    for (std::thread& t : pool) t.join();
-    if (round == 0) report.pairs_before = pairs;
-    const long total = std::accumulate(pairs.begin(), pairs.end(), 0L);
+    check_bodies(model, ring, inward, cap, o, std::max(1, o.threads), r);
+    if (round == 0) report.pairs_before = r.pairs;
+    const long total = std::accumulate(r.pairs.begin(), r.pairs.end(), 0L);
     if (best_total < 0 || total < best_total) {
       best_total = total;
       best_template = model.v_template;
       best_dirs = model.shapedirs.leftCols(k);
-      report.pairs_after = pairs;
+      report.pairs_after = r.pairs;
       report.kept_round = round;
     }
     if (total == 0 || round == o.max_rounds) break;
     report.rounds = round + 1;
-    for (Eigen::VectorXd& n : need) {
+    for (Eigen::VectorXd& n : r.need) {
       spread(model.faces, n);
       if (mirrored) {  // the model stays left/right symmetric
         const Eigen::VectorXd copy = n;
         for (Eigen::Index i = 0; i < nv; ++i) {
-          n[i] = std::max(copy[i], copy[model.mirror[static_cast<std::size_t>(i)]]);
+          n[i] = std::max(copy[i], copy[mirror[static_cast<std::size_t>(i)]]);
         }
       }
     }
-    apply_needs(need, inward, k, o.sd, o.max_move, moved, model);
+    if (o.direction == ContactDirection::OutOfTheOtherSheet) fix_directions(r, mirror, dir, fixed);
+    apply_needs(r.need, dir, k, o.sd, o.max_move, moved, model);
   }
   model.v_template = best_template;
   model.shapedirs.leftCols(k) = best_dirs;
   if (mirrored) {
-    // Equal moves on mirror vertices along mirrored normals: symmetric to rounding, exact here
-    // (as shape_model() leaves them).
+    // Equal moves on mirror vertices along mirrored directions: symmetric to rounding, exact
+    // here (as shape_model() leaves them).
     mh::symmetrize(model.v_template, model.mirror);
     for (int c = 0; c < k; ++c) {
       mh::symmetrize(Eigen::Map<smpl::Vertices>(model.shapedirs.col(c).data(), nv, 3),
@@ -280,6 +331,20 @@ ContactReport separate_contacts(smpl::BodyModel& model, const ContactOptions& op
     report.largest_move = std::max(report.largest_move, worst);
   }
   return report;
+}
+
+ContactReport separate_contacts_best(smpl::BodyModel& model, ContactOptions options) {
+  smpl::BodyModel other = model;
+  options.direction = ContactDirection::InwardNormal;
+  const ContactReport inward = separate_contacts(model, options);
+  options.direction = ContactDirection::OutOfTheOtherSheet;
+  const ContactReport away = separate_contacts(other, options);
+  auto total = [](const std::vector<int>& p) { return std::accumulate(p.begin(), p.end(), 0L); };
+  if (total(away.pairs_after) < total(inward.pairs_after)) {
+    model = std::move(other);
+    return away;
+  }
+  return inward;
 }
 
 }  // namespace modelgen

@@ -11,15 +11,15 @@
 /// triangle's plane, and the vertices flooded from them over the mesh that stay behind that
 /// plane within 2 cm and face it (normals more than 120 degrees apart; the skin wholly inside
 /// the other sheet, whose triangles cross nothing), need to move back along their inward normal
-/// (the mean body's) by half their depth plus a gap (the other sheet moves too), spread to two
-/// rings at half strength each so that no one-vertex dent folds, at most half the vertex's
-/// shortest edge per round. The moves go into the mean and the components: along one component
-/// the need is p0 at the mean and p+, p- at +/- s SD; a linear offset a + s b meets all three
-/// when a >= max(p0, (p+ + p-) / 2) and b = (p+ - p-) / (2 s), so the mean takes half of what
-/// the far bodies need (a flatter contact on the mean body, which is where the thighs of the
-/// average woman already touch). A round can make more crossings than it removes (a crease
-/// pushed into a fold); the state with the fewest pairs over the check bodies is kept.
-/// Measured on the v2 models in docs/models.md ("Touching skin").
+/// (the mean body's; or out of the other sheet, ContactDirection) by half their depth plus a gap
+/// (the other sheet moves too), spread to two rings at half strength each so that no one-vertex
+/// dent folds, at most half the vertex's shortest edge per round. The moves go into the mean and
+/// the components: along one component the need is p0 at the mean and p+, p- at +/- s SD; a linear
+/// offset a + s b meets all three when a >= max(p0, (p+ + p-) / 2) and b = (p+ - p-) / (2 s), so
+/// the mean takes half of what the far bodies need (a flatter contact on the mean body, which is
+/// where the thighs of the average woman already touch). A round can make more crossings than it
+/// removes (a crease pushed into a fold); the state with the fewest pairs over the check bodies is
+/// kept. Measured on the v2 models in docs/models.md ("Touching skin").
 #pragma once
 
 #include <vector>
@@ -28,8 +28,17 @@
 
 namespace modelgen {
 
+/// Which way a vertex that went through the other sheet moves back.
+enum class ContactDirection {
+  InwardNormal,        ///< along its own inward normal on the mean body (flattens both sheets)
+  OutOfTheOtherSheet,  ///< along the other sheet's normal where it went through (fixed at the
+                       ///< first round that needs the vertex): where the sheets meet at an
+                       ///< angle, as in the crease of the perineum, the inward normal folds it
+};
+
 /// What separate_contacts() did.
 struct ContactReport {
+  ContactDirection direction = ContactDirection::InwardNormal;  ///< the direction used
   int bodies = 0;                 ///< check bodies per round (1 + 2 x components)
   int rounds = 0;                 ///< rounds run (each: check every body, then move)
   int kept_round = 0;             ///< the state kept: after this many rounds (fewest pairs)
@@ -51,14 +60,21 @@ struct ContactOptions {
   double max_move = 0.03;   ///< largest move of a vertex over all rounds, metres (on its
                             ///< worst check body): a crease pushed on and on does not run away
   int threads = 1;          ///< check bodies tested at once (the result does not depend on it)
+  ContactDirection direction = ContactDirection::InwardNormal;  ///< see ContactDirection
 };
 
 /// Moves the model's template and the first `components` shape components (left/right
 /// symmetric under model.mirror when the model has one) until none of the check bodies
 /// self-intersects, or `max_rounds` have run. Deterministic to the byte for a given model
 /// (fixed order of every sum; threads only split independent bodies). `model` must be valid
-/// (smpl::validate); posedirs, weights and joints are not changed (the joint regressor sees
-/// the moved vertices, which stay within millimetres of where they were).
+/// (smpl::validate); posedirs, weights and the joint regressor are not changed (the moves are
+/// a few millimetres, up to 2-3 cm in a crease, on the skin where sheets touch).
 ContactReport separate_contacts(smpl::BodyModel& model, const ContactOptions& options = {});
+
+/// separate_contacts() with each ContactDirection (options.direction is ignored); keeps the one
+/// that leaves fewer intersecting pairs over the check bodies (the inward normal on a tie). On
+/// the v2 models the way out of the other sheet clears the female's crease (0 pairs left against
+/// 44) and the inward normal the neutral's toes (46 against 167; docs/models.md).
+ContactReport separate_contacts_best(smpl::BodyModel& model, ContactOptions options = {});
 
 }  // namespace modelgen

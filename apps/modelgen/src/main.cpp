@@ -203,13 +203,16 @@ void write_makehuman_shape_models(const modelgen::mh::Assets& assets, const smpl
     const auto tc = std::chrono::steady_clock::now();
     modelgen::ContactOptions co;
     co.threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    const modelgen::ContactReport cr = modelgen::separate_contacts(m, co);
+    const modelgen::ContactReport cr = modelgen::separate_contacts_best(m, co);
     if (!quiet) {
       auto sum = [](const std::vector<int>& p) { return std::accumulate(p.begin(), p.end(), 0); };
       std::printf(
-          "%s: touching skin separated in %d round(s), %.1f s: intersecting pairs over the %d "
-          "check bodies %d -> %d (mean %d -> %d), %d vertices moved, at most %.1f mm\n",
-          sex, cr.rounds, seconds(tc), cr.bodies, sum(cr.pairs_before), sum(cr.pairs_after),
+          "%s: touching skin separated (%s) in %d round(s), %.1f s: intersecting pairs over the "
+          "%d check bodies %d -> %d (mean %d -> %d), %d vertices moved, at most %.1f mm\n",
+          sex,
+          cr.direction == modelgen::ContactDirection::InwardNormal ? "inward normals"
+                                                                   : "out of the other sheet",
+          cr.rounds, seconds(tc), cr.bodies, sum(cr.pairs_before), sum(cr.pairs_after),
           cr.pairs_before.front(), cr.pairs_after.front(), cr.moved_vertices,
           1000.0 * cr.largest_move);
     }
