@@ -178,12 +178,12 @@ void apply_needs(const std::vector<Eigen::VectorXd>& need, const smpl::Vertices&
   for (Eigen::Index i = 0; i < model.v_template.rows(); ++i) {
     double a = need[0][i];
     for (int c = 0; c < k; ++c) {
-      const auto lo = static_cast<std::size_t>(1 + 2 * c);
+      const std::size_t lo = 1 + 2 * static_cast<std::size_t>(c);
       a = std::max(a, 0.5 * (need[lo][i] + need[lo + 1][i]));
     }
     double worst = a;
     for (int c = 0; c < k; ++c) {
-      const auto lo = static_cast<std::size_t>(1 + 2 * c);
+      const std::size_t lo = 1 + 2 * static_cast<std::size_t>(c);
       b[c] = (need[lo + 1][i] - need[lo][i]) / (2.0 * sd);
       worst = std::max(worst, a + sd * std::abs(b[c]));
     }
@@ -214,6 +214,7 @@ void check_bodies(const smpl::BodyModel& model, const std::vector<std::vector<in
                   int threads, Rounds& r) {
   const int bodies = static_cast<int>(r.pairs.size());
   std::vector<std::thread> pool;
+  pool.reserve(static_cast<std::size_t>(threads));
   for (int w = 0; w < threads; ++w) {
     pool.emplace_back([&, w] {
       for (int b = w; b < bodies; b += threads) {
@@ -336,9 +337,9 @@ ContactReport separate_contacts(smpl::BodyModel& model, const ContactOptions& op
 ContactReport separate_contacts_best(smpl::BodyModel& model, ContactOptions options) {
   smpl::BodyModel other = model;
   options.direction = ContactDirection::InwardNormal;
-  const ContactReport inward = separate_contacts(model, options);
+  ContactReport inward = separate_contacts(model, options);
   options.direction = ContactDirection::OutOfTheOtherSheet;
-  const ContactReport away = separate_contacts(other, options);
+  ContactReport away = separate_contacts(other, options);
   auto total = [](const std::vector<int>& p) { return std::accumulate(p.begin(), p.end(), 0L); };
   if (total(away.pairs_after) < total(inward.pairs_after)) {
     model = std::move(other);
