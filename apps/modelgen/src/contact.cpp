@@ -10,26 +10,13 @@
 #include <Eigen/Geometry>
 
 #include "makehuman.hpp"
+#include "makehuman_rig.hpp"
 #include "mesh_checks.hpp"
+#include "smpl/export.hpp"
 
 namespace modelgen {
 
 namespace {
-
-/// Outward unit vertex normals of `v` (area-weighted face normals, faces in order).
-smpl::Vertices vertex_normals(const smpl::Vertices& v, const smpl::Faces& f) {
-  smpl::Vertices n = smpl::Vertices::Zero(v.rows(), 3);
-  for (Eigen::Index t = 0; t < f.rows(); ++t) {
-    const Eigen::Vector3d a = v.row(f(t, 0)), b = v.row(f(t, 1)), c = v.row(f(t, 2));
-    const Eigen::RowVector3d fn = (b - a).cross(c - a).transpose();
-    for (int k = 0; k < 3; ++k) n.row(f(t, k)) += fn;
-  }
-  for (Eigen::Index i = 0; i < n.rows(); ++i) {
-    const double len = n.row(i).norm();
-    if (len > 0.0) n.row(i) /= len;
-  }
-  return n;
-}
 
 /// Check body `b`'s vertices: 0 the mean, then -sd and +sd along each component (a plain loop:
 /// the same bits on every CPU).
@@ -42,22 +29,6 @@ smpl::Vertices check_body(const smpl::BodyModel& model, int b, double sd) {
     for (int d = 0; d < 3; ++d) v(i, d) += beta * model.shapedirs(3 * i + d, c);
   }
   return v;
-}
-
-/// The 1-ring of every vertex, each list increasing.
-std::vector<std::vector<int>> neighbours(Eigen::Index n, const smpl::Faces& f) {
-  std::vector<std::vector<int>> ring(static_cast<std::size_t>(n));
-  for (Eigen::Index t = 0; t < f.rows(); ++t) {
-    for (int k = 0; k < 3; ++k) {
-      ring[static_cast<std::size_t>(f(t, k))].push_back(f(t, (k + 1) % 3));
-      ring[static_cast<std::size_t>(f(t, (k + 1) % 3))].push_back(f(t, k));
-    }
-  }
-  for (auto& r : ring) {
-    std::sort(r.begin(), r.end());
-    r.erase(std::unique(r.begin(), r.end()), r.end());
-  }
-  return ring;
 }
 
 /// A plane through `p` with unit normal `n`: the other sheet where a vertex went through it.
@@ -256,11 +227,11 @@ ContactReport separate_contacts(smpl::BodyModel& model, const ContactOptions& op
   const int k = std::min(options.components, model.num_betas());
   const int bodies = 1 + 2 * k;
   const Eigen::Index nv = model.v_template.rows();
-  const smpl::Vertices inward = -vertex_normals(model.v_template, model.faces);
+  const smpl::Vertices inward = -smpl::vertex_normals(model.v_template, model.faces);
   const bool mirrored = static_cast<Eigen::Index>(model.mirror.size()) == nv;
   const std::vector<int> no_mirror;
   const std::vector<int>& mirror = mirrored ? model.mirror : no_mirror;
-  const std::vector<std::vector<int>> ring = neighbours(nv, model.faces);
+  const std::vector<std::vector<int>> ring = mh::vertex_neighbours(nv, model.faces);
   const ContactOptions& o = options;
   const Eigen::VectorXd cap = step_caps(model.v_template, model.faces, options.max_step);
   const smpl::BodyModel original = model;

@@ -271,11 +271,6 @@ TPoseBody t_pose(const Assets& assets, const Positions& a_pose) {
 // Merged weights
 // ------------------------------------------------------------------------------------------------
 
-namespace {
-
-using WeightRows = Eigen::Matrix<double, Eigen::Dynamic, 24, Eigen::RowMajor>;
-
-// The 1-ring of every vertex of `faces` (n vertices), each list sorted increasing.
 std::vector<std::vector<int>> vertex_neighbours(Eigen::Index n, const smpl::Faces& faces) {
   std::vector<std::vector<int>> ring(static_cast<std::size_t>(n));
   for (Eigen::Index f = 0; f < faces.rows(); ++f) {
@@ -292,6 +287,10 @@ std::vector<std::vector<int>> vertex_neighbours(Eigen::Index n, const smpl::Face
   }
   return ring;
 }
+
+namespace {
+
+using WeightRows = Eigen::Matrix<double, Eigen::Dynamic, 24, Eigen::RowMajor>;
 
 // Diffuses the V x 24 weights `w` over the 1-ring, `passes` times (see merged_weights): each pass
 // w'(i) = (w(i) + mean of w over the 1-ring of i) / 2, kept to the joints `allowed` for i, then

@@ -39,6 +39,10 @@ const std::vector<std::string>& smpl_joint_bones();
 /// pelvis bones are the pelvis). Throws AssetError for a bone not in the skeleton.
 int smpl_segment(const Skeleton& skeleton, const std::string& bone);
 
+/// The 1-ring of every vertex of `faces` (n vertices), each list sorted increasing (the weight
+/// diffusion's and the contact step's neighbourhoods).
+std::vector<std::vector<int>> vertex_neighbours(Eigen::Index n, const smpl::Faces& faces);
+
 /// V x 24 skinning weights of the skin mesh: MakeHuman's bone weights summed per SMPL segment,
 /// the 4 largest kept per vertex (ties to the lower joint index), renormalised to sum 1.
 /// A weight on a limb segment of the other side of the body (a left joint for a vertex more than
