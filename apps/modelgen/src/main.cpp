@@ -26,6 +26,7 @@
 #include "generator.hpp"
 #include "makehuman_rig.hpp"
 #include "makehuman_shape.hpp"
+#include "pose_correctives.hpp"
 #include "smpl/io.hpp"
 
 namespace {
@@ -62,8 +63,9 @@ void declare_options(CLI::App& cli, Options& o) {
        "SMPL's 24 joints, merged weights, fitted joint regressor, the paper's landmarks), and\n"
        "DIR/caliper-makehuman-{female,male,neutral}.npz, its targets fitted to every ANSUR II\n"
        "and NHANES subject under --surveys (ansur2/, nhanes/; default ../shared/data) and\n"
-       "their principal components (about 5 CPU minutes; with --fit-cache a rerun on the\n"
-       "same inputs takes seconds); it prints the fit residuals.\n"
+       "their principal components, touching skin separated and pose correctives fitted\n"
+       "(about 8 CPU minutes; with --fit-cache a rerun on the same inputs takes under a\n"
+       "minute); it prints the fit residuals.\n"
        "--makehuman defaults to ../shared/data/makehuman. The default --source cage\n"
        "writes the three open models.",
        "example:\n  caliper-modelgen --out assets/models --quiet\n\n"
@@ -149,15 +151,58 @@ void print_fit_residuals(const std::vector<modelgen::mh::Subject>& subjects,
       left_out, subjects.size());
 }
 
+/// Seconds since t.
+double seconds(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+/// The v2 generator's last steps on each shape model: touching skin separated (contact.hpp),
+/// then the pose correctives fitted on the mean body (pose_correctives.hpp).
+void separate_contacts_and_add_correctives(smpl::BodyModel& m, const char* sex, bool quiet) {
+  const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const auto tc = std::chrono::steady_clock::now();
+  modelgen::ContactOptions co;
+  co.threads = threads;
+  const modelgen::ContactReport cr = modelgen::separate_contacts_best(m, co);
+  if (!quiet) {
+    auto sum = [](const std::vector<int>& p) { return std::accumulate(p.begin(), p.end(), 0); };
+    std::printf(
+        "%s: touching skin separated (%s) in %d round(s), %.1f s: intersecting pairs over the "
+        "%d check bodies %d -> %d (mean %d -> %d), %d vertices moved, at most %.1f mm\n",
+        sex,
+        cr.direction == modelgen::ContactDirection::InwardNormal ? "inward normals"
+                                                                 : "out of the other sheet",
+        cr.rounds, seconds(tc), cr.bodies, sum(cr.pairs_before), sum(cr.pairs_after),
+        cr.pairs_before.front(), cr.pairs_after.front(), cr.moved_vertices,
+        1000.0 * cr.largest_move);
+  }
+  const auto tp = std::chrono::steady_clock::now();
+  modelgen::PoseCorrectiveOptions po;
+  po.threads = threads;
+  modelgen::PoseCorrectiveReport pr;
+  m.posedirs = modelgen::pose_correctives(m, po, &pr);
+  if (!quiet) {
+    int skinned = 0, target = 0;
+    std::string dropped;
+    for (const modelgen::JointCorrective& j : pr.joints) {
+      skinned += j.folds_skinned;
+      target += j.kept ? j.folds_target : j.folds_skinned;
+      dropped += j.kept ? "" : " " + m.joint_names[static_cast<std::size_t>(j.joint)];
+    }
+    std::printf(
+        "%s: pose correctives of %zu joints in %.1f s: folded triangles over their bends %d "
+        "with skinning, %d in the targets fitted%s%s\n",
+        sex, pr.joints.size(), seconds(tp), skinned, target,
+        dropped.empty() ? "" : "; left to skinning (the targets folded more):", dropped.c_str());
+  }
+}
+
 /// The shape models of the open model v2 (work in progress, issue 11): every survey subject
 /// registered to MakeHuman's targets, principal components per sex; prints the fit residuals.
 void write_makehuman_shape_models(const modelgen::mh::Assets& assets, const smpl::BodyModel& tmpl,
                                   const std::string& survey_dir, const std::string& fit_cache,
                                   bool general, const std::string& out, bool quiet) {
   namespace mh = modelgen::mh;
-  auto seconds = [](std::chrono::steady_clock::time_point t) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-  };
   const auto t0 = std::chrono::steady_clock::now();
   const mh::ShapeBasis basis = mh::shape_basis(assets, tmpl);
   std::vector<mh::Subject> subjects;
@@ -200,22 +245,7 @@ void write_makehuman_shape_models(const modelgen::mh::Assets& assets, const smpl
     mh::Population population;
     population.general = general;
     smpl::BodyModel m = mh::shape_model(basis, tmpl, subjects, fit, sex, 16, population);
-    const auto tc = std::chrono::steady_clock::now();
-    modelgen::ContactOptions co;
-    co.threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    const modelgen::ContactReport cr = modelgen::separate_contacts_best(m, co);
-    if (!quiet) {
-      auto sum = [](const std::vector<int>& p) { return std::accumulate(p.begin(), p.end(), 0); };
-      std::printf(
-          "%s: touching skin separated (%s) in %d round(s), %.1f s: intersecting pairs over the "
-          "%d check bodies %d -> %d (mean %d -> %d), %d vertices moved, at most %.1f mm\n",
-          sex,
-          cr.direction == modelgen::ContactDirection::InwardNormal ? "inward normals"
-                                                                   : "out of the other sheet",
-          cr.rounds, seconds(tc), cr.bodies, sum(cr.pairs_before), sum(cr.pairs_after),
-          cr.pairs_before.front(), cr.pairs_after.front(), cr.moved_vertices,
-          1000.0 * cr.largest_move);
-    }
+    separate_contacts_and_add_correctives(m, sex, quiet);
     const std::string path = out + "/caliper-makehuman-" + sex + ".npz";
     smpl::SaveOptions so;
     so.compress = true;
