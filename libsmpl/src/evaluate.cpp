@@ -5,11 +5,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <exception>
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <utility>
 
 #include "smpl/simd.hpp"
 
@@ -537,29 +539,58 @@ void shaped_rest(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>
   }
 }
 
-// v += posedirs[:, cols] * feature[cols] for each run of consecutive joints that are rotated.
+// Rows per chunk of the map of rows each joint's pose blend shapes touch (Workspace).
+constexpr Eigen::Index kPoseRowChunk = 64;
+
+// The chunks [c, end) that joints [j0, j1) (0-based among the K - 1 with posedirs) touch: the
+// next stretch of needed chunks at or after `c`, as [first, last); first == nchunks when none.
+// Without a map (chunks == nullptr) every chunk is needed.
+std::pair<Eigen::Index, Eigen::Index> next_stretch(const std::uint8_t* chunks, Eigen::Index nchunks,
+                                                   int j0, int j1, Eigen::Index c) {
+  if (chunks == nullptr) return {c, nchunks};
+  const auto needed = [&](Eigen::Index x) {
+    for (int j = j0; j < j1; ++j) {
+      if (chunks[static_cast<size_t>(j) * static_cast<size_t>(nchunks) + static_cast<size_t>(x)])
+        return true;
+    }
+    return false;
+  };
+  while (c < nchunks && !needed(c)) ++c;
+  Eigen::Index e = c;
+  while (e < nchunks && needed(e)) ++e;
+  return {c, e};
+}
+
+// v += posedirs[:, cols] * feature[cols] for each run of consecutive joints that are rotated
+// (without a map), or for each rotated joint over the stretches of rows it touches (with one).
 template <typename Matrix, typename Vector>
 void add_pose_blend_shapes(
     const Matrix& posedirs, const Vector& feature,
     const std::vector<Eigen::Matrix3d, Eigen::aligned_allocator<Eigen::Matrix3d>>& rot,
-    Eigen::Map<Eigen::VectorXd>& v) {
+    const std::uint8_t* chunks, Eigen::Map<Eigen::VectorXd>& v) {
   using Scalar = typename Matrix::Scalar;
   const int K = static_cast<int>(rot.size());
+  const Eigen::Index rows = posedirs.rows();
+  const Eigen::Index nchunks = (rows + kPoseRowChunk - 1) / kPoseRowChunk;
   int k = 1;
   while (k < K) {
     if (rot[static_cast<size_t>(k)].isIdentity(0.0)) {
       ++k;
       continue;
     }
+    // with a map, joint by joint (each over the rows it touches); else a run of joints at once
     int end = k + 1;
-    while (end < K && !rot[static_cast<size_t>(end)].isIdentity(0.0)) ++end;
+    while (chunks == nullptr && end < K && !rot[static_cast<size_t>(end)].isIdentity(0.0)) ++end;
     const Eigen::Index c0 = 9 * Eigen::Index{k - 1}, nc = 9 * Eigen::Index{end - k};
-    if constexpr (std::is_same_v<Scalar, double>) {
-      pose_blend_f64(posedirs.data(), posedirs.rows(), posedirs.rows(), feature.data(), c0, nc,
-                     v.data());
-    } else {
-      pose_blend_f32(posedirs.data(), posedirs.rows(), posedirs.rows(), feature.data(), c0, nc,
-                     v.data());
+    for (auto s = next_stretch(chunks, nchunks, k - 1, end - 1, 0); s.first < nchunks;
+         s = next_stretch(chunks, nchunks, k - 1, end - 1, s.second)) {
+      const Eigen::Index r0 = s.first * kPoseRowChunk;
+      const Eigen::Index n = std::min(rows, s.second * kPoseRowChunk) - r0;
+      if constexpr (std::is_same_v<Scalar, double>) {
+        pose_blend_f64(posedirs.data() + r0, rows, n, feature.data(), c0, nc, v.data() + r0);
+      } else {
+        pose_blend_f32(posedirs.data() + r0, rows, n, feature.data(), c0, nc, v.data() + r0);
+      }
     }
     k = end;
   }
@@ -642,6 +673,35 @@ void ensure_float_posedirs(const BodyModel& model, Workspace& ws) {
     ws.posedirs_f = model.posedirs.cast<float>();
     ws.posedirs_f_source = model.posedirs.data();
   }
+}
+
+// The map of the 64-row chunks of posedirs each joint touches (Workspace::pose_row_chunks), or
+// nullptr when the workspace skips nothing or every joint touches every chunk (SMPL's dense
+// correctives: then the runs of joints and their arithmetic are those without a map).
+const std::uint8_t* pose_row_map(const BodyModel& model, Workspace& ws) {
+  if (!ws.skip_zero_pose_rows) return nullptr;
+  if (ws.pose_row_chunks_source != model.posedirs.data() ||
+      ws.pose_row_chunks_size != model.posedirs.size()) {
+    const Eigen::Index rows = model.posedirs.rows(), joints = model.posedirs.cols() / 9;
+    const Eigen::Index nchunks = (rows + kPoseRowChunk - 1) / kPoseRowChunk;
+    ws.pose_row_chunks.assign(static_cast<size_t>(joints * nchunks), 0);
+    for (Eigen::Index j = 0; j < joints; ++j) {
+      std::uint8_t* mark = ws.pose_row_chunks.data() + j * nchunks;
+      for (Eigen::Index c = 9 * j; c < 9 * j + 9; ++c) {
+        const double* col = model.posedirs.data() + c * rows;
+        for (Eigen::Index r = 0; r < rows; ++r) {
+          if (col[r] != 0.0) mark[r / kPoseRowChunk] = 1;
+        }
+      }
+    }
+    if (std::find(ws.pose_row_chunks.begin(), ws.pose_row_chunks.end(), 0) ==
+        ws.pose_row_chunks.end()) {
+      ws.pose_row_chunks.clear();  // nothing to skip
+    }
+    ws.pose_row_chunks_source = model.posedirs.data();
+    ws.pose_row_chunks_size = model.posedirs.size();
+  }
+  return ws.pose_row_chunks.empty() ? nullptr : ws.pose_row_chunks.data();
 }
 
 int resolve_threads(int threads, const char* who) {
@@ -819,13 +879,14 @@ void evaluate(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& b
   if (model.has_pose_blend_shapes()) {
     const Eigen::Index P = model.num_pose_features();
     Eigen::Map<Eigen::VectorXd> flat(ws.v_shaped.data(), 3 * V);
+    const std::uint8_t* chunks = pose_row_map(model, ws);
     if (ws.single_precision_pose_blend_shapes) {
       ensure_float_posedirs(model, ws);
       ws.pose_feature_f.resize(P);
       ws.pose_feature_f = ws.pose_feature.cast<float>();
-      add_pose_blend_shapes(ws.posedirs_f, ws.pose_feature_f, ws.rotations, flat);
+      add_pose_blend_shapes(ws.posedirs_f, ws.pose_feature_f, ws.rotations, chunks, flat);
     } else {
-      add_pose_blend_shapes(model.posedirs, ws.pose_feature, ws.rotations, flat);
+      add_pose_blend_shapes(model.posedirs, ws.pose_feature, ws.rotations, chunks, flat);
     }
   }
 
@@ -839,6 +900,7 @@ void evaluate(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& b
 Body evaluate(const BodyModel& model, const Eigen::Ref<const Eigen::VectorXd>& betas,
               const Eigen::Ref<const Eigen::VectorXd>& pose, const Eigen::Vector3d& translation) {
   Workspace ws;
+  ws.skip_zero_pose_rows = false;  // one body: the map's pass would cost more than it saves
   Body body;
   evaluate(model, betas, pose, translation, ws, body);
   return body;
@@ -937,20 +999,45 @@ void batch_pose_blend(const BodyModel& model, const RowMatrixXd& feature,
     const Eigen::Index t = std::max<Eigen::Index>(1, std::min<Eigen::Index>(threads, rows / 64));
     // Every block of rows with the kernels of the pose blend shapes' scalar type: body by body
     // below kMinPackedBatch bodies, else the packed batch kernel.
-    const auto blend_blocks = [&](const auto* posedirs, const auto& f, auto blend, auto batch) {
-      parallel_for(static_cast<int>(t), rows / 64 + 1, [&](Eigen::Index b0, Eigen::Index b1) {
-        const Eigen::Index r0 = std::min(rows, 64 * b0), r1 = std::min(rows, 64 * b1);
-        if (N < kMinPackedBatch) {
-          for (Eigen::Index n = 0; n < N; ++n) {
-            for (Eigen::Index run = 0; run < nruns; ++run) {
-              blend(posedirs + r0, rows, r1 - r0, f.row(n).data(), runs[2 * run], runs[2 * run + 1],
-                    out.vertices.row(n).data() + r0);
-            }
-          }
-          return;
+    // The 64-row chunks any run's joints touch (all without the workspace's map): the others
+    // add exact zeros and are skipped.
+    static_assert(kPoseRowChunk == 64, "the blocks below are the map's chunks");
+    const Eigen::Index nchunks = (rows + kPoseRowChunk - 1) / kPoseRowChunk;
+    std::vector<std::uint8_t> needed(static_cast<size_t>(nchunks), 1);
+    if (const std::uint8_t* chunks = pose_row_map(model, ws)) {
+      std::fill(needed.begin(), needed.end(), 0);
+      for (Eigen::Index run = 0; run < nruns; ++run) {
+        const int j0 = static_cast<int>(runs[2 * run] / 9);
+        const int j1 = static_cast<int>((runs[2 * run] + runs[2 * run + 1]) / 9);
+        for (auto s = next_stretch(chunks, nchunks, j0, j1, 0); s.first < nchunks;
+             s = next_stretch(chunks, nchunks, j0, j1, s.second)) {
+          std::fill(needed.begin() + s.first, needed.begin() + s.second, 1);
         }
-        batch(posedirs, rows, r0, r1, f.data(), P, runs.data(), nruns, N, out.vertices.data(),
-              3 * V);
+      }
+    }
+    const auto blend_blocks = [&](const auto* posedirs, const auto& f, auto blend, auto batch) {
+      parallel_for(static_cast<int>(t), nchunks, [&](Eigen::Index b0, Eigen::Index b1) {
+        for (Eigen::Index c = b0; c < b1;) {
+          if (needed[static_cast<size_t>(c)] == 0) {
+            ++c;
+            continue;
+          }
+          Eigen::Index e = c + 1;
+          while (e < b1 && needed[static_cast<size_t>(e)] != 0) ++e;
+          const Eigen::Index r0 = std::min(rows, 64 * c), r1 = std::min(rows, 64 * e);
+          c = e;
+          if (N < kMinPackedBatch) {
+            for (Eigen::Index n = 0; n < N; ++n) {
+              for (Eigen::Index run = 0; run < nruns; ++run) {
+                blend(posedirs + r0, rows, r1 - r0, f.row(n).data(), runs[2 * run],
+                      runs[2 * run + 1], out.vertices.row(n).data() + r0);
+              }
+            }
+            continue;
+          }
+          batch(posedirs, rows, r0, r1, f.data(), P, runs.data(), nruns, N, out.vertices.data(),
+                3 * V);
+        }
       });
     };
     if (ws.single_precision_pose_blend_shapes) {
@@ -993,7 +1080,18 @@ void evaluate_batch(const BodyModel& model, const Eigen::Ref<const RowMatrixXd>&
 
   // 5. Pose blend shapes: the runs of joints rotated in any body, every body at once per block.
   if (model.has_pose_blend_shapes() && N > 0) {
-    batch_pose_blend(model, feature, rotated_runs(rot, N, K), threads, ws, out);
+    std::vector<Eigen::Index> runs = rotated_runs(rot, N, K);
+    if (pose_row_map(model, ws) != nullptr) {  // joint by joint, as evaluate() then does
+      std::vector<Eigen::Index> split;
+      for (size_t r = 0; r + 1 < runs.size(); r += 2) {
+        for (Eigen::Index c = runs[r]; c < runs[r] + runs[r + 1]; c += 9) {
+          split.push_back(c);
+          split.push_back(9);
+        }
+      }
+      runs = std::move(split);
+    }
+    batch_pose_blend(model, feature, runs, threads, ws, out);
   }
 
   // 6-8. Chain and skinning, in place, per body.

@@ -181,6 +181,82 @@ TEST(Batch, EvaluateBatchEqualsSingleCallsFloat) {
   check_evaluate_batch(true, true);
 }
 
+// Correctives that act near their joint only, as the open v2 models' (each joint's 9 columns
+// non-zero on a sixth of the rows, a different sixth per joint): the workspace's map of the rows
+// each joint touches skips the rest.
+smpl::BodyModel local_correctives_model() {
+  smpl::BodyModel m = caliper::test::make_random_model(10, 24, true, 3);
+  const Eigen::Index rows = m.posedirs.rows();
+  for (Eigen::Index j = 0; j < 23; ++j) {
+    const Eigen::Index first = j * rows / 23, length = rows / 6;
+    for (Eigen::Index r = 0; r < rows; ++r) {
+      const Eigen::Index from_first = (r - first + rows) % rows;
+      if (from_first >= length) m.posedirs.block(r, 9 * j, 1, 9).setZero();
+    }
+  }
+  return m;
+}
+
+int unequal_values(const double* a, const double* b, Eigen::Index n) {
+  int count = 0;
+  for (Eigen::Index i = 0; i < n; ++i) count += a[i] == b[i] ? 0 : 1;
+  return count;
+}
+
+TEST(Batch, CorrectivesNearTheirJointsSkipTheRowsTheyDoNotTouch) {
+  const smpl::BodyModel model = local_correctives_model();
+  const int N = 9;
+  for (const bool sparse : {false, true}) {
+    const Inputs in = make_inputs(N, 10, 24, sparse, 90);
+    for (const bool single_precision : {false, true}) {
+      smpl::Workspace mapped, plain;
+      mapped.single_precision_pose_blend_shapes = single_precision;
+      plain.single_precision_pose_blend_shapes = single_precision;
+      plain.skip_zero_pose_rows = false;
+      smpl::BodyBatch batch;
+      smpl::evaluate_batch(model, in.betas, in.poses, in.translations, mapped, batch, 2);
+      ASSERT_FALSE(mapped.pose_row_chunks.empty()) << "the map skips rows of this model";
+      smpl::Body with_map, without;
+      double worst = 0.0;
+      for (int n = 0; n < N; ++n) {
+        smpl::evaluate(model, in.betas.row(n).transpose(), in.poses.row(n).transpose(),
+                       in.translations.row(n).transpose(), mapped, with_map);
+        smpl::evaluate(model, in.betas.row(n).transpose(), in.poses.row(n).transpose(),
+                       in.translations.row(n).transpose(), plain, without);
+        // joint by joint, every zero product skipped or added exactly: batch equals single
+        EXPECT_EQ(unequal_values(with_map.vertices.data(), batch.vertices.row(n).data(),
+                                 with_map.vertices.size()),
+                  0)
+            << "body " << n << (single_precision ? ", float" : ", double");
+        worst = std::max(worst, max_abs_diff(with_map.vertices.data(), without.vertices.data(),
+                                             with_map.vertices.size()));
+      }
+      // against the runs of joints without the map: the sums grouped differently
+      EXPECT_LE(worst, single_precision ? kFloatBatchVsSingle : kBatchVsSingle);
+      EXPECT_GT(worst, 0.0) << "the correctives were applied";
+    }
+  }
+  // dense correctives (every chunk touched): nothing to skip, the bits of a workspace without
+  // the map
+  const smpl::BodyModel dense = caliper::test::make_random_model(10, 24, true, 3);
+  const Inputs in = make_inputs(3, 10, 24, true, 91);
+  smpl::Workspace mapped, plain;
+  plain.skip_zero_pose_rows = false;
+  smpl::Body a, b;
+  for (int n = 0; n < 3; ++n) {
+    smpl::evaluate(dense, in.betas.row(n).transpose(), in.poses.row(n).transpose(),
+                   in.translations.row(n).transpose(), mapped, a);
+    smpl::evaluate(dense, in.betas.row(n).transpose(), in.poses.row(n).transpose(),
+                   in.translations.row(n).transpose(), plain, b);
+    EXPECT_TRUE(same_bits(a.vertices.data(), b.vertices.data(), a.vertices.size()));
+  }
+  EXPECT_TRUE(mapped.pose_row_chunks.empty());
+  // another model in the same workspace: the map is remade for it
+  smpl::evaluate(model, in.betas.row(0).transpose(), in.poses.row(0).transpose(),
+                 in.translations.row(0).transpose(), mapped, a);
+  EXPECT_FALSE(mapped.pose_row_chunks.empty());
+}
+
 TEST(Batch, SmallBatchesGiveTheBitsOfTheirBodiesInALargeBatch) {
   // Fewer than 4 bodies take the streaming kernels, more the packed ones: same operations.
   const smpl::BodyModel model = caliper::test::make_random_model(10, 24, true, 3);

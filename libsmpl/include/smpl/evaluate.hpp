@@ -3,6 +3,7 @@
 /// pose blend shapes, Rodrigues, kinematic chain and linear blend skinning.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -61,6 +62,23 @@ struct Workspace {
   Eigen::MatrixXf posedirs_f;                 ///< float copy of posedirs (when enabled).
   const double* posedirs_f_source = nullptr;  ///< posedirs.data() the copy was made from.
   Eigen::VectorXf pose_feature_f;             ///< float pose features (when enabled).
+
+  /// Rows of posedirs that are zero in all 9 columns of a joint are skipped for that joint:
+  /// correctives that act only near their joint (the open v2 models': each joint's are non-zero
+  /// on 10-40 % of the rows) then cost what they touch. A map of the 64-row chunks each joint
+  /// touches is made on the first posed call (one pass over posedirs) and again whenever
+  /// posedirs.data() or its size differs from the last call's (the same caveat as posedirs_f).
+  /// When some joint leaves a chunk untouched, the joints are applied one by one (their 9
+  /// columns each) instead of in runs of consecutive rotated joints: the sums are grouped
+  /// differently from a workspace without the map (equal to rounding), and evaluate() and
+  /// evaluate_batch() still give the same bits as each other. Dense correctives (SMPL's) leave
+  /// nothing to skip and are computed exactly as without the map. The evaluate() overload
+  /// without a workspace does not make the map (its pass would cost more than one body saves).
+  bool skip_zero_pose_rows = true;
+  std::vector<std::uint8_t>
+      pose_row_chunks;  ///< (K - 1) x chunks: 1 where the joint has a non-zero
+  const double* pose_row_chunks_source = nullptr;  ///< posedirs.data() the map was made from.
+  Eigen::Index pose_row_chunks_size = 0;           ///< posedirs.size() the map was made from.
 
   /// Float copies of v_template and shapedirs for shape_batch() into a BodyBatchF (made on its
   /// first call and again whenever shapedirs.data() or a size differs from the last call's; 0.9
