@@ -215,4 +215,54 @@ TEST(Contact, BothDirectionsSeparateAndTheBetterIsKept) {
   EXPECT_TRUE(best.shapedirs == inward.shapedirs);
 }
 
+// A crumple: component 2 slides one vertex of each ball (mirror images) 20 mm per SD along the
+// surface and 6 mm into it, past its neighbours (edges about 8 mm), so that at +2 SD its fan
+// folds under the triangles next to it (12 pairs): pairs within two rings of each other, which
+// unfold_creases() smooths out of that component, leaving the mean and the other components
+// alone.
+TEST(Contact, CrumplesAreSmoothedOutOfTheComponentThatMakesThem) {
+  smpl::BodyModel m = two_balls();
+  m.shapedirs.conservativeResize(Eigen::NoChange, 3);
+  m.shapedirs.col(2).setZero();
+  const auto nv = static_cast<Eigen::Index>(m.v_template.rows());
+  Eigen::Index top = 0;  // the left ball's vertex highest in y
+  for (Eigen::Index i = 0; i < nv / 2; ++i) {
+    if (m.v_template(i, 1) > m.v_template(top, 1)) top = i;
+  }
+  const Eigen::Index mirror = m.mirror[static_cast<std::size_t>(top)];
+  for (const Eigen::Index v : {top, mirror}) {
+    m.shapedirs(3 * v + 1, 2) = -0.006;  // down into the ball ...
+    m.shapedirs(3 * v + 2, 2) = 0.02;    // ... and along +z, under its neighbours
+  }
+  auto pairs_at = [&](int c, double beta) {
+    return modelgen::self_intersections(body(m, c, beta), m.faces).size();
+  };
+  ASSERT_GT(pairs_at(2, 2.0), 0u);
+  ASSERT_EQ(pairs_at(2, 0.0), 0u);
+  const smpl::BodyModel before = m;
+  modelgen::ContactOptions o;
+  o.components = 3;
+  const modelgen::UnfoldReport r = modelgen::unfold_creases(m, o);
+  EXPECT_EQ(r.bodies, 7);
+  EXPECT_GT(r.pairs_before[6], 0);  // +2 SD along component 2
+  EXPECT_EQ(std::accumulate(r.pairs_after.begin(), r.pairs_after.end(), 0), 0);
+  EXPECT_EQ(pairs_at(2, 2.0), 0u);
+  EXPECT_EQ(pairs_at(2, -2.0), 0u);
+  EXPECT_GT(r.rounds, 0);
+  EXPECT_GT(r.smoothed_vertices, 0);
+  // the mean and the components that make no crumple are untouched; the model stays symmetric
+  EXPECT_TRUE(m.v_template == before.v_template);
+  EXPECT_TRUE(m.shapedirs.leftCols(2) == before.shapedirs.leftCols(2));
+  for (Eigen::Index i = 0; i < nv; ++i) {
+    const Eigen::Index j = m.mirror[static_cast<std::size_t>(i)];
+    EXPECT_EQ(m.shapedirs(3 * i, 2), -m.shapedirs(3 * j, 2));
+    EXPECT_EQ(m.shapedirs(3 * i + 1, 2), m.shapedirs(3 * j + 1, 2));
+  }
+  // two balls pushed into each other (component 0) are not a crumple: left to the contact step
+  smpl::BodyModel apart = two_balls();
+  const modelgen::UnfoldReport none = modelgen::unfold_creases(apart, o);
+  EXPECT_EQ(none.rounds, 0);
+  EXPECT_TRUE(apart.shapedirs == two_balls().shapedirs);
+}
+
 }  // namespace

@@ -319,4 +319,119 @@ ContactReport separate_contacts_best(smpl::BodyModel& model, ContactOptions opti
   return inward;
 }
 
+namespace {
+
+/// The vertices of the pairs of `v` whose triangles are within two 1-rings of each other (the
+/// crumples), grown by two rings; returns the number of such pairs.
+int mark_crumples(const smpl::Vertices& v, const smpl::Faces& f,
+                  const std::vector<std::vector<int>>& ring, std::vector<char>& mark) {
+  constexpr int kNear = 2;  // rings between the two triangles of a crumple
+  const auto nv = static_cast<std::size_t>(v.rows());
+  mark.assign(nv, 0);
+  std::vector<int> dist(nv, -1);
+  int count = 0;
+  for (const auto& [i, j] : self_intersections(v, f)) {
+    // breadth-first from triangle i's corners, at most kNear rings
+    std::vector<int> queue;
+    for (int c = 0; c < 3; ++c) {
+      dist[static_cast<std::size_t>(f(i, c))] = 0;
+      queue.push_back(f(i, c));
+    }
+    for (std::size_t h = 0; h < queue.size(); ++h) {
+      const int x = queue[h];
+      if (dist[static_cast<std::size_t>(x)] == kNear) continue;
+      for (const int y : ring[static_cast<std::size_t>(x)]) {
+        if (dist[static_cast<std::size_t>(y)] >= 0) continue;
+        dist[static_cast<std::size_t>(y)] = dist[static_cast<std::size_t>(x)] + 1;
+        queue.push_back(y);
+      }
+    }
+    bool near = false;
+    for (int c = 0; c < 3; ++c) near = near || dist[static_cast<std::size_t>(f(j, c))] >= 0;
+    for (const int x : queue) dist[static_cast<std::size_t>(x)] = -1;
+    if (!near) continue;
+    ++count;
+    for (const int t : {i, j}) {
+      for (int c = 0; c < 3; ++c) mark[static_cast<std::size_t>(f(t, c))] = 1;
+    }
+  }
+  for (int r = 0; r < 2; ++r) {
+    const std::vector<char> before = mark;
+    for (std::size_t x = 0; x < nv; ++x) {
+      if (before[x] == 0) continue;
+      for (const int y : ring[x]) mark[static_cast<std::size_t>(y)] = 1;
+    }
+  }
+  return count;
+}
+
+/// Five passes of v' = (v + mean of the 1-ring) / 2 over the marked vertices of `d` (V x 3).
+void smooth_marked(Eigen::Ref<smpl::Vertices> d, const std::vector<std::vector<int>>& ring,
+                   const std::vector<char>& mark) {
+  for (int pass = 0; pass < 5; ++pass) {
+    const smpl::Vertices before = d;
+    for (Eigen::Index x = 0; x < d.rows(); ++x) {
+      const auto& n = ring[static_cast<std::size_t>(x)];
+      if (mark[static_cast<std::size_t>(x)] == 0 || n.empty()) continue;
+      Eigen::RowVector3d mean = Eigen::RowVector3d::Zero();
+      for (const int y : n) mean += before.row(y);
+      d.row(x) = 0.5 * before.row(x) + (0.5 / static_cast<double>(n.size())) * mean;
+    }
+  }
+}
+
+}  // namespace
+
+UnfoldReport unfold_creases(smpl::BodyModel& model, const ContactOptions& options) {
+  const int k = std::min(options.components, model.num_betas());
+  const Eigen::Index nv = model.v_template.rows();
+  const bool mirrored = static_cast<Eigen::Index>(model.mirror.size()) == nv;
+  const std::vector<std::vector<int>> ring = mh::vertex_neighbours(nv, model.faces);
+  const smpl::BodyModel original = model;
+  UnfoldReport report;
+  report.bodies = 1 + 2 * k;
+  // check body b: the mean (b = 0), then -sd and +sd along each component
+  auto body = [&](int b) {
+    smpl::Vertices v = model.v_template;
+    if (b == 0) return v;
+    const int c = (b - 1) / 2;
+    const double beta = (b - 1) % 2 == 0 ? -options.sd : options.sd;
+    v += beta * Eigen::Map<const smpl::Vertices>(model.shapedirs.col(c).data(), nv, 3);
+    return v;
+  };
+  std::vector<char> mark;
+  for (int round = 0;; ++round) {
+    std::vector<int> pairs(static_cast<std::size_t>(report.bodies), 0);
+    std::vector<std::vector<char>> marks(static_cast<std::size_t>(report.bodies));
+    for (int b = 0; b < report.bodies; ++b) {
+      pairs[static_cast<std::size_t>(b)] =
+          mark_crumples(body(b), model.faces, ring, marks[static_cast<std::size_t>(b)]);
+    }
+    if (round == 0) report.pairs_before = pairs;
+    report.pairs_after = pairs;
+    if (std::accumulate(pairs.begin(), pairs.end(), 0) == 0 || round == options.max_rounds) break;
+    report.rounds = round + 1;
+    for (int b = 0; b < report.bodies; ++b) {
+      if (pairs[static_cast<std::size_t>(b)] == 0) continue;
+      const std::vector<char>& m = marks[static_cast<std::size_t>(b)];
+      if (b == 0) {
+        smooth_marked(model.v_template, ring, m);
+        if (mirrored) mh::symmetrize(model.v_template, model.mirror);
+        continue;
+      }
+      Eigen::Map<smpl::Vertices> column(model.shapedirs.col((b - 1) / 2).data(), nv, 3);
+      smooth_marked(column, ring, m);
+      if (mirrored) mh::symmetrize(column, model.mirror);
+    }
+  }
+  for (Eigen::Index i = 0; i < nv; ++i) {
+    bool changed = model.v_template.row(i) != original.v_template.row(i);
+    for (int c = 0; c < k && !changed; ++c) {
+      changed = model.shapedirs.block<3, 1>(3 * i, c) != original.shapedirs.block<3, 1>(3 * i, c);
+    }
+    report.smoothed_vertices += changed ? 1 : 0;
+  }
+  return report;
+}
+
 }  // namespace modelgen

@@ -77,4 +77,25 @@ ContactReport separate_contacts(smpl::BodyModel& model, const ContactOptions& op
 /// 44) and the inward normal the neutral's toes (46 against 167; docs/models.md).
 ContactReport separate_contacts_best(smpl::BodyModel& model, ContactOptions options = {});
 
+/// What unfold_creases() did.
+struct UnfoldReport {
+  int bodies = 0;                 ///< check bodies (1 + 2 x components)
+  int rounds = 0;                 ///< rounds run
+  std::vector<int> pairs_before;  ///< intersecting pairs per check body, before
+  std::vector<int> pairs_after;   ///< and after (mean, then -s and +s per component)
+  int smoothed_vertices = 0;      ///< vertices whose template or components changed
+};
+
+/// Crumples left after separate_contacts(): an intersecting pair whose two triangles lie within
+/// two 1-rings of each other is skin folded over itself (the male's perineum, the neutral's
+/// toes, where the blend of targets squeezes a crease), which pushing two sheets apart cannot
+/// undo. Each round, for every check body with such pairs, the vertices of their triangles and
+/// two rings around them take five passes of averaging with their neighbours in what makes
+/// that body: the template for the mean, component c's column for the bodies at +/- s SD along
+/// c (v' = (v + mean of the 1-ring) / 2), so the crumple is smoothed out of the one component
+/// that makes it; left/right symmetrised after each round. Up to `options.max_rounds` rounds,
+/// until no check body has such a pair; pairs between triangles further apart are left alone.
+/// Deterministic (fixed order of every sum). Measured in docs/models.md ("Touching skin").
+UnfoldReport unfold_creases(smpl::BodyModel& model, const ContactOptions& options = {});
+
 }  // namespace modelgen
