@@ -156,8 +156,9 @@ double seconds(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-/// The v2 generator's last steps on each shape model: touching skin separated (contact.hpp),
-/// then the pose correctives fitted on the mean body (pose_correctives.hpp).
+/// The v2 generator's last steps on each shape model: touching skin separated and crumples
+/// smoothed (contact.hpp), then the pose correctives fitted on the mean body
+/// (pose_correctives.hpp).
 void separate_contacts_and_add_correctives(smpl::BodyModel& m, const char* sex, bool quiet) {
   const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   const auto tc = std::chrono::steady_clock::now();
@@ -175,6 +176,14 @@ void separate_contacts_and_add_correctives(smpl::BodyModel& m, const char* sex, 
         cr.rounds, seconds(tc), cr.bodies, sum(cr.pairs_before), sum(cr.pairs_after),
         cr.pairs_before.front(), cr.pairs_after.front(), cr.moved_vertices,
         1000.0 * cr.largest_move);
+  }
+  const modelgen::UnfoldReport ur = modelgen::unfold_creases(m, co);
+  if (!quiet) {
+    auto sum = [](const std::vector<int>& p) { return std::accumulate(p.begin(), p.end(), 0); };
+    std::printf(
+        "%s: crumpled skin smoothed in %d round(s): pairs within two rings over the check bodies "
+        "%d -> %d, %d vertices smoothed\n",
+        sex, ur.rounds, sum(ur.pairs_before), sum(ur.pairs_after), ur.smoothed_vertices);
   }
   const auto tp = std::chrono::steady_clock::now();
   modelgen::PoseCorrectiveOptions po;
