@@ -165,8 +165,8 @@ void separate_contacts_and_add_correctives(smpl::BodyModel& m, const char* sex, 
   modelgen::ContactOptions co;
   co.threads = threads;
   const modelgen::ContactReport cr = modelgen::separate_contacts_best(m, co);
+  auto sum = [](const std::vector<int>& p) { return std::accumulate(p.begin(), p.end(), 0); };
   if (!quiet) {
-    auto sum = [](const std::vector<int>& p) { return std::accumulate(p.begin(), p.end(), 0); };
     std::printf(
         "%s: touching skin separated (%s) in %d round(s), %.1f s: intersecting pairs over the "
         "%d check bodies %d -> %d (mean %d -> %d), %d vertices moved, at most %.1f mm\n",
@@ -179,7 +179,6 @@ void separate_contacts_and_add_correctives(smpl::BodyModel& m, const char* sex, 
   }
   const modelgen::UnfoldReport ur = modelgen::unfold_creases(m, co);
   if (!quiet) {
-    auto sum = [](const std::vector<int>& p) { return std::accumulate(p.begin(), p.end(), 0); };
     std::printf(
         "%s: crumpled skin smoothed in %d round(s): pairs within two rings over the check bodies "
         "%d -> %d, %d vertices smoothed\n",
