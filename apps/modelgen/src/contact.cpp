@@ -355,29 +355,8 @@ int mark_crumples(const smpl::Vertices& v, const smpl::Faces& f,
       for (int c = 0; c < 3; ++c) mark[static_cast<std::size_t>(f(t, c))] = 1;
     }
   }
-  for (int r = 0; r < 2; ++r) {
-    const std::vector<char> before = mark;
-    for (std::size_t x = 0; x < nv; ++x) {
-      if (before[x] == 0) continue;
-      for (const int y : ring[x]) mark[static_cast<std::size_t>(y)] = 1;
-    }
-  }
+  mh::grow_marks(mark, ring, 2);
   return count;
-}
-
-/// Five passes of v' = (v + mean of the 1-ring) / 2 over the marked vertices of `d` (V x 3).
-void smooth_marked(Eigen::Ref<smpl::Vertices> d, const std::vector<std::vector<int>>& ring,
-                   const std::vector<char>& mark) {
-  for (int pass = 0; pass < 5; ++pass) {
-    const smpl::Vertices before = d;
-    for (Eigen::Index x = 0; x < d.rows(); ++x) {
-      const auto& n = ring[static_cast<std::size_t>(x)];
-      if (mark[static_cast<std::size_t>(x)] == 0 || n.empty()) continue;
-      Eigen::RowVector3d mean = Eigen::RowVector3d::Zero();
-      for (const int y : n) mean += before.row(y);
-      d.row(x) = 0.5 * before.row(x) + (0.5 / static_cast<double>(n.size())) * mean;
-    }
-  }
 }
 
 }  // namespace
@@ -415,12 +394,12 @@ UnfoldReport unfold_creases(smpl::BodyModel& model, const ContactOptions& option
       if (pairs[static_cast<std::size_t>(b)] == 0) continue;
       const std::vector<char>& m = marks[static_cast<std::size_t>(b)];
       if (b == 0) {
-        smooth_marked(model.v_template, ring, m);
+        mh::smooth_marked(model.v_template, ring, m, 5);
         if (mirrored) mh::symmetrize(model.v_template, model.mirror);
         continue;
       }
       Eigen::Map<smpl::Vertices> column(model.shapedirs.col((b - 1) / 2).data(), nv, 3);
-      smooth_marked(column, ring, m);
+      mh::smooth_marked(column, ring, m, 5);
       if (mirrored) mh::symmetrize(column, model.mirror);
     }
   }

@@ -288,6 +288,30 @@ std::vector<std::vector<int>> vertex_neighbours(Eigen::Index n, const smpl::Face
   return ring;
 }
 
+void grow_marks(std::vector<char>& mark, const std::vector<std::vector<int>>& ring, int rings) {
+  for (int r = 0; r < rings; ++r) {
+    const std::vector<char> before = mark;
+    for (std::size_t i = 0; i < ring.size(); ++i) {
+      if (before[i] == 0) continue;
+      for (const int n : ring[i]) mark[static_cast<std::size_t>(n)] = 1;
+    }
+  }
+}
+
+void smooth_marked(Eigen::Ref<smpl::Vertices> v, const std::vector<std::vector<int>>& ring,
+                   const std::vector<char>& mark, int passes) {
+  for (int pass = 0; pass < passes; ++pass) {
+    const smpl::Vertices before = v;
+    for (Eigen::Index x = 0; x < v.rows(); ++x) {
+      const auto& n = ring[static_cast<std::size_t>(x)];
+      if (mark[static_cast<std::size_t>(x)] == 0 || n.empty()) continue;
+      Eigen::RowVector3d mean = Eigen::RowVector3d::Zero();
+      for (const int y : n) mean += before.row(y);
+      v.row(x) = 0.5 * before.row(x) + (0.5 / static_cast<double>(n.size())) * mean;
+    }
+  }
+}
+
 namespace {
 
 using WeightRows = Eigen::Matrix<double, Eigen::Dynamic, 24, Eigen::RowMajor>;

@@ -43,6 +43,15 @@ int smpl_segment(const Skeleton& skeleton, const std::string& bone);
 /// diffusion's and the contact step's neighbourhoods).
 std::vector<std::vector<int>> vertex_neighbours(Eigen::Index n, const smpl::Faces& faces);
 
+/// Marks the 1-rings of the marked vertices (`ring` from vertex_neighbours()), `rings` times.
+void grow_marks(std::vector<char>& mark, const std::vector<std::vector<int>>& ring, int rings);
+
+/// `passes` passes of v' = (v + mean of v over the 1-ring) / 2 over the marked rows of `v`
+/// (V x 3), each pass reading the previous one's values (so the order of the rows does not
+/// matter); a vertex with no neighbour stays.
+void smooth_marked(Eigen::Ref<smpl::Vertices> v, const std::vector<std::vector<int>>& ring,
+                   const std::vector<char>& mark, int passes);
+
 /// V x 24 skinning weights of the skin mesh: MakeHuman's bone weights summed per SMPL segment,
 /// the 4 largest kept per vertex (ties to the lower joint index), renormalised to sum 1.
 /// A weight on a limb segment of the other side of the body (a left joint for a vertex more than

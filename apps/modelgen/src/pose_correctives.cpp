@@ -5,6 +5,7 @@
 #include <cmath>
 #include <exception>
 #include <stdexcept>
+#include <string>
 #include <thread>
 #include <utility>
 
@@ -60,20 +61,6 @@ Eigen::VectorXd subtree_weight(const smpl::BodyModel& model, int k) {
   return s;
 }
 
-// Marks the 1-rings of the marked vertices, `rings` times.
-void grow(std::vector<char>& mark, const std::vector<std::vector<int>>& nb, int rings) {
-  for (int r = 0; r < rings; ++r) {
-    const std::vector<char> before = mark;
-    for (std::size_t i = 0; i < nb.size(); ++i) {
-      if (before[i] != 0) {
-        for (const int n : nb[i]) {
-          mark[static_cast<std::size_t>(n)] = 1;
-        }
-      }
-    }
-  }
-}
-
 // One bend: about an axis by an angle; the quaternion, its matrix and its 9 pose features.
 struct Bend {
   Quat q;
@@ -124,7 +111,7 @@ double anchor(int rings_out, const PoseCorrectiveOptions& o) {
 }
 
 void make_band(const Eigen::VectorXd& s, const std::vector<std::vector<int>>& nb,
-               const PoseCorrectiveOptions& o, Band& band) {
+               const PoseCorrectiveOptions& o, int joint, Band& band) {
   const auto V = static_cast<std::size_t>(s.size());
   std::vector<char> mark(V, 0);
   for (std::size_t i = 0; i < V; ++i) {
@@ -134,7 +121,7 @@ void make_band(const Eigen::VectorXd& s, const std::vector<std::vector<int>>& nb
   band.rings_out.assign(V, 0);
   for (int r = 1; r <= o.rings; ++r) {
     const std::vector<char> before = mark;
-    grow(mark, nb, 1);
+    mh::grow_marks(mark, nb, 1);
     for (std::size_t i = 0; i < V; ++i) {
       band.rings_out[i] = mark[i] != before[i] ? r : band.rings_out[i];
     }
@@ -176,7 +163,14 @@ void make_band(const Eigen::VectorXd& s, const std::vector<std::vector<int>>& nb
   L.setFromTriplets(t.begin(), t.end());
   band.solver.compute(L);
   if (band.solver.info() != Eigen::Success) {
-    throw std::runtime_error("pose correctives: the band's Laplacian could not be factored");
+    // only a band with a piece not joined to anything beyond it (an island of the skin with no
+    // anchored vertex) leaves the system singular
+    throw std::runtime_error(
+        "pose correctives: the skin band around joint " + std::to_string(joint) + " (" +
+        std::to_string(band.vertices.size()) +
+        " vertices) gives a singular Laplacian; check that the model's faces join the skin "
+        "around that joint into one connected surface (no loose pieces, no unreferenced "
+        "vertices inside the band)");
   }
 }
 
@@ -242,21 +236,11 @@ std::vector<int> smooth_folds(const Joint& j, const Bend& b, int rounds, smpl::V
         mark[static_cast<std::size_t>(f(t, c))] = 1;
       }
     }
-    grow(mark, *j.nb, 2);
-    for (int pass = 0; pass < 5; ++pass) {
-      const smpl::Vertices before = x;
-      for (const int a : j.band.vertices) {
-        const auto& na = (*j.nb)[static_cast<std::size_t>(a)];
-        if (mark[static_cast<std::size_t>(a)] == 0 || na.empty()) {
-          continue;
-        }
-        Eigen::RowVector3d mean = Eigen::RowVector3d::Zero();
-        for (const int c : na) {
-          mean += before.row(c);
-        }
-        x.row(a) = 0.5 * before.row(a) + (0.5 / static_cast<double>(na.size())) * mean;
-      }
+    mh::grow_marks(mark, *j.nb, 2);
+    for (std::size_t i = 0; i < mark.size(); ++i) {
+      mark[i] = j.band.index[i] >= 0 ? mark[i] : 0;  // only the band moves
     }
+    mh::smooth_marked(x, *j.nb, mark, 5);
     folds = folded_triangles(*j.rest, x, f, j.s, b.q);
     if (folds.size() < best_folds.size()) {
       best = x;
@@ -276,7 +260,7 @@ void fit_joint(const smpl::BodyModel& model, const std::vector<smpl::Vertices>& 
   j.nb = &nb;
   j.options = &o;
   j.s = subtree_weight(model, k);
-  make_band(j.s, nb, o, j.band);
+  make_band(j.s, nb, o, k, j.band);
   const std::vector<Bend> bs = bends(o.angles_deg);
   const auto B = static_cast<Eigen::Index>(bs.size());
   const auto S = B * static_cast<Eigen::Index>(bodies.size());
