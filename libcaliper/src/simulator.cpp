@@ -1,6 +1,7 @@
 // Session simulator: pose logs of a virtual person doing the measuring protocol.
 #include "caliper/simulator.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <optional>
@@ -56,11 +57,13 @@ struct Action {
   std::optional<Eigen::Vector3d> look;    ///< where the head looks (default: ahead, slightly down)
 };
 
-constexpr double kMove = 0.45;        ///< s, tips travel to the targets
-constexpr double kSettle = 0.15;      ///< s, tips at the targets before the trigger
-constexpr double kRelease = 0.30;     ///< s, after the trigger is released
-constexpr double kHoldMargin = 0.15;  ///< s, people hold a bit longer than required
-constexpr double kDropout = 0.15;     ///< s, tracking lost for this long
+constexpr double kMove = 0.45;           ///< s, tips travel to the targets
+constexpr double kSettle = 0.15;         ///< s, tips at the targets before the trigger
+constexpr double kRelease = 0.30;        ///< s, after the trigger is released
+constexpr double kHoldMargin = 0.15;     ///< s, people hold a bit longer than required
+constexpr double kDropout = 0.15;        ///< s, tracking lost for this long
+constexpr double kHang = 0.93;           ///< hanging wrist under the shoulder joint, in arm lengths
+constexpr double kHandClearance = 0.02;  ///< m, hanging hand to the side of the body
 
 using detail::smoothstep;
 
@@ -87,6 +90,53 @@ Eigen::Quaterniond rot(double angle, const Eigen::Vector3d& axis) {
   return Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis));
 }
 
+/// The left hand hanging at rest, fingers down, palm in (the right one mirrored).
+Eigen::Quaterniond hanging_left_hand() {
+  return rot(-kPi / 2, Eigen::Vector3d::UnitZ());
+}
+
+/// The x (from the midline) at which the left wrist hangs at rest so that every vertex of the
+/// hanging hand clears the trunk and thigh at its height by kHandClearance; 0 without a wrist.
+/// `v` is the rest pose (arms out at shoulder height, so every vertex at the hanging hand's
+/// height is the trunk's or a leg's), shifted as the person is.
+double hang_wrist_x(const smpl::BodyModel& model, const smpl::Vertices& v,
+                    const std::vector<Eigen::Vector3d>& j) {
+  using namespace ik_joint;
+  if (j.size() <= static_cast<size_t>(kLeftHand) || model.weights.rows() != v.rows()) return 0.0;
+  const double reach =
+      (j[kLeftElbow] - j[kLeftShoulder]).norm() + (j[kLeftWrist] - j[kLeftElbow]).norm();
+  const double wrist_y = 0.5 * (j[kLeftShoulder].y() + j[kRightShoulder].y()) - kHang * reach;
+  // the body's half-width in 1 cm slices from 40 cm under to 10 cm over the hanging wrist
+  constexpr double kSlice = 0.01;
+  const double bottom = wrist_y - 0.40;
+  std::vector<double> half(50, 0.0);
+  std::vector<bool> hand(static_cast<size_t>(v.rows()), false);
+  for (Eigen::Index i = 0; i < v.rows(); ++i) {
+    double best = -1.0;
+    int owner = -1;
+    for (smpl::SparseMatrix::InnerIterator it(model.weights, i); it; ++it) {
+      if (it.value() > best) {
+        best = it.value();
+        owner = static_cast<int>(it.col());
+      }
+    }
+    hand[static_cast<size_t>(i)] = owner == kLeftWrist || owner == kLeftHand;
+    const auto s = static_cast<long>(std::floor((v(i, 1) - bottom) / kSlice));
+    if (!hand[static_cast<size_t>(i)] && s >= 0 && s < static_cast<long>(half.size()))
+      half[static_cast<size_t>(s)] = std::max(half[static_cast<size_t>(s)], std::abs(v(i, 0)));
+  }
+  const Eigen::Quaterniond q = hanging_left_hand();
+  double x = 0.0;
+  for (Eigen::Index i = 0; i < v.rows(); ++i) {
+    if (!hand[static_cast<size_t>(i)]) continue;
+    const Eigen::Vector3d o = q * (v.row(i).transpose() - j[kLeftWrist]);
+    const auto s = static_cast<long>(std::floor((wrist_y + o.y() - bottom) / kSlice));
+    for (long n = std::max(0L, s - 1); n <= std::min<long>(s + 1, 49); ++n)
+      x = std::max(x, half[static_cast<size_t>(n)] + kHandClearance - o.x());
+  }
+  return x;
+}
+
 /// wave, reach up, cross arms, squat, turn (docs/vr.md).
 std::vector<Posture> motion_script(const SimulatedPerson& person) {
   using namespace ik_joint;
@@ -96,10 +146,13 @@ std::vector<Posture> motion_script(const SimulatedPerson& person) {
   const double span = j[kLeftShoulder].x() - j[kRightShoulder].x();
   const Eigen::Vector3d X = Eigen::Vector3d::UnitX(), Y = Eigen::Vector3d::UnitY(),
                         Z = Eigen::Vector3d::UnitZ();
+  // Hanging at rest: the wrists 6 cm outside the shoulder joints, or farther where the body is
+  // wider there (a fuller body's hands hang beside its hips and thighs).
+  const double out = std::max(0.06, person.hang_wrist_x - j[kLeftShoulder].x());
   Posture rest;
-  rest.wrist = {Eigen::Vector3d(0.06, -0.93 * reach, 0.03),
-                Eigen::Vector3d(-0.06, -0.93 * reach, 0.03)};
-  rest.hand = {rot(-kPi / 2, Z), rot(kPi / 2, Z)};  // fingers down, palms in
+  rest.wrist = {Eigen::Vector3d(out, -kHang * reach, 0.03),
+                Eigen::Vector3d(-out, -kHang * reach, 0.03)};
+  rest.hand = {hanging_left_hand(), rot(kPi / 2, Z)};  // fingers down, palms in
   std::vector<Posture> s;
   s.push_back(rest);
   Posture wave = rest;
@@ -155,6 +208,9 @@ SimulatedPerson person_from_model(const smpl::BodyModel& model, const Eigen::Vec
   const smpl::Body b = smpl::shape(model, betas);
   for (Eigen::Index k = 0; k < b.joints.rows(); ++k)
     p.joints.push_back(b.joints.row(k).transpose() + shift);
+  smpl::Vertices shifted = v;
+  shifted.rowwise() += shift.transpose();
+  p.hang_wrist_x = hang_wrist_x(model, shifted, p.joints);
   return p;
 }
 

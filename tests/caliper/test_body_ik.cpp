@@ -544,5 +544,40 @@ TEST(BodyIk, HandsStayOutsideTheBodyOverTheScriptedMotions) {
   EXPECT_GT(check.depth(body.vertices, model.faces), 0.02);
 }
 
+TEST(BodyIk, TheSimulatedPersonHangsTheHandsOutsideFullerHips) {
+  // The scripted motions' rest hangs the wrists where every vertex of the hanging hand clears
+  // the body at its height: a body made 25 % wider below the waist hangs them farther out, and
+  // outside its hips, where "6 cm outside the shoulder joints" put them inside.
+  const std::string assets = std::string(CALIPER_SOURCE_DIR) + "/assets";
+  const smpl::BodyModel model = smpl::load_model(assets + "/models/caliper-female.npz");
+  const Eigen::VectorXd betas = Eigen::VectorXd::Zero(model.num_betas());
+  const std::vector<int> owner = dominant_joint(model);
+  const double waist = (model.j_regressor.row(kSpine1) * model.v_template.col(1)).value();
+  smpl::BodyModel wide = model;
+  for (Eigen::Index v = 0; v < wide.v_template.rows(); ++v) {
+    if (owner[static_cast<size_t>(v)] < kLeftShoulder && wide.v_template(v, 1) < waist)
+      wide.v_template(v, 0) *= 1.25;
+  }
+  const auto half_width = [&](const smpl::BodyModel& m) {  // hips and thighs, rest pose
+    double w = 0.0;
+    for (Eigen::Index v = 0; v < m.v_template.rows(); ++v) {
+      if (owner[static_cast<size_t>(v)] < kLeftShoulder && m.v_template(v, 1) < waist &&
+          m.v_template(v, 1) > waist - 0.45)
+        w = std::max(w, std::abs(m.v_template(v, 0)));
+    }
+    return w;
+  };
+  const SimulatedPerson slim = person_from_model(model, betas, 60.0, "female");
+  const SimulatedPerson full = person_from_model(wide, betas, 75.0, "female");
+  const double slim_hips = half_width(model), full_hips = half_width(wide);
+  std::printf("hips' half-width %.3f -> %.3f m; hanging wrist %.3f -> %.3f m (shoulder %.3f)\n",
+              slim_hips, full_hips, slim.hang_wrist_x, full.hang_wrist_x,
+              full.joints[kLeftShoulder].x());
+  ASSERT_GT(full_hips, full.joints[kLeftShoulder].x() + 0.06) << "the test body is not full enough";
+  EXPECT_GT(slim.hang_wrist_x, slim_hips);
+  EXPECT_GT(full.hang_wrist_x, full_hips + 0.02);
+  EXPECT_GT(full.hang_wrist_x - slim.hang_wrist_x, 0.5 * (full_hips - slim_hips));
+}
+
 }  // namespace
 }  // namespace caliper
