@@ -131,7 +131,7 @@ void print_fit_residuals(const std::vector<modelgen::mh::Subject>& subjects,
           const double r =
               fit.residuals(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
           if (subjects[i].source == source && subjects[i].sex == sex && std::isfinite(r) &&
-              std::abs(r) > 3 * mh::fit_measures()[j].tolerance) {
+              std::abs(r) > 3 * mh::fit_measures()[j].tolerance_for(sex)) {
             ++far;
           }
         }

@@ -57,7 +57,7 @@ const std::vector<FitMeasure>& fit_measures() {
                                             {"ankle_circumference", 0.005},
                                             {"wrist_circumference", 0.005},
                                             {"knee_height", 0.01},
-                                            {"arm_length", 0.0075},
+                                            {"arm_length", 0.0075, 0.005},
                                             {"hand_length", 0.005},
                                             {"acromial_height", 0.01}};
   return m;
@@ -447,7 +447,7 @@ void fit_one(const ShapeBasis& basis, const Measurer& measure, const Surrogate& 
   Eigen::VectorXd tol(nr);
   for (Eigen::Index q = 0; q < nr; ++q) {
     const int j = rows[q];
-    tol[q] = fit_measures()[j].tolerance;
+    tol[q] = fit_measures()[j].tolerance_for(subj.sex);
     if (j == kWeight) {  // the tolerance in kg as a change of the feature at this weight
       tol[q] = caliper::weight_feature(subj.values[j] + tol[q], measure.formula) - target[j];
     }
@@ -642,6 +642,7 @@ std::uint64_t fit_fingerprint(const ShapeBasis& basis, const smpl::BodyModel& tm
   for (const FitMeasure& m : fit_measures()) {
     f.text(m.id);
     f.bytes(&m.tolerance, sizeof m.tolerance);
+    f.bytes(&m.male_tolerance, sizeof m.male_tolerance);
   }
   for (const Subject& s : subjects) {
     f.text(s.sex);
@@ -724,7 +725,8 @@ std::optional<FitResult> load_fit(const std::string& path, std::uint64_t fingerp
 bool registered(const FitResult& fit, size_t i) {
   for (size_t j = 0; j < fit_measures().size(); ++j) {
     const double r = fit.residuals(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
-    if (std::isfinite(r) && std::abs(r) > kRefineBeyond * fit_measures()[j].tolerance) {
+    const FitMeasure& m = fit_measures()[j];
+    if (std::isfinite(r) && std::abs(r) > kRefineBeyond * std::max(m.tolerance, m.male_tolerance)) {
       return false;
     }
   }

@@ -42,6 +42,14 @@ namespace modelgen::mh {
 struct FitMeasure {
   std::string id;    ///< e.g. "height", "weight", "hip_circumference"
   double tolerance;  ///< metres (kg for weight): a residual of this size costs 1
+  /// The men's tolerance where it differs (0: the same as the women's); registered() keeps
+  /// the larger of the two.
+  double male_tolerance = 0.0;
+
+  /// The tolerance for a subject of `sex` ("female" or "male").
+  [[nodiscard]] double tolerance_for(const std::string& sex) const {
+    return sex == "male" && male_tolerance > 0.0 ? male_tolerance : tolerance;
+  }
 };
 
 /// One survey subject: sex, and values (metres, kg) of some FitMeasure ids; NaN = not measured.
@@ -98,9 +106,9 @@ FitResult fit_subjects(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
                        const std::vector<Subject>& subjects, int threads = 1);
 
 /// Whether subject `i` of `fit` was registered: every measurement it has within 3 tolerances
-/// of the survey (fit_measures()). The few that are not (a slice meeting another limb, a body
-/// the targets cannot reach) are left out of the populations of shape_model(), whose covariance
-/// they would widen (docs/models.md).
+/// of the survey (fit_measures(); the larger where the men's tolerance differs). The few that are
+/// not (a slice meeting another limb, a body the targets cannot reach) are left out of the
+/// populations of shape_model(), whose covariance they would widen (docs/models.md).
 bool registered(const FitResult& fit, size_t i);
 
 /// A fingerprint (64-bit FNV-1a) of the inputs fit_subjects() reads: the basis (names, sexes,
