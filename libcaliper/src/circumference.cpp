@@ -264,6 +264,24 @@ std::optional<double> circumference_between(const smpl::Vertices& vertices,
   return loops_circumference(slice_mesh(vertices, faces, height), x_min, x_max, convex_hull);
 }
 
+std::vector<Eigen::Vector2d> clip_loops_left(const std::vector<SliceLoop>& loops, double mid) {
+  std::vector<Eigen::Vector2d> out;
+  for (const SliceLoop& l : loops) {
+    const std::size_t n = l.points.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::Vector2d& cur = l.points[i];
+      const Eigen::Vector2d& prev = l.points[(i + n - 1) % n];
+      const bool in_cur = cur.x() >= mid, in_prev = prev.x() >= mid;
+      if (in_cur != in_prev && (l.closed || i > 0)) {
+        const double t = (mid - prev.x()) / (cur.x() - prev.x());
+        out.emplace_back(prev + t * (cur - prev));
+      }
+      if (in_cur) out.push_back(cur);
+    }
+  }
+  return out;
+}
+
 const std::vector<std::string>& circumference_ids() {
   static const std::vector<std::string> ids = {"chest_circumference", "waist_circumference",
                                                "hip_circumference", "thigh_circumference"};
@@ -280,6 +298,7 @@ MeasurementMap circumferences(const smpl::Vertices& vertices, const smpl::Faces&
     double height;
     double x_min, x_max;  // torso: the loops between the side landmarks
     bool thigh;           // thigh: the loop right of x_min (the crotch)
+    bool fold = false;    // thigh at the gluteal fold: every point right of x_min
   };
   std::vector<Level> levels;
   const auto torso = [&](const char* id, const char* at, const char* left, const char* right) {
@@ -293,7 +312,12 @@ MeasurementMap circumferences(const smpl::Vertices& vertices, const smpl::Faces&
   torso("waist_iliac_circumference", "left_iliac_crest", "left_iliac_crest", "right_iliac_crest");
   if (has("crotch")) {
     const Eigen::Vector3d crotch = pt("crotch");
-    levels.push_back({"thigh_circumference", crotch.y() - thigh_drop, crotch.x(), 0.0, true});
+    if (has("left_gluteal_fold")) {
+      levels.push_back(
+          {"thigh_circumference", pt("left_gluteal_fold").y(), crotch.x(), 0.0, true, true});
+    } else {
+      levels.push_back({"thigh_circumference", crotch.y() - thigh_drop, crotch.x(), 0.0, true});
+    }
   }
   MeasurementMap out;
   if (levels.empty()) return out;
@@ -308,6 +332,11 @@ MeasurementMap circumferences(const smpl::Vertices& vertices, const smpl::Faces&
     if (!l.thigh) {
       const auto c = loops_circumference(loops, l.x_min, l.x_max, convex_hull);
       if (c) out[l.id] = *c;
+      continue;
+    }
+    if (l.fold && convex_hull) {
+      const std::vector<Eigen::Vector2d> left = clip_loops_left(loops, l.x_min);
+      if (left.size() >= 3) out[l.id] = convex_hull_perimeter(left);
       continue;
     }
     const SliceLoop* best = nullptr;

@@ -297,6 +297,39 @@ TEST(Circumference, TorsoLegsAndArmsAreSeparated) {
   EXPECT_NEAR(lengths.at("hip_circumference"), 2 * polygon_perimeter(32, 0.07), 1e-9);
 }
 
+TEST(Circumference, ThighAtTheGlutealFoldKeepsToTheLeftOfTouchingThighs) {
+  // Thighs that touch make one loop (a stadium: half circles of r = 0.07 about x = +/-0.1 joined
+  // by straight sides) from 0 to 0.8 under a torso. With a left_gluteal_fold landmark the thigh
+  // is taken at its height around the left leg only: the hull of the loop's part at x >= the
+  // crotch's x (the half circle, the two straight halves and the cut across, where a tape passes
+  // between the thighs). Without it, the slice 2 cm under the crotch finds no loop of its own for
+  // the left leg, and there is no thigh girth.
+  constexpr int kHalf = 16;
+  constexpr double r = 0.07;
+  std::vector<Eigen::Vector2d> stadium;
+  for (int i = 0; i <= kHalf; ++i) {  // the left (+x) half circle, front to back
+    const double t = -M_PI / 2 + M_PI * i / kHalf;
+    stadium.emplace_back(0.1 + r * std::cos(t), r * std::sin(t));
+  }
+  for (int i = 0; i <= kHalf; ++i) {
+    const double t = M_PI / 2 + M_PI * i / kHalf;
+    stadium.emplace_back(-0.1 + r * std::cos(t), r * std::sin(t));
+  }
+  Mesh body = test::make_prism(stadium, 0.0, 0.8, 4);
+  test::append(body, test::make_prism(test::circle(32, 0.2), 0.8, 1.4, 4));
+  LandmarkTable t;
+  t["crotch"] = {test::nearest_vertex(body.v, Eigen::Vector3d(0.0, 0.8, 0.07))};
+  const auto without = circumferences(body.v, body.f, t);
+  EXPECT_EQ(without.count("thigh_circumference"), 0u);
+  t["left_gluteal_fold"] = {test::nearest_vertex(body.v, Eigen::Vector3d(0.1, 0.6, -0.07))};
+  ASSERT_LT(landmark_point(body.v, t.at("left_gluteal_fold")).y(), 0.7);  // a ring of the legs
+  double half_circle = 0.0;
+  for (int i = 0; i < kHalf; ++i) half_circle += (stadium[i + 1] - stadium[i]).norm();
+  const auto with = circumferences(body.v, body.f, t);
+  ASSERT_EQ(with.count("thigh_circumference"), 1u);
+  EXPECT_NEAR(with.at("thigh_circumference"), half_circle + 2 * 0.1 + 2 * r, 1e-9);
+}
+
 TEST(Circumference, IliacCrestWaistIsTheGirthAtTheCrestLandmarks) {
   // A torso of three stacked prisms: r = 0.16 from 0.8 to 1.05 (the pelvis, iliac crest level),
   // r = 0.13 from 1.05 to 1.4 (the waist at the navel) and r = 0.2 from 1.4 to 1.6 (the

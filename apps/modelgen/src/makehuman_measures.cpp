@@ -52,29 +52,10 @@ constexpr double kLegRegionTop = 0.02, kWristRegion = 0.08;
 /// Half-height of the band of vertices a rule picks from around a level.
 constexpr double kBand = 0.005;
 
-/// Points of the loops of `loops` clipped to the half-plane x >= `mid` (x is the first
-/// coordinate): the side of the body a tape around the left leg stays on where the thighs touch.
-std::vector<Eigen::Vector2d> clip_left(const std::vector<caliper::SliceLoop>& loops, double mid) {
-  std::vector<Eigen::Vector2d> out;
-  for (const caliper::SliceLoop& l : loops) {
-    const size_t n = l.points.size();
-    for (size_t i = 0; i < n; ++i) {
-      const Eigen::Vector2d& cur = l.points[i];
-      const Eigen::Vector2d& prev = l.points[(i + n - 1) % n];
-      const bool in_cur = cur.x() >= mid, in_prev = prev.x() >= mid;
-      if (in_cur != in_prev && (l.closed || i > 0)) {
-        const double t = (mid - prev.x()) / (cur.x() - prev.x());
-        out.push_back(prev + t * (cur - prev));
-      }
-      if (in_cur) out.push_back(cur);
-    }
-  }
-  return out;
-}
-
 /// Tape girth of the left leg at height `h` (NaN when the plane meets no leg).
 double left_leg_girth(const smpl::Vertices& v, const smpl::Faces& f, double h, double mid) {
-  const std::vector<Eigen::Vector2d> p = clip_left(caliper::slice_mesh(v, f, h), mid);
+  const std::vector<Eigen::Vector2d> p =
+      caliper::clip_loops_left(caliper::slice_mesh(v, f, h), mid);
   return p.size() < 3 ? kNoValue : caliper::convex_hull_perimeter(p);
 }
 
@@ -121,7 +102,7 @@ int nearest_vertex(const smpl::Vertices& v, const Eigen::Vector3d& p, const char
 /// The rearmost point (least z) of the left leg's slice at `h`, or NaN z when none.
 Eigen::Vector3d left_leg_back(const smpl::Vertices& v, const smpl::Faces& f, double h, double mid) {
   Eigen::Vector3d back(0.0, h, kNoValue);
-  for (const Eigen::Vector2d& p : clip_left(caliper::slice_mesh(v, f, h), mid)) {
+  for (const Eigen::Vector2d& p : caliper::clip_loops_left(caliper::slice_mesh(v, f, h), mid)) {
     if (p.x() > mid && !(p.y() >= back.z())) back = Eigen::Vector3d(p.x(), h, p.y());
   }
   return back;

@@ -980,6 +980,10 @@ smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl
       survey_vertices(rest, tmpl.faces, tmpl.j_regressor, caliper::landmarks_for(tmpl));
   model.landmarks["left_iliac_crest"] = {at.iliac_crest};
   model.landmarks["right_iliac_crest"] = {model.mirror[static_cast<std::size_t>(at.iliac_crest)]};
+  // The thigh's level, ANSUR II's gluteal furrow, the same way (the vertex the fit measured the
+  // thigh at; caliper::circumferences() slices there when a model carries it).
+  model.landmarks["left_gluteal_fold"] = {at.gluteal_fold};
+  model.landmarks["right_gluteal_fold"] = {model.mirror[static_cast<std::size_t>(at.gluteal_fold)]};
   model.meta.name = "caliper-makehuman-" + sex;
   model.meta.gender = sex;
   model.meta.source =

@@ -35,6 +35,11 @@ double convex_hull_perimeter(const std::vector<Eigen::Vector2d>& points);
 /// True if (x, z) `p` lies inside the closed polygon `loop` (even-odd rule).
 bool loop_contains(const SliceLoop& loop, const Eigen::Vector2d& p);
 
+/// The points of `loops` clipped to the half-plane x >= `mid` (x the first coordinate), with the
+/// points where a segment crosses x = mid: the side of the body a tape around the left leg stays
+/// on where the thighs touch (one loop for both legs).
+std::vector<Eigen::Vector2d> clip_loops_left(const std::vector<SliceLoop>& loops, double mid);
+
 /// Circumference of the loops at height `height` whose centroid x lies within [x_min, x_max]
 /// (for the torso: between the two side landmarks, which excludes T-pose arms and hands).
 /// `convex_hull` true: perimeter of the convex hull of all points of the selected loops; false:
@@ -49,8 +54,13 @@ std::optional<double> circumference_between(const smpl::Vertices& vertices,
 /// - waist_circumference at navel height, loops between right_waist.x and left_waist.x;
 /// - hip_circumference at left_hip height, loops between right_hip.x and left_hip.x
 ///   (both legs together when the plane is below the crotch);
-/// - thigh_circumference `thigh_drop` metres below the crotch, the loop whose centroid has the
-///   smallest x greater than crotch.x (the left leg);
+/// - thigh_circumference: with a left_gluteal_fold landmark (ANSUR II's thigh circumference,
+///   at the lowest point of the buttock's fold; not in the shared vocabulary, carried by the
+///   open models' own tables), at its height around the left leg: the convex hull of the
+///   slice's points on the left of crotch.x (where the thighs touch, the tape stays on the
+///   left one; with `convex_hull` false, the length of the loop below). Without it,
+///   `thigh_drop` metres below the crotch, the loop whose centroid has the smallest x greater
+///   than crotch.x (the left leg);
 /// - waist_iliac_circumference (the waist of NHANES and the WHO: just above the uppermost
 ///   lateral border of the iliac crest) at left_iliac_crest height, loops between
 ///   right_iliac_crest.x and left_iliac_crest.x. These two landmarks are not in the shared
