@@ -108,8 +108,9 @@ double hang_wrist_x(const smpl::BodyModel& model, const smpl::Vertices& v,
   const double wrist_y = 0.5 * (j[kLeftShoulder].y() + j[kRightShoulder].y()) - kHang * reach;
   // the body's half-width in 1 cm slices from 40 cm under to 10 cm over the hanging wrist
   constexpr double kSlice = 0.01;
+  constexpr long kSlices = 50;
   const double bottom = wrist_y - 0.40;
-  std::vector<double> half(50, 0.0);
+  std::vector<double> half(kSlices, 0.0);
   std::vector<bool> hand(static_cast<size_t>(v.rows()), false);
   for (Eigen::Index i = 0; i < v.rows(); ++i) {
     double best = -1.0;
@@ -122,7 +123,7 @@ double hang_wrist_x(const smpl::BodyModel& model, const smpl::Vertices& v,
     }
     hand[static_cast<size_t>(i)] = owner == kLeftWrist || owner == kLeftHand;
     const auto s = static_cast<long>(std::floor((v(i, 1) - bottom) / kSlice));
-    if (!hand[static_cast<size_t>(i)] && s >= 0 && s < static_cast<long>(half.size()))
+    if (!hand[static_cast<size_t>(i)] && s >= 0 && s < kSlices)
       half[static_cast<size_t>(s)] = std::max(half[static_cast<size_t>(s)], std::abs(v(i, 0)));
   }
   const Eigen::Quaterniond q = hanging_left_hand();
@@ -131,7 +132,7 @@ double hang_wrist_x(const smpl::BodyModel& model, const smpl::Vertices& v,
     if (!hand[static_cast<size_t>(i)]) continue;
     const Eigen::Vector3d o = q * (v.row(i).transpose() - j[kLeftWrist]);
     const auto s = static_cast<long>(std::floor((wrist_y + o.y() - bottom) / kSlice));
-    for (long n = std::max(0L, s - 1); n <= std::min<long>(s + 1, 49); ++n)
+    for (long n = std::max(0L, s - 1); n <= std::min(s + 1, kSlices - 1); ++n)
       x = std::max(x, half[static_cast<size_t>(n)] + kHandClearance - o.x());
   }
   return x;

@@ -369,22 +369,13 @@ UnfoldReport unfold_creases(smpl::BodyModel& model, const ContactOptions& option
   const smpl::BodyModel original = model;
   UnfoldReport report;
   report.bodies = 1 + 2 * k;
-  // check body b: the mean (b = 0), then -sd and +sd along each component
-  auto body = [&](int b) {
-    smpl::Vertices v = model.v_template;
-    if (b == 0) return v;
-    const int c = (b - 1) / 2;
-    const double beta = (b - 1) % 2 == 0 ? -options.sd : options.sd;
-    v += beta * Eigen::Map<const smpl::Vertices>(model.shapedirs.col(c).data(), nv, 3);
-    return v;
-  };
   std::vector<char> mark;
   for (int round = 0;; ++round) {
     std::vector<int> pairs(static_cast<std::size_t>(report.bodies), 0);
     std::vector<std::vector<char>> marks(static_cast<std::size_t>(report.bodies));
     for (int b = 0; b < report.bodies; ++b) {
-      pairs[static_cast<std::size_t>(b)] =
-          mark_crumples(body(b), model.faces, ring, marks[static_cast<std::size_t>(b)]);
+      pairs[static_cast<std::size_t>(b)] = mark_crumples(
+          check_body(model, b, options.sd), model.faces, ring, marks[static_cast<std::size_t>(b)]);
     }
     if (round == 0) report.pairs_before = pairs;
     report.pairs_after = pairs;

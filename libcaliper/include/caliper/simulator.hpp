@@ -33,7 +33,7 @@ struct SimulatedPerson {
   std::string sex = "female";  ///< typed choice
   /// Where the left wrist hangs at rest (m from the midline; the right one mirrored): far enough
   /// out that every vertex of the hanging hand (fingers down, palm in) clears the side of the
-  /// trunk and thigh at its height by 1 cm; 0 when unknown (then 6 cm outside the shoulder).
+  /// trunk and thigh at its height by 2 cm; 0 when unknown (then 6 cm outside the shoulder).
   double hang_wrist_x = 0.0;
 };
 
