@@ -345,15 +345,35 @@ void check_populations(const Registered& s) {
   EXPECT_LT((pa->mean - betas_of(g, mean_a)).norm(), kProjection);
 }
 
+/// mh::check_fit() (caliper-modelgen --check-fit): every 10th subject of each stage and sex refits
+/// to the same bits as the whole fit (the second stage's prior from the given fit's first stage);
+/// a residual changed in its last bit is found in a refitted subject and not looked at in the
+/// others.
+void check_refits(const Registered& s) {
+  // 100 + 100 ANSUR II subjects (every 10th: 10 + 10), 11 + 11 NHANES (0 and 10: 2 + 2).
+  const mh::FitCheckReport same = mh::check_fit(s.basis, s.tmpl, s.subjects, s.fit, 10, 2);
+  EXPECT_EQ(same.checked, 24);
+  EXPECT_TRUE(same.differing.empty()) << same.differing.size() << " refits differ";
+  mh::FitResult changed = s.fit;
+  ASSERT_TRUE(std::isfinite(changed.residuals(0, 0)));
+  changed.residuals(0, 0) = std::nextafter(changed.residuals(0, 0), 1.0);  // refitted
+  changed.residuals(1, 0) = std::nextafter(changed.residuals(1, 0), 1.0);  // not refitted
+  const mh::FitCheckReport found = mh::check_fit(s.basis, s.tmpl, s.subjects, changed, 10, 2);
+  EXPECT_EQ(found.checked, 24);
+  EXPECT_EQ(found.differing, std::vector<size_t>{0});
+  EXPECT_THROW(mh::check_fit(s.basis, s.tmpl, s.subjects, changed, 0), std::invalid_argument);
+}
+
 // One test for both: the registration of the 242 subjects is most of the time (about 15 s of
-// CPU in Release, over two minutes under AddressSanitizer), and each test runs in a process of
-// its own.
+// CPU in Release, over two minutes under AddressSanitizer; the refits of check_refits() a tenth of
+// it), and each test runs in a process of its own.
 TEST(MakeHumanShape, RegisteredBodiesAndTheirPrincipalComponents) {
   REQUIRE_DATA();
   const Registered& s = registered();
   check_residuals(s);
   check_principal_components(s);
   check_populations(s);
+  check_refits(s);
 }
 
 // The men's hanging arm is fitted tighter than the women's (docs/models.md: 7.5 mm for both left

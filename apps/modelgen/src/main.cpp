@@ -40,6 +40,7 @@ struct Options {
   std::string source = "cage", makehuman_dir = "../shared/data/makehuman";
   std::string survey_dir = "../shared/data";
   std::string fit_cache;
+  int check_fit = 0;
   std::string population = "general";
   int samples = 10000;
 };
@@ -97,6 +98,12 @@ void declare_options(CLI::App& cli, Options& o) {
                  "makehuman: reuse the registered subjects saved in FILE when it was made from the "
                  "same inputs, else fit them and save them there (keep it outside the repository; "
                  "delete it when the fitting code changes)");
+  app::add_value(cli, "--check-fit", o.check_fit, "N",
+                 "makehuman, with --fit-cache FILE made from the same inputs: refit every N-th "
+                 "subject with this CPU's arithmetic and stop with an error unless each comes out "
+                 "bit for bit as in FILE (CI's check that a CPU without AVX2/FMA makes the same "
+                 "models, at a fraction of a whole fit)")
+      ->check(CLI::Range(1, 1000000));
   app::add_value(cli, "--shape-population", o.population, "POP",
                  "makehuman: what each sex's betas ~ N(0, I) stand for: general (the general adult "
                  "population: NHANES for what NHANES measures, ANSUR II's spread given those "
@@ -205,11 +212,49 @@ void separate_contacts_and_add_correctives(smpl::BodyModel& m, const char* sex, 
   }
 }
 
+/// --check-fit: refits every `every`-th subject with this process's arithmetic and requires the
+/// bits of the cached fit (mh::check_fit()); throws naming the first subjects that differ.
+void check_cached_fit(const modelgen::mh::ShapeBasis& basis, const smpl::BodyModel& tmpl,
+                      const std::vector<modelgen::mh::Subject>& subjects,
+                      const std::string& fit_cache,
+                      const std::optional<modelgen::mh::FitResult>& cached, int every, bool quiet) {
+  namespace mh = modelgen::mh;
+  if (fit_cache.empty()) throw std::runtime_error("--check-fit needs --fit-cache FILE");
+  if (!cached) {
+    throw std::runtime_error("--check-fit: " + fit_cache +
+                             " holds no fit of these inputs (made from other MakeHuman assets or "
+                             "surveys, or missing): run once without --check-fit to make it");
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const mh::FitCheckReport r =
+      mh::check_fit(basis, tmpl, subjects, *cached, every,
+                    static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+  if (!r.differing.empty()) {
+    std::string which;
+    for (size_t n = 0; n < r.differing.size() && n < 5; ++n) {
+      const mh::Subject& s = subjects[r.differing[n]];
+      which +=
+          (n ? ", " : "") + std::to_string(r.differing[n]) + " (" + s.source + " " + s.sex + ")";
+    }
+    throw std::runtime_error(
+        "--check-fit: " + std::to_string(r.differing.size()) + " of " + std::to_string(r.checked) +
+        " refitted subjects differ from " + fit_cache + " in their bits (subjects " + which +
+        "): this CPU's arithmetic does not reproduce the fit, so the models would not be the "
+        "committed bytes (docs/models.md, \"Same bytes on every CPU\")");
+  }
+  if (!quiet) {
+    std::printf(
+        "fit cache checked: %d subjects refitted (every %d-th), bit for bit as in %s (%.1f s)\n",
+        r.checked, every, fit_cache.c_str(), seconds(t0));
+  }
+}
+
 /// The shape models of the open model v2 (work in progress, issue 11): every survey subject
 /// registered to MakeHuman's targets, principal components per sex; prints the fit residuals.
 void write_makehuman_shape_models(const modelgen::mh::Assets& assets, const smpl::BodyModel& tmpl,
                                   const std::string& survey_dir, const std::string& fit_cache,
-                                  bool general, const std::string& out, bool quiet) {
+                                  int check_every, bool general, const std::string& out,
+                                  bool quiet) {
   namespace mh = modelgen::mh;
   const auto t0 = std::chrono::steady_clock::now();
   const mh::ShapeBasis basis = mh::shape_basis(assets, tmpl);
@@ -233,6 +278,8 @@ void write_makehuman_shape_models(const modelgen::mh::Assets& assets, const smpl
     cached = mh::load_fit(fit_cache, fingerprint, static_cast<Eigen::Index>(subjects.size()),
                           static_cast<Eigen::Index>(basis.names.size()));
   }
+  if (check_every > 0)
+    check_cached_fit(basis, tmpl, subjects, fit_cache, cached, check_every, quiet);
   const bool reused = cached.has_value();
   const mh::FitResult fit =
       reused
@@ -321,8 +368,8 @@ void write_makehuman_models(const Options& o) {
                 model.num_vertices(), model.num_faces(), model.num_betas(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
-  write_makehuman_shape_models(assets, model, o.survey_dir, o.fit_cache, o.population == "general",
-                               o.out, o.quiet);
+  write_makehuman_shape_models(assets, model, o.survey_dir, o.fit_cache, o.check_fit,
+                               o.population == "general", o.out, o.quiet);
 }
 
 }  // namespace

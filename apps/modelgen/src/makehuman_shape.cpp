@@ -527,14 +527,15 @@ constexpr double kPriorFloor = 0.1;
 
 }  // namespace
 
-FitResult fit_subjects(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
-                       const std::vector<Subject>& subjects, int threads) {
-  const int m = static_cast<int>(fit_measures().size());
-  const Eigen::Index kall = static_cast<Eigen::Index>(basis.names.size());
+namespace {
+
+/// The two stages of fit_subjects() for every subject, or, with `check`, for every
+/// `check->every`-th subject of each stage and sex, the second stage's prior then made from the
+/// first stage's weights in `check->fit` (check_fit()). Fills the rows it fits.
+void fit_stages(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
+                const std::vector<Subject>& subjects, int threads, const FitCheckInput* check,
+                FitResult& r) {
   threads = std::max(1, threads);
-  FitResult r;
-  r.weights = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(subjects.size()), kall);
-  r.residuals = Eigen::MatrixXd::Constant(static_cast<Eigen::Index>(subjects.size()), m, kNaN);
   for (const std::string sex : {"female", "male"}) {
     const Measurer measure(tmpl, sex == "female" ? basis.female_mean : basis.male_mean, sex);
     const Surrogate s = surrogate(basis, measure, sex);
@@ -552,7 +553,11 @@ FitResult fit_subjects(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
           (subjects[i].values.array() == subjects[i].values.array()).count();
       (2 * measured > subjects[i].values.size() ? full : partial).push_back(i);
     }
-    auto run = [&](const std::vector<size_t>& items, const Prior& prior) {
+    auto run = [&](const std::vector<size_t>& all, const Prior& prior) {
+      std::vector<size_t> items;
+      for (size_t n = 0; n < all.size(); ++n) {
+        if (check == nullptr || n % static_cast<size_t>(check->every) == 0) items.push_back(all[n]);
+      }
       parallel_for(items, threads, [&](size_t i) {
         const Eigen::Index row = static_cast<Eigen::Index>(i);
         fit_one(basis, measure, s, prior, subjects[i], r.weights.row(row), r.residuals.row(row));
@@ -562,19 +567,19 @@ FitResult fit_subjects(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
     // Stage 2: the subjects measured in part (NHANES: height, weight, hip), with the population
     // of stage 1 as the prior, so that what they were not measured on (span, shoulders, ...)
     // follows from what they were, as in the fully measured people.
+    const Eigen::MatrixXd& stage1 = check != nullptr ? check->fit->weights : r.weights;
     Prior population = independent;
     if (full.size() > static_cast<size_t>(k)) {
       Eigen::VectorXd mean = Eigen::VectorXd::Zero(k);
       for (size_t i : full) {
-        for (int j = 0; j < k; ++j)
-          mean[j] += r.weights(static_cast<Eigen::Index>(i), s.columns[j]);
+        for (int j = 0; j < k; ++j) mean[j] += stage1(static_cast<Eigen::Index>(i), s.columns[j]);
       }
       mean /= static_cast<double>(full.size());
       Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(k, k);
       for (size_t i : full) {
         Eigen::VectorXd d(k);
         for (int j = 0; j < k; ++j)
-          d[j] = r.weights(static_cast<Eigen::Index>(i), s.columns[j]) - mean[j];
+          d[j] = stage1(static_cast<Eigen::Index>(i), s.columns[j]) - mean[j];
         cov += d * d.transpose();
       }
       cov /= static_cast<double>(full.size() - 1);
@@ -587,7 +592,56 @@ FitResult fit_subjects(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
     }
     run(partial, population);
   }
+}
+
+/// Whether two doubles have the same bits (NaN included).
+bool same_bits(double a, double b) {
+  return std::memcmp(&a, &b, sizeof a) == 0;
+}
+
+}  // namespace
+
+FitResult fit_subjects(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
+                       const std::vector<Subject>& subjects, int threads) {
+  FitResult r;
+  r.weights = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(subjects.size()),
+                                    static_cast<Eigen::Index>(basis.names.size()));
+  r.residuals = Eigen::MatrixXd::Constant(static_cast<Eigen::Index>(subjects.size()),
+                                          static_cast<Eigen::Index>(fit_measures().size()), kNaN);
+  fit_stages(basis, tmpl, subjects, threads, nullptr, r);
   return r;
+}
+
+FitCheckReport check_fit(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
+                         const std::vector<Subject>& subjects, const FitResult& fit, int every,
+                         int threads) {
+  if (every < 1) throw std::invalid_argument("check_fit: every must be at least 1");
+  const Eigen::Index n = static_cast<Eigen::Index>(subjects.size());
+  if (fit.weights.rows() != n ||
+      fit.weights.cols() != static_cast<Eigen::Index>(basis.names.size()) ||
+      fit.residuals.rows() != n ||
+      fit.residuals.cols() != static_cast<Eigen::Index>(fit_measures().size())) {
+    throw std::invalid_argument("check_fit: the fit is not of these subjects and this basis");
+  }
+  // Rows not refitted keep a marker no fit gives, so that they are told apart from fitted ones.
+  const double unfitted = std::numeric_limits<double>::infinity();
+  FitResult again{Eigen::MatrixXd::Constant(n, fit.weights.cols(), unfitted),
+                  Eigen::MatrixXd::Constant(n, fit.residuals.cols(), kNaN)};
+  const FitCheckInput input{&fit, every};
+  fit_stages(basis, tmpl, subjects, threads, &input, again);
+  FitCheckReport report;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (again.weights.cols() > 0 && again.weights(i, 0) == unfitted) continue;
+    ++report.checked;
+    bool same = true;
+    for (Eigen::Index j = 0; j < fit.weights.cols(); ++j)
+      same &= same_bits(again.weights(i, j), fit.weights(i, j));
+    for (Eigen::Index j = 0; j < fit.residuals.cols(); ++j) {
+      same &= same_bits(again.residuals(i, j), fit.residuals(i, j));
+    }
+    if (!same) report.differing.push_back(static_cast<size_t>(i));
+  }
+  return report;
 }
 
 // ------------------------------------------------------------------------------------------------

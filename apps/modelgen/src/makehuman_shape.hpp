@@ -24,6 +24,7 @@
 /// kilograms.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -104,6 +105,29 @@ struct FitResult {
 /// it.
 FitResult fit_subjects(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
                        const std::vector<Subject>& subjects, int threads = 1);
+
+/// What check_fit() refits: the fit to compare with and the stride.
+struct FitCheckInput {
+  const FitResult* fit = nullptr;
+  int every = 1;
+};
+
+/// What check_fit() found: how many subjects it refitted and those whose weights or residuals
+/// differ from the given fit in any bit (subject indices).
+struct FitCheckReport {
+  int checked = 0;
+  std::vector<size_t> differing;
+};
+
+/// Refits every `every`-th subject of each stage and sex of fit_subjects() with this process's
+/// arithmetic (its kernels, its libm), the second stage's prior made from `fit`'s first-stage
+/// weights, and compares the bits with `fit`: how caliper-modelgen --check-fit shows that a fit
+/// cache made on another CPU (or with other kernels) is the fit this CPU would make, at a
+/// fraction of the time of a whole fit. Throws std::invalid_argument when `fit` is not of these
+/// subjects and basis or `every` < 1.
+FitCheckReport check_fit(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
+                         const std::vector<Subject>& subjects, const FitResult& fit, int every,
+                         int threads = 1);
 
 /// Whether subject `i` of `fit` was registered: every measurement it has within 3 tolerances
 /// of the survey (fit_measures(); the larger where the men's tolerance differs). The few that are
