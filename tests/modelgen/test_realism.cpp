@@ -14,10 +14,10 @@
 #include <utility>
 
 #include "ansur_stats.hpp"
-#include "generator.hpp"
 #include "population.hpp"
 #include "smpl/evaluate.hpp"
 #include "smpl/io.hpp"
+#include "validation.hpp"
 
 namespace {
 

@@ -68,7 +68,7 @@ smpl::BodyModel plain_model() {
   return m;
 }
 
-// Models without texture coordinates (SMPL's own files, the cage models) export exactly the
+// Models without texture coordinates (SMPL's own files, the first open models) export exactly the
 // bytes they did before texture coordinates were exported: the fingerprints below were taken
 // from the exporters of main at c8545f7 (before this feature) with this model and these options.
 // FBX is compared without its time of export, which Assimp writes into the file.

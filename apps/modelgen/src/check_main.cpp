@@ -6,7 +6,7 @@
 /// something is found it names the body parts: the SMPL joints with the largest skinning weight
 /// on each triangle of a pair.
 ///
-///   caliper-modelgen-check /work/v2-models/caliper-makehuman-female.npz [--components 10]
+///   caliper-modelgen-check assets/models/caliper-female.npz [--components 10]
 ///                          [--sd 2] [--cell 0.02]
 ///
 /// Exit status: 0 when every check passed, 3 when some check found a fault, 1 for an error.

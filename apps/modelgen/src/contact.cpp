@@ -13,6 +13,7 @@
 #include "makehuman_rig.hpp"
 #include "mesh_checks.hpp"
 #include "smpl/export.hpp"
+#include "validation.hpp"
 
 namespace modelgen {
 
@@ -306,6 +307,7 @@ ContactReport separate_contacts(smpl::BodyModel& model, const ContactOptions& op
 }
 
 ContactReport separate_contacts_best(smpl::BodyModel& model, ContactOptions options) {
+  const DeterministicNumerics pinned;  // the same bytes on every CPU (validation.hpp)
   smpl::BodyModel other = model;
   options.direction = ContactDirection::InwardNormal;
   ContactReport inward = separate_contacts(model, options);
@@ -362,6 +364,7 @@ int mark_crumples(const smpl::Vertices& v, const smpl::Faces& f,
 }  // namespace
 
 UnfoldReport unfold_creases(smpl::BodyModel& model, const ContactOptions& options) {
+  const DeterministicNumerics pinned;  // the same bytes on every CPU (validation.hpp)
   const int k = std::min(options.components, model.num_betas());
   const Eigen::Index nv = model.v_template.rows();
   const bool mirrored = static_cast<Eigen::Index>(model.mirror.size()) == nv;

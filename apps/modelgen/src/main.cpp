@@ -1,9 +1,12 @@
 /// \file main.cpp
 /// caliper-modelgen: writes the open default body models (female, male, neutral) in the
-/// project's .npz format, deterministically, from the committed ANSUR II statistics table.
+/// project's .npz format, deterministically, from MakeHuman's CC0 assets fitted to every ANSUR II
+/// and NHANES subject (docs/models.md).
 ///
 ///   caliper-modelgen --out assets/models                 # all three models
-///   caliper-modelgen --stats-from /path/to/ansur2 --stats-out assets/models/ansur_stats.csv
+///   caliper-modelgen --validate assets/models/caliper-female.npz --stats
+///   assets/models/ansur_stats.csv caliper-modelgen --stats-from /path/to/ansur2 --stats-out
+///   assets/models/ansur_stats.csv
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -23,21 +26,20 @@
 #include "ansur_stats.hpp"
 #include "app/cli_style.hpp"
 #include "contact.hpp"
-#include "generator.hpp"
 #include "makehuman_rig.hpp"
 #include "makehuman_shape.hpp"
 #include "pose_correctives.hpp"
 #include "smpl/io.hpp"
+#include "validation.hpp"
 
 namespace {
 
 /// Everything the command line sets.
 struct Options {
-  std::string out, stats_path, stats_from, stats_out, gender = "all";
-  modelgen::GeneratorOptions generator;
+  std::string out, stats_path, stats_from, stats_out;
   bool quiet = false;
   std::string validate;
-  std::string source = "cage", makehuman_dir = "../shared/data/makehuman";
+  std::string makehuman_dir = "../shared/data/makehuman";
   std::string survey_dir = "../shared/data";
   std::string fit_cache;
   int check_fit = 0;
@@ -49,63 +51,47 @@ struct Options {
 void declare_options(CLI::App& cli, Options& o) {
   namespace app = caliper::app;
   app::apply_style(
-      cli,
-      {{"caliper-modelgen --out DIR [--stats FILE] [--gender female|male|neutral|all]",
-        "                 [--population N] [--components K] [--quiet]",
-        "caliper-modelgen --stats-from ANSUR_DIR --stats-out FILE",
-        "caliper-modelgen --validate MODEL.npz --stats FILE [--samples N]",
-        "caliper-modelgen --source makehuman [--makehuman DIR] [--surveys DIR] [--fit-cache FILE]",
-        "                 [--shape-population pooled|general] --out DIR"},
-       "Writes DIR/caliper-<gender>.npz. The statistics table defaults to\n"
-       "DIR/ansur_stats.csv, else ./assets/models/ansur_stats.csv; --stats-from recomputes it\n"
-       "from the ANSUR II survey files.\n"
-       "Work in progress (issue 11): --source makehuman writes\n"
-       "DIR/caliper-makehuman-template.npz, MakeHuman's CC0 base mesh (skin only, T-pose,\n"
-       "SMPL's 24 joints, merged weights, fitted joint regressor, the paper's landmarks), and\n"
-       "DIR/caliper-makehuman-{female,male,neutral}.npz, its targets fitted to every ANSUR II\n"
-       "and NHANES subject under --surveys (ansur2/, nhanes/; default ../shared/data) and\n"
-       "their principal components, touching skin separated and pose correctives fitted\n"
-       "(about 8 CPU minutes; with --fit-cache a rerun on the same inputs takes under a\n"
-       "minute); it prints the fit residuals.\n"
-       "--makehuman defaults to ../shared/data/makehuman. The default --source cage\n"
-       "writes the three open models.",
-       "example:\n  caliper-modelgen --out assets/models --quiet\n\n"
-       "exit codes: 0 ok, 1 error, 2 usage error"});
+      cli, {{"caliper-modelgen --out DIR [--makehuman DIR] [--surveys DIR] [--fit-cache FILE]",
+             "                 [--check-fit N] [--shape-population general|pooled] [--quiet]",
+             "caliper-modelgen --validate MODEL.npz --stats FILE [--samples N]",
+             "caliper-modelgen --stats-from ANSUR_DIR --stats-out FILE"},
+            "Writes DIR/caliper-{female,male,neutral}.npz, the open default body models:\n"
+            "MakeHuman's CC0 base mesh (skin only, T-pose, SMPL's 24 joints, merged weights,\n"
+            "fitted joint regressor, landmarks, texture coordinates), its targets fitted to every\n"
+            "ANSUR II and NHANES subject under --surveys (ansur2/, nhanes/; default\n"
+            "../shared/data) and their principal components per sex, touching skin separated and\n"
+            "pose correctives fitted; the same bytes on every x86-64 CPU. About 4 minutes on 2\n"
+            "cores; with --fit-cache a rerun on the same inputs takes under 2 minutes.\n"
+            "--validate compares a model's bodies with the ANSUR II statistics table\n"
+            "(assets/models/ansur_stats.csv, which --stats-from recomputes from the survey files).",
+            "example:\n  caliper-modelgen --out assets/models --quiet\n\n"
+            "exit codes: 0 ok, 1 error, 2 usage error"});
   app::add_value(cli, "--out", o.out, "DIR", "write the models into DIR");
   app::add_value(cli, "--stats", o.stats_path, "FILE",
-                 "the ANSUR II statistics table (default DIR/ansur_stats.csv, else "
-                 "./assets/models/ansur_stats.csv)");
-  app::add_value(cli, "--gender", o.gender, "GENDER", "which model to write")
-      ->check(CLI::IsMember({"female", "male", "neutral", "all"}));
-  app::add_value(cli, "--population", o.generator.population, "N",
-                 "synthetic bodies whose principal components make the shape space");
-  app::add_value(cli, "--components", o.generator.components, "K",
-                 "shape components (betas) per model");
+                 "the ANSUR II statistics table --validate compares with");
   app::add_flag(cli, "--quiet", o.quiet, "print nothing but errors");
   app::add_value(cli, "--stats-from", o.stats_from, "ANSUR_DIR",
                  "recompute the statistics table from the ANSUR II survey files");
   app::add_value(cli, "--stats-out", o.stats_out, "FILE", "where --stats-from writes the table");
   app::add_value(cli, "--validate", o.validate, "MODEL.npz",
-                 "compare the model's bodies (betas ~ N(0, I)) with the survey (needs --stats)");
+                 "compare the model's bodies (drawn from its ANSUR II population) with the survey "
+                 "(needs --stats)");
   app::add_value(cli, "--samples", o.samples, "N", "bodies drawn by --validate");
-  app::add_value(cli, "--source", o.source, "SOURCE",
-                 "the open models (cage) or MakeHuman's (makehuman: work in progress, issue 11)")
-      ->check(CLI::IsMember({"cage", "makehuman"}));
   app::add_value(cli, "--makehuman", o.makehuman_dir, "DIR", "MakeHuman's CC0 assets");
   app::add_value(cli, "--surveys", o.survey_dir, "DIR",
                  "the folder that holds ansur2/ and nhanes/");
   app::add_value(cli, "--fit-cache", o.fit_cache, "FILE",
-                 "makehuman: reuse the registered subjects saved in FILE when it was made from the "
+                 "reuse the registered subjects saved in FILE when it was made from the "
                  "same inputs, else fit them and save them there (keep it outside the repository; "
                  "delete it when the fitting code changes)");
   app::add_value(cli, "--check-fit", o.check_fit, "N",
-                 "makehuman, with --fit-cache FILE made from the same inputs: refit every N-th "
+                 "with --fit-cache FILE made from the same inputs: refit every N-th "
                  "subject with this CPU's arithmetic and stop with an error unless each comes out "
                  "bit for bit as in FILE (CI's check that a CPU without AVX2/FMA makes the same "
                  "models, at a fraction of a whole fit)")
       ->check(CLI::Range(1, 1000000));
   app::add_value(cli, "--shape-population", o.population, "POP",
-                 "makehuman: what each sex's betas ~ N(0, I) stand for: general (the general adult "
+                 "what each sex's betas ~ N(0, I) stand for: general (the general adult "
                  "population: NHANES for what NHANES measures, ANSUR II's spread given those "
                  "measurements for the rest) or pooled (every registered subject alike, about 2/3 "
                  "ANSUR II soldiers for the men)")
@@ -163,7 +149,7 @@ double seconds(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-/// The v2 generator's last steps on each shape model: touching skin separated and crumples
+/// The generator's last steps on each shape model: touching skin separated and crumples
 /// smoothed (contact.hpp), then the pose correctives fitted on the mean body
 /// (pose_correctives.hpp).
 void separate_contacts_and_add_correctives(smpl::BodyModel& m, const char* sex, bool quiet) {
@@ -249,12 +235,11 @@ void check_cached_fit(const modelgen::mh::ShapeBasis& basis, const smpl::BodyMod
   }
 }
 
-/// The shape models of the open model v2 (work in progress, issue 11): every survey subject
+/// The shape models: every survey subject
 /// registered to MakeHuman's targets, principal components per sex; prints the fit residuals.
-void write_makehuman_shape_models(const modelgen::mh::Assets& assets, const smpl::BodyModel& tmpl,
-                                  const std::string& survey_dir, const std::string& fit_cache,
-                                  int check_every, bool general, const std::string& out,
-                                  bool quiet) {
+void write_shape_models(const modelgen::mh::Assets& assets, const smpl::BodyModel& tmpl,
+                        const std::string& survey_dir, const std::string& fit_cache,
+                        int check_every, bool general, const std::string& out, bool quiet) {
   namespace mh = modelgen::mh;
   const auto t0 = std::chrono::steady_clock::now();
   const mh::ShapeBasis basis = mh::shape_basis(assets, tmpl);
@@ -301,7 +286,7 @@ void write_makehuman_shape_models(const modelgen::mh::Assets& assets, const smpl
     population.general = general;
     smpl::BodyModel m = mh::shape_model(basis, tmpl, subjects, fit, sex, 16, population);
     separate_contacts_and_add_correctives(m, sex, quiet);
-    const std::string path = out + "/caliper-makehuman-" + sex + ".npz";
+    const std::string path = out + "/caliper-" + sex + ".npz";
     smpl::SaveOptions so;
     so.compress = true;
     smpl::save_model(m, path, so);
@@ -318,8 +303,8 @@ void write_makehuman_shape_models(const modelgen::mh::Assets& assets, const smpl
 }
 
 /// --validate: the model's bodies against the survey statistics, as a markdown table. The
-/// bodies are drawn from the model's ANSUR II population when the file carries one (the v2
-/// models: their betas ~ N(0, I) are the general population), else with betas ~ N(0, I).
+/// bodies are drawn from the model's ANSUR II population when the file carries one (the
+/// open models: their betas ~ N(0, I) are the general population), else with betas ~ N(0, I).
 void print_validation(const std::string& validate, const std::string& stats_path, int samples) {
   const modelgen::SurveyStats st = modelgen::read_stats_table(stats_path);
   const smpl::BodyModel model = smpl::load_model(validate);
@@ -353,23 +338,18 @@ void print_validation(const std::string& validate, const std::string& stats_path
               s.corr_stature_weight, m.corr_stature_weight - s.corr_stature_weight);
 }
 
-/// --source makehuman: the template model, then the shape models (work in progress, issue 11).
-void write_makehuman_models(const Options& o) {
+/// The template model (MakeHuman's base mesh rigged and T-posed), then the shape models.
+void write_models(const Options& o) {
   const auto t0 = std::chrono::steady_clock::now();
   const modelgen::mh::Assets assets = modelgen::mh::read_assets(o.makehuman_dir);
   const smpl::BodyModel model =
       modelgen::mh::template_model(assets, modelgen::mh::default_regressor_targets());
-  const std::string path = o.out + "/caliper-makehuman-template.npz";
-  smpl::SaveOptions so;
-  so.compress = true;
-  smpl::save_model(model, path, so);
   if (!o.quiet) {
-    std::printf("wrote %s (%d vertices, %d faces, %d betas) in %.1f s\n", path.c_str(),
-                model.num_vertices(), model.num_faces(), model.num_betas(),
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    std::printf("template: %d vertices, %d faces, %.1f s\n", model.num_vertices(),
+                model.num_faces(), seconds(t0));
   }
-  write_makehuman_shape_models(assets, model, o.survey_dir, o.fit_cache, o.check_fit,
-                               o.population == "general", o.out, o.quiet);
+  write_shape_models(assets, model, o.survey_dir, o.fit_cache, o.check_fit,
+                     o.population == "general", o.out, o.quiet);
 }
 
 }  // namespace
@@ -393,7 +373,7 @@ int main(int argc, char** argv) {
     }
     const std::string& out = o.out;
     const std::string &stats_from = o.stats_from, &stats_out = o.stats_out;
-    std::string stats_path = o.stats_path;
+    const std::string& stats_path = o.stats_path;
     const std::string& validate = o.validate;
     const bool quiet = o.quiet;
     const int samples = o.samples;
@@ -423,43 +403,12 @@ int main(int argc, char** argv) {
                                                   "give the output folder with --out DIR");
       return 2;
     }
-    if (o.source == "makehuman") {
-      write_makehuman_models(o);
-      return 0;
+    if (o.check_fit > 0 && o.fit_cache.empty()) {
+      std::cerr << caliper::app::usage_error_line(
+          "caliper-modelgen", "--check-fit needs --fit-cache FILE (the fit to check)");
+      return 2;
     }
-    if (stats_path.empty()) {
-      // The committed table: beside the output, else assets/models/ under the working directory
-      // (the repository root in CI).
-      stats_path = out + "/ansur_stats.csv";
-      if (!std::ifstream(stats_path)) {
-        stats_path = "assets/models/ansur_stats.csv";
-      }
-    }
-    const modelgen::SurveyStats stats = modelgen::read_stats_table(stats_path);
-    std::vector<std::string> genders;
-    if (o.gender == "all") {
-      genders = {"female", "male", "neutral"};
-    } else {
-      genders = {o.gender};
-    }
-    for (const std::string& g : genders) {
-      const auto t0 = std::chrono::steady_clock::now();
-      modelgen::GenerationReport report;
-      const smpl::BodyModel model = modelgen::generate_model(stats, g, o.generator, &report);
-      const std::string path = out + "/caliper-" + g + ".npz";
-      smpl::SaveOptions so;
-      so.compress = true;
-      smpl::save_model(model, path, so);
-      const double secs =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      if (!quiet) {
-        for (const auto& l : report.lines) {
-          std::cout << "  " << l << "\n";
-        }
-        std::printf("wrote %s (%d vertices, %d faces, %d betas) in %.1f s\n", path.c_str(),
-                    model.num_vertices(), model.num_faces(), model.num_betas(), secs);
-      }
-    }
+    write_models(o);
     return 0;
   } catch (const std::exception& e) {
     std::cerr << "caliper-modelgen: " << e.what() << "\n";

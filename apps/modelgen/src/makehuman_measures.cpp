@@ -9,8 +9,8 @@
 
 #include "caliper/circumference.hpp"
 #include "caliper/volume.hpp"
-#include "generator.hpp"
 #include "makehuman_shape.hpp"
+#include "validation.hpp"
 
 namespace modelgen::mh {
 namespace {

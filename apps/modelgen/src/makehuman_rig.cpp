@@ -17,6 +17,7 @@
 
 #include "caliper/measurements.hpp"
 #include "makehuman_landmarks.hpp"
+#include "validation.hpp"
 
 namespace modelgen::mh {
 
@@ -637,6 +638,7 @@ std::vector<std::string> measure_targets() {
 }
 
 smpl::BodyModel template_model(const Assets& assets, const std::vector<std::string>& training) {
+  const DeterministicNumerics pinned;  // the same bytes on every CPU (validation.hpp)
   std::vector<TPoseBody> bodies;
   bodies.push_back(t_pose(assets, assets.base.vertices));
   for (const std::string& rel : training) {
@@ -671,7 +673,7 @@ smpl::BodyModel template_model(const Assets& assets, const std::vector<std::stri
   model.joint_names = smpl::smpl_joint_names();
   model.meta.name = "caliper-open-makehuman-template";
   model.meta.gender = "neutral";
-  model.meta.source = "caliper-modelgen --source makehuman (MakeHuman hm08 CC0 assets)";
+  model.meta.source = "caliper-modelgen (MakeHuman hm08 CC0 assets)";
   model.meta.extra["licence"] = "MIT; derived from MakeHuman's CC0 1.0 assets";
   smpl::validate(model, "MakeHuman template model");
   return model;

@@ -30,6 +30,7 @@
 #include "makehuman_measures.hpp"
 #include "population.hpp"
 #include "smpl/atomic_file.hpp"
+#include "validation.hpp"
 
 namespace modelgen::mh {
 
@@ -213,6 +214,7 @@ smpl::Vertices ShapeBasis::body(const std::string& s, const Eigen::VectorXd& w) 
 }
 
 ShapeBasis shape_basis(const Assets& assets, const smpl::BodyModel& tmpl) {
+  const DeterministicNumerics pinned;  // the same bytes on every CPU (validation.hpp)
   ShapeBasis b;
   std::map<std::string, Target> cache;
   auto target = [&](const std::string& rel) -> const Target& {
@@ -603,6 +605,7 @@ bool same_bits(double a, double b) {
 
 FitResult fit_subjects(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
                        const std::vector<Subject>& subjects, int threads) {
+  const DeterministicNumerics pinned;  // the same bytes on every CPU (validation.hpp)
   FitResult r;
   r.weights = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(subjects.size()),
                                     static_cast<Eigen::Index>(basis.names.size()));
@@ -615,6 +618,7 @@ FitResult fit_subjects(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
 FitCheckReport check_fit(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
                          const std::vector<Subject>& subjects, const FitResult& fit, int every,
                          int threads) {
+  const DeterministicNumerics pinned;  // the same bytes on every CPU (validation.hpp)
   if (every < 1) throw std::invalid_argument("check_fit: every must be at least 1");
   const Eigen::Index n = static_cast<Eigen::Index>(subjects.size());
   if (fit.weights.rows() != n ||
@@ -954,6 +958,7 @@ void store_survey_populations(const std::vector<Subject>& subjects, const FitRes
 smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
                             const std::vector<Subject>& subjects, const FitResult& fit,
                             const std::string& sex, int num_betas, const Population& population) {
+  const DeterministicNumerics pinned;  // the same bytes on every CPU (validation.hpp)
   const Eigen::Index kall = static_cast<Eigen::Index>(basis.names.size());
   // Coordinates z = (w, female?) of every body: body = male_mean + A z, A = [dirs | f - m].
   Eigen::MatrixXd A(basis.dirs.rows(), kall + 1);
@@ -1038,10 +1043,10 @@ smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl
   // thigh at; caliper::circumferences() slices there when a model carries it).
   model.landmarks["left_gluteal_fold"] = {at.gluteal_fold};
   model.landmarks["right_gluteal_fold"] = {model.mirror[static_cast<std::size_t>(at.gluteal_fold)]};
-  model.meta.name = "caliper-makehuman-" + sex;
+  model.meta.name = "caliper-open-" + sex;
   model.meta.gender = sex;
   model.meta.source =
-      "caliper-modelgen --source makehuman: MakeHuman hm08 CC0 targets fitted to ANSUR II and "
+      "caliper-modelgen: MakeHuman hm08 CC0 targets fitted to ANSUR II and "
       "NHANES subjects, principal components";
   smpl::validate(model, "MakeHuman shape model");
   return model;

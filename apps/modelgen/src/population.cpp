@@ -44,8 +44,7 @@ std::optional<SurveyPopulation> survey_population(const smpl::BodyModel& model,
   const Eigen::Index b = model.num_betas();
   // Every error says what to do: the entry is the generator's, so a new file replaces it.
   const auto bad = [&where](const std::string& what) {
-    return std::runtime_error(where + what +
-                              "; regenerate the model with caliper-modelgen --source makehuman");
+    return std::runtime_error(where + what + "; regenerate the model with caliper-modelgen");
   };
   SurveyPopulation p;
   try {

@@ -16,6 +16,7 @@
 #include "caliper/portable_math.hpp"
 #include "makehuman_rig.hpp"
 #include "mesh_checks.hpp"
+#include "validation.hpp"
 
 namespace modelgen {
 
@@ -335,6 +336,7 @@ std::vector<int> folded_triangles(const smpl::Vertices& rest, const smpl::Vertic
 
 Eigen::MatrixXd pose_correctives(const smpl::BodyModel& model, const PoseCorrectiveOptions& o,
                                  PoseCorrectiveReport* report) {
+  const DeterministicNumerics pinned;  // the same bytes on every CPU (validation.hpp)
   const int K = model.num_joints();
   const Eigen::Index V = model.num_vertices();
   Eigen::MatrixXd posedirs = Eigen::MatrixXd::Zero(3 * V, 9 * Eigen::Index{K - 1});

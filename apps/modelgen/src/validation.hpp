@@ -1,10 +1,9 @@
-/// \file generator.hpp
-/// The open body model generator: a synthetic population whose body dimensions follow ANSUR II
-/// (multivariate normal per sex, from the committed statistics table), one parametric cage per
-/// body (cage.hpp), Catmull-Clark subdivision (subdivision.hpp), PCA over the refined vertices
-/// (randomized subspace iteration, fixed seed), skinning weights, joint regressor and landmarks
-/// on the cage, all assembled into an smpl::BodyModel. Deterministic: the same statistics and
-/// options give the same bytes on every run.
+/// \file validation.hpp
+/// What the open models are validated on: the survey measurements of a body (libcaliper's
+/// definitions, the hanging arm as ANSUR II measures it), the survey's figures per sex from the
+/// committed statistics table, and a model's figures over bodies drawn from its shape space;
+/// plus the deterministic RNG and the guard that makes the generator's arithmetic independent of
+/// the CPU (docs/models.md, "Same bytes on every CPU").
 #pragma once
 
 #include <cstddef>
@@ -23,15 +22,6 @@
 
 namespace modelgen {
 
-/// Generator settings.
-struct GeneratorOptions {
-  int population = 2000;                    ///< bodies in the synthetic population used for PCA
-  int components = 16;                      ///< shape components kept (betas)
-  int calibration_rounds = 3;               ///< feedback rounds correcting the cage mapping
-  int calibration_bodies = 600;             ///< bodies measured per calibration round
-  std::uint64_t seed = 0x5eed0fca11be7ull;  ///< RNG seed (splitmix64 / xoshiro256**)
-};
-
 /// Small deterministic RNG: caliper::Xoshiro256 bits, uniforms in (0, 1), normals by Box-Muller.
 class Rng {
  public:
@@ -43,16 +33,6 @@ class Rng {
   caliper::Xoshiro256 bits_;
   bool has_spare_ = false;
   double spare_ = 0.0;
-};
-
-/// The model's fixed topology: subdivision operator, triangles, landmarks, regressor, weights.
-struct ModelTopology {
-  int num_cage_vertices = 0;
-  Eigen::SparseMatrix<double, Eigen::RowMajor> subdivision;  ///< V x cage vertices
-  smpl::Faces faces;                                         ///< F x 3
-  std::map<std::string, std::vector<int>> landmarks;         ///< refined vertex ids
-  smpl::SparseMatrix j_regressor;                            ///< 24 x V
-  smpl::SparseMatrix weights;                                ///< V x 24
 };
 
 /// Shoulder-to-wrist length measured as ANSUR II measures acromion-radiale plus
@@ -106,12 +86,6 @@ ValidationFigures survey_figures(const SurveyStats& stats, const std::string& ge
 ValidationFigures model_figures(const smpl::BodyModel& model, int samples, std::uint64_t seed,
                                 const SurveyPopulation* population = nullptr);
 
-/// What generate_model() did, for the log and the docs.
-struct GenerationReport {
-  std::vector<std::string> lines;      ///< human-readable log lines
-  Eigen::VectorXd explained_variance;  ///< fraction of total variance per kept component
-};
-
 /// Makes the generator's arithmetic independent of the CPU it runs on, for its lifetime, so the
 /// models come out byte-identical on every x86-64 machine (issue 18; docs/models.md):
 /// - Eigen's matrix products split their inner dimension into blocks sized from the cache sizes
@@ -119,7 +93,8 @@ struct GenerationReport {
 ///   fixed sizes (32 KiB, 512 KiB, 4 MiB) and restores the previous ones when it ends.
 /// - libsmpl's kernels give the same bits on every instruction-set variant by contract
 ///   (smpl/simd.hpp), so the variant the CPU picks does not matter.
-/// generate_model() holds one; model_figures() too.
+/// The v2 generator's top-level steps each hold one (template_model(), shape_basis(),
+/// fit_subjects(), shape_model(), the contact steps, pose_correctives()); model_figures() too.
 class DeterministicNumerics {
  public:
   DeterministicNumerics();
@@ -130,9 +105,5 @@ class DeterministicNumerics {
  private:
   std::ptrdiff_t l1_, l2_, l3_;
 };
-
-/// Builds the model for `gender` ("female", "male" or "neutral" = both sexes, half each).
-smpl::BodyModel generate_model(const SurveyStats& stats, const std::string& gender,
-                               const GeneratorOptions& options, GenerationReport* report);
 
 }  // namespace modelgen
