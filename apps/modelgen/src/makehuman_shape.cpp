@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <exception>
 #include <fstream>
@@ -598,7 +599,11 @@ void fit_stages(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
 
 /// Whether two doubles have the same bits (NaN included).
 bool same_bits(double a, double b) {
-  return std::memcmp(&a, &b, sizeof a) == 0;
+  std::uint64_t x = 0, y = 0;
+  static_assert(sizeof x == sizeof a);
+  std::memcpy(&x, &a, sizeof a);
+  std::memcpy(&y, &b, sizeof b);
+  return x == y;
 }
 
 }  // namespace
