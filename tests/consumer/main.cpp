@@ -23,9 +23,14 @@ int main(int argc, char** argv) {
     const caliper::Avatar avatar = caliper::create_avatar(model, *regressors.find("R2"), inputs);
     smpl::write_gltf(argv[2], model, avatar.betas);  // tinygltf
     const smpl::GltfAvatar back = smpl::read_gltf(argv[2]);
-    if (back.vertices.rows() != model.num_vertices()) {
-      std::fprintf(stderr, "consumer: %s has %d vertices, the model %d\n", argv[2],
-                   static_cast<int>(back.vertices.rows()), model.num_vertices());
+    // A model with texture coordinates is split at its seams in the file; joined again, the
+    // file's vertices are the model's.
+    const smpl::SeamJoin joined = smpl::join_seams(back.vertices, back.faces);
+    if (static_cast<int>(joined.kept.size()) != model.num_vertices()) {
+      std::fprintf(stderr,
+                   "consumer: %s has %d vertices (%d with the seams joined), the model %d\n",
+                   argv[2], static_cast<int>(back.vertices.rows()),
+                   static_cast<int>(joined.kept.size()), model.num_vertices());
       return 1;
     }
     const double height = avatar.achieved.at("height");
