@@ -18,7 +18,8 @@ namespace {
 constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
 
 /// SMPL joint indices.
-constexpr int kLeftHip = 1, kRightHip = 2, kLeftKnee = 4, kLeftAnkle = 7, kNeck = 12, kHead = 15;
+constexpr int kJointLeftHip = 1, kJointRightHip = 2, kJointLeftKnee = 4, kJointLeftAnkle = 7,
+              kJointNeck = 12, kJointHead = 15;
 
 /// The ankle girth is taken at least this far above the ankle joint (below, the slice meets the
 /// heel and the instep).
@@ -177,7 +178,8 @@ SurveyVertices survey_vertices(const smpl::Vertices& t, const smpl::Faces& f,
                                const smpl::SparseMatrix& j_regressor,
                                const caliper::LandmarkTable& landmarks) {
   SurveyVertices s;
-  s.midline_x = 0.5 * (joint(t, j_regressor, kLeftHip).x() + joint(t, j_regressor, kRightHip).x());
+  s.midline_x =
+      0.5 * (joint(t, j_regressor, kJointLeftHip).x() + joint(t, j_regressor, kJointRightHip).x());
   const double mid = s.midline_x;
   const double floor = t.col(1).minCoeff();
   const double crest_y = floor + kIliacCrestFraction * (t.col(1).maxCoeff() - floor);
@@ -193,9 +195,9 @@ SurveyVertices survey_vertices(const smpl::Vertices& t, const smpl::Faces& f,
   if (s.iliac_crest < 0) throw std::runtime_error("MakeHuman shape: no iliac crest vertex");
   // Neck: the narrowest neck slice between the neck and head joints (below the jaw); the
   // front midline vertex at that level.
-  const Eigen::Vector3d neck_joint = joint(t, j_regressor, kNeck);
+  const Eigen::Vector3d neck_joint = joint(t, j_regressor, kJointNeck);
   double neck_y = kNoValue, neck_best = std::numeric_limits<double>::infinity();
-  for (double y = neck_joint.y(); y <= joint(t, j_regressor, kHead).y(); y += kScanStep) {
+  for (double y = neck_joint.y(); y <= joint(t, j_regressor, kJointHead).y(); y += kScanStep) {
     const double g = neck_girth(t, f, y, mid);
     if (g < neck_best) {
       neck_best = g;
@@ -208,8 +210,8 @@ SurveyVertices survey_vertices(const smpl::Vertices& t, const smpl::Faces& f,
   });
   const double crotch_y = caliper::landmark_point(t, landmarks.at("crotch")).y();
   s.gluteal_fold = gluteal_fold(t, f, crotch_y, mid);
-  const Eigen::Vector3d knee = joint(t, j_regressor, kLeftKnee);
-  const double ankle_y = joint(t, j_regressor, kLeftAnkle).y();
+  const Eigen::Vector3d knee = joint(t, j_regressor, kJointLeftKnee);
+  const double ankle_y = joint(t, j_regressor, kJointLeftAnkle).y();
   s.calf_back = leg_level(t, f, ankle_y, knee.y(), mid, true, "calf_back");
   s.ankle_back = leg_level(t, f, ankle_y + kAnkleRise, t(s.calf_back, 1), mid, false, "ankle_back");
   // Lateral femoral epicondyle: the most lateral vertex of the left knee at the joint.
