@@ -144,6 +144,11 @@ void print_fit_residuals(const std::vector<modelgen::mh::Subject>& subjects,
       left_out, subjects.size());
 }
 
+/// The threads the generator's steps share: every core.
+int generator_threads() {
+  return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
 /// Seconds since t.
 double seconds(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
@@ -153,7 +158,7 @@ double seconds(std::chrono::steady_clock::time_point t) {
 /// smoothed (contact.hpp), then the pose correctives fitted on the mean body
 /// (pose_correctives.hpp).
 void separate_contacts_and_add_correctives(smpl::BodyModel& m, const char* sex, bool quiet) {
-  const int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads = generator_threads();
   const auto tc = std::chrono::steady_clock::now();
   modelgen::ContactOptions co;
   co.threads = threads;
@@ -213,8 +218,7 @@ void check_cached_fit(const modelgen::mh::ShapeBasis& basis, const smpl::BodyMod
   }
   const auto t0 = std::chrono::steady_clock::now();
   const mh::FitCheckReport r =
-      mh::check_fit(basis, tmpl, subjects, *cached, every,
-                    static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+      mh::check_fit(basis, tmpl, subjects, *cached, every, generator_threads());
   if (!r.differing.empty()) {
     std::string which;
     for (size_t n = 0; n < r.differing.size() && n < 5; ++n) {
@@ -267,10 +271,7 @@ void write_shape_models(const modelgen::mh::Assets& assets, const smpl::BodyMode
     check_cached_fit(basis, tmpl, subjects, fit_cache, cached, check_every, quiet);
   const bool reused = cached.has_value();
   const mh::FitResult fit =
-      reused
-          ? *std::move(cached)
-          : mh::fit_subjects(basis, tmpl, subjects,
-                             static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+      reused ? *std::move(cached) : mh::fit_subjects(basis, tmpl, subjects, generator_threads());
   if (!fit_cache.empty() && !reused) mh::save_fit(fit_cache, fingerprint, fit);
   if (!quiet) {
     if (reused) {
