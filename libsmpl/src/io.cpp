@@ -120,6 +120,26 @@ std::string shape_text(std::initializer_list<std::string> dims) {
   return s + ")";
 }
 
+// m (rows x m.cols(), column-major) from the first m.cols() columns of a C-order rows x stride
+// array of T at p. In blocks of rows, so each column is written in runs of consecutive doubles
+// (row by row, every write of a 66 MB posedirs would land on another page).
+template <typename T>
+void transpose_rows(const std::uint8_t* p, Eigen::Index rows, Eigen::Index stride,
+                    Eigen::MatrixXd& m) {
+  constexpr Eigen::Index kBlock = 64;
+  for (Eigen::Index r0 = 0; r0 < rows; r0 += kBlock) {
+    const Eigen::Index r1 = std::min(rows, r0 + kBlock);
+    for (Eigen::Index c = 0; c < m.cols(); ++c) {
+      double* column = m.col(c).data();
+      for (Eigen::Index r = r0; r < r1; ++r) {
+        T v;
+        std::memcpy(&v, p + static_cast<std::size_t>(r * stride + c) * sizeof(T), sizeof(T));
+        column[r] = static_cast<double>(v);
+      }
+    }
+  }
+}
+
 // Reads a (V, 3, N) or (3V, N) array into a 3V x n matrix (first n columns).
 Eigen::MatrixXd blend_shapes(const Source& src, const std::string& key, Eigen::Index V, int keep,
                              const char* what) {
@@ -140,15 +160,14 @@ Eigen::MatrixXd blend_shapes(const Source& src, const std::string& key, Eigen::I
   }
   Eigen::MatrixXd m(3 * V, n);
   const auto stride = static_cast<Eigen::Index>(n_cols);
+  // The common cases (SMPL files: float64; the project's own: float32, see model_arrays): straight
+  // from the file's bytes.
   if (a.dtype == "<f8" && !a.fortran_order) {
-    // The common case (SMPL files, the project's own): copy straight from the file's bytes.
-    const std::uint8_t* p = a.data.data();
-    for (Eigen::Index r = 0; r < 3 * V; ++r) {
-      for (Eigen::Index c = 0; c < n; ++c) {
-        std::memcpy(&m(r, c), p + static_cast<std::size_t>(r * stride + c) * sizeof(double),
-                    sizeof(double));
-      }
-    }
+    transpose_rows<double>(a.data.data(), 3 * V, stride, m);
+    return m;
+  }
+  if (a.dtype == "<f4" && !a.fortran_order) {
+    transpose_rows<float>(a.data.data(), 3 * V, stride, m);
     return m;
   }
   const std::vector<double> d = src.doubles(key, a);
@@ -418,6 +437,19 @@ BodyModel load_model(const std::string& path, const LoadOptions& options) {
   return load_model_from_memory(bytes.data(), bytes.size(), path, options);
 }
 
+namespace {
+
+// A 3V x N blend-shape matrix as numpy's (V, 3, N): float32 when every value is a float32 (no
+// value changes; the open models are made so, which halves their largest arrays), else float64.
+NpyArray blend_shape_npy(const Eigen::MatrixXd& m, std::size_t V) {
+  const Eigen::MatrixXf single = m.cast<float>();
+  NpyArray a = (single.cast<double>().array() == m.array()).all() ? make_npy(single) : make_npy(m);
+  a.shape = {V, 3, static_cast<std::size_t>(m.cols())};
+  return a;
+}
+
+}  // namespace
+
 NpzArchive model_arrays(const BodyModel& m) {
   NpzArchive out;
   const auto V = static_cast<std::size_t>(m.num_vertices());
@@ -426,14 +458,8 @@ NpzArchive model_arrays(const BodyModel& m) {
   const Eigen::Matrix<std::uint32_t, Eigen::Dynamic, 3, Eigen::RowMajor> f =
       m.faces.cast<std::uint32_t>();
   out["f"] = make_npy(f);
-  NpyArray sd = make_npy(m.shapedirs);
-  sd.shape = {V, 3, static_cast<std::size_t>(m.num_betas())};
-  out["shapedirs"] = std::move(sd);
-  if (m.has_pose_blend_shapes()) {
-    NpyArray pd = make_npy(m.posedirs);
-    pd.shape = {V, 3, static_cast<std::size_t>(m.num_pose_features())};
-    out["posedirs"] = std::move(pd);
-  }
+  out["shapedirs"] = blend_shape_npy(m.shapedirs, V);
+  if (m.has_pose_blend_shapes()) out["posedirs"] = blend_shape_npy(m.posedirs, V);
   out["J_regressor"] = make_npy(Eigen::MatrixXd(m.j_regressor));
   out["weights"] = make_npy(Eigen::MatrixXd(m.weights));
   const Joints joints = m.j_regressor * m.v_template;

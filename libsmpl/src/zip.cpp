@@ -79,27 +79,11 @@ class RawInflater {
   // Inflates until `n` bytes are out or the stream ends. Throws for corrupt data, and for data
   // that ends before the stream does (truncated).
   void fill(std::size_t n) {
-    constexpr std::size_t kChunk = std::numeric_limits<uInt>::max();
     while (produced_ < n && !ended_) {
       if (produced_ == out_.size()) {
         out_.resize(std::min(n, std::max<std::size_t>(2 * out_.size(), std::size_t{1} << 16)));
       }
-      const std::size_t in_chunk = std::min(in_left_, kChunk);
-      const std::size_t out_chunk = std::min(out_.size() - produced_, kChunk);
-      zs_.next_out = out_.data() + produced_;
-      zs_.avail_in = static_cast<uInt>(in_chunk);
-      zs_.avail_out = static_cast<uInt>(out_chunk);
-      const int rc = inflate(&zs_, Z_NO_FLUSH);
-      in_left_ -= in_chunk - zs_.avail_in;
-      produced_ += out_chunk - zs_.avail_out;
-      if (rc == Z_STREAM_END) {
-        ended_ = true;
-      } else if (rc == Z_BUF_ERROR) {
-        fail(context_, "truncated deflate data");
-      } else if (rc != Z_OK) {
-        fail(context_, std::string("corrupt deflate data") +
-                           (zs_.msg ? std::string(" (") + zs_.msg + ")" : ""));
-      }
+      produced_ += step(out_.data() + produced_, out_.size() - produced_);
     }
   }
   // Inflates exactly `n` bytes and checks that the stream ends there.
@@ -109,10 +93,10 @@ class RawInflater {
       fail(context_, "deflate data gives " + std::to_string(produced_) +
                          " bytes, the zip directory says " + std::to_string(n));
     }
-    if (!ended_) {
-      out_.resize(n + 1);
-      fill(n + 1);
-      if (produced_ > n) {
+    // Any byte more goes to a scratch byte (growing out_ by one would copy all of it).
+    std::uint8_t extra = 0;
+    while (!ended_) {
+      if (step(&extra, 1) != 0) {
         fail(context_, "the deflate data gives more than the " + std::to_string(n) +
                            " bytes the zip directory says");
       }
@@ -123,6 +107,28 @@ class RawInflater {
   std::size_t produced() const { return produced_; }
 
  private:
+  // One inflate call into [out, out + size); returns the bytes produced. Throws for corrupt data
+  // and for data that ends before the stream does (truncated).
+  std::size_t step(std::uint8_t* out, std::size_t size) {
+    constexpr std::size_t kChunk = std::numeric_limits<uInt>::max();
+    const std::size_t in_chunk = std::min(in_left_, kChunk);
+    const std::size_t out_chunk = std::min(size, kChunk);
+    zs_.next_out = out;
+    zs_.avail_in = static_cast<uInt>(in_chunk);
+    zs_.avail_out = static_cast<uInt>(out_chunk);
+    const int rc = inflate(&zs_, Z_NO_FLUSH);
+    in_left_ -= in_chunk - zs_.avail_in;
+    if (rc == Z_STREAM_END) {
+      ended_ = true;
+    } else if (rc == Z_BUF_ERROR) {
+      fail(context_, "truncated deflate data");
+    } else if (rc != Z_OK) {
+      fail(context_, std::string("corrupt deflate data") +
+                         (zs_.msg ? std::string(" (") + zs_.msg + ")" : ""));
+    }
+    return out_chunk - zs_.avail_out;
+  }
+
   z_stream zs_{};
   std::size_t in_left_;
   std::string context_;

@@ -39,7 +39,7 @@ smpl::BodyModel model_with_everything() {
 }
 
 void expect_same_model(const smpl::BodyModel& a, const smpl::BodyModel& b) {
-  // Exact equality: the format stores doubles and ints losslessly.
+  // Exact equality: the format stores doubles (float32 only where that is lossless) and ints.
   EXPECT_TRUE(a.v_template == b.v_template);
   EXPECT_TRUE(a.faces == b.faces);
   EXPECT_TRUE(a.shapedirs == b.shapedirs);
@@ -94,6 +94,27 @@ TEST(SaveModel, BytesAreDeterministic) {
   smpl::save_model(m, a);
   smpl::save_model(smpl::load_model(a), b);
   EXPECT_EQ(smpl::read_file_bytes(a), smpl::read_file_bytes(b));
+}
+
+TEST(SaveModel, BlendShapesOfFloat32ValuesAreStoredAsFloat32) {
+  // The open models' blend shapes are float32 values: stored as <f4, read back to the same doubles.
+  smpl::BodyModel m = model_with_everything();
+  m.shapedirs = m.shapedirs.cast<float>().cast<double>();
+  m.posedirs = m.posedirs.cast<float>().cast<double>();
+  const std::string path = save_model_out_dir() + "/single.npz";
+  smpl::save_model(m, path);
+  smpl::NpzArchive z = smpl::read_npz(path);
+  EXPECT_EQ(z.at("shapedirs").dtype, "<f4");
+  EXPECT_EQ(z.at("posedirs").dtype, "<f4");
+  EXPECT_EQ(z.at("v_template").dtype, "<f8");
+  expect_same_model(m, smpl::load_model(path));
+  // One value that float32 cannot hold keeps that array at float64, and nothing is lost.
+  m.posedirs(1, 2) = 0.1;
+  smpl::save_model(m, path);
+  z = smpl::read_npz(path);
+  EXPECT_EQ(z.at("shapedirs").dtype, "<f4");
+  EXPECT_EQ(z.at("posedirs").dtype, "<f8");
+  expect_same_model(m, smpl::load_model(path));
 }
 
 TEST(SaveModel, InvalidModelsAreNotWritten) {
@@ -154,7 +175,7 @@ path, V, F, K, B, P = sys.argv[1], *map(int, sys.argv[2:])
 z = np.load(path, allow_pickle=False)
 assert z['v_template'].shape == (V, 3) and z['v_template'].dtype == np.float64
 assert z['f'].shape == (F, 3) and z['f'].dtype == np.uint32
-assert z['shapedirs'].shape == (V, 3, B)
+assert z['shapedirs'].shape == (V, 3, B) and z['shapedirs'].dtype == np.float64
 assert z['posedirs'].shape == (V, 3, P)
 assert z['J_regressor'].shape == (K, V) and np.allclose(z['J_regressor'].sum(1), 1)
 assert z['weights'].shape == (V, K) and np.allclose(z['weights'].sum(1), 1)
