@@ -1,8 +1,10 @@
 // Geometry of the committed open models (assets/models/caliper-*.npz): closed 2-manifold with
 // outward winding, positive volume, no self-intersection at the mean and at +/- 2 SD along the
-// first 10 components, no flipped triangles in the test poses, SMPL layout through libsmpl.
+// first 10 components, no flipped triangles in the test poses, SMPL layout through libsmpl, a
+// floor (lowest vertex) that is the same vertex at every training corner.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -125,6 +127,29 @@ TEST_P(OpenModel, HasNoSelfIntersectionAtMeanAndTwoSdAlongTenComponents) {
       EXPECT_GT(caliper::mesh_volume(v, model_.faces), 0.0);
     }
   }
+}
+
+// Height and inseam are measured from the floor, the body's lowest vertex: it must be the same
+// vertex at every training corner (beta in {-2, +2}^10), else those measurements are not
+// linear in the betas and the regressors cannot give them back (mh::level_soles()).
+TEST_P(OpenModel, FloorIsTheSameVertexAtEveryTrainingCorner) {
+  Eigen::Index lowest = 0;
+  model_.v_template.col(1).minCoeff(&lowest);
+  const Eigen::Index nv = model_.num_vertices();
+  Eigen::MatrixXd dy(nv, 10);  // each component's height offsets
+  for (Eigen::Index v = 0; v < nv; ++v) dy.row(v) = model_.shapedirs.row(3 * v + 1).head(10);
+  int moved = 0;
+  double deepest = 0.0;
+  for (int corner = 0; corner < 1024; ++corner) {
+    Eigen::VectorXd betas(10);
+    for (int k = 0; k < 10; ++k) betas[k] = (corner >> k & 1) != 0 ? 2.0 : -2.0;
+    const Eigen::VectorXd y = model_.v_template.col(1) + dy * betas;
+    const double below = y[lowest] - y.minCoeff();
+    if (below > 0.0) ++moved;
+    deepest = std::max(deepest, below);
+  }
+  EXPECT_EQ(moved, 0) << "corners whose lowest vertex is another one, up to " << 1000.0 * deepest
+                      << " mm below the mean body's";
 }
 
 // The 10 test poses (modelgen::test_poses(): each bends one joint by 45 or 90 degrees).

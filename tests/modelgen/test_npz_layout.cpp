@@ -1,5 +1,5 @@
 // The committed .npz files load in common SMPL tooling: numpy (allow_pickle=False) sees SMPL's
-// keys with SMPL's dtypes and shapes.
+// keys with SMPL's shapes and dtypes (the blend shapes at float32, as smplx works).
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -25,8 +25,10 @@ for g in ['female', 'male', 'neutral']:
     checks = [
         ('v_template', d['v_template'].shape == (V, 3) and d['v_template'].dtype == np.float64),
         ('f', d['f'].shape == (F, 3) and d['f'].dtype in (np.uint32, np.int32) and d['f'].max() < V),
-        ('shapedirs', d['shapedirs'].shape == (V, 3, B) and d['shapedirs'].dtype == np.float64 and B >= 10),
-        ('posedirs', 'posedirs' not in d or d['posedirs'].shape == (V, 3, 207)),
+        # the blend shapes are float32 values, stored as such (docs/file-formats.md)
+        ('shapedirs', d['shapedirs'].shape == (V, 3, B) and d['shapedirs'].dtype == np.float32 and B >= 10),
+        ('posedirs', 'posedirs' not in d or (d['posedirs'].shape == (V, 3, 207)
+                                             and d['posedirs'].dtype == np.float32)),
         ('J_regressor', d['J_regressor'].shape == (24, V) and d['J_regressor'].dtype == np.float64
                         and np.allclose(d['J_regressor'].sum(1), 1)),
         ('weights', d['weights'].shape == (V, 24) and d['weights'].dtype == np.float64

@@ -1057,4 +1057,23 @@ smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl
   return model;
 }
 
+void level_soles(smpl::BodyModel& model, double full, double fade) {
+  if (model.v_template.rows() == 0 || !(fade > full) || !(full >= 0.0)) {
+    throw std::invalid_argument("level_soles: needs a mesh and 0 <= full < fade");
+  }
+  Eigen::Index lowest = 0;
+  const double floor = model.v_template.col(1).minCoeff(&lowest);
+  const Eigen::Index nv = model.v_template.rows();
+  for (Eigen::Index v = 0; v < nv; ++v) {
+    const double h = model.v_template(v, 1) - floor;
+    if (h >= fade) continue;
+    const double t = std::clamp((fade - h) / (fade - full), 0.0, 1.0);
+    const double w = t * t * (3.0 - 2.0 * t);  // smoothstep: 1 up to `full`, 0 from `fade`
+    for (Eigen::Index b = 0; b < model.shapedirs.cols(); ++b) {
+      double& y = model.shapedirs(3 * v + 1, b);
+      y = (1.0 - w) * y + w * model.shapedirs(3 * lowest + 1, b);
+    }
+  }
+}
+
 }  // namespace modelgen::mh

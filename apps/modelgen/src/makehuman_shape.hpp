@@ -183,4 +183,15 @@ smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl
                             const std::string& sex, int num_betas,
                             const Population& population = {});
 
+/// Levels the soles: every shape component moves the vertices within `full` metres of the mean
+/// body's floor (its lowest vertex) up or down as much as that lowest vertex, and those up to
+/// `fade` metres above it by a share fading smoothly to none (their own motion keeps the rest).
+/// The soles then keep their shape in height under every beta, so the lowest vertex, the floor
+/// that height and inseam are measured from, is the same one for every body near the mean and
+/// those measurements stay linear in the betas (the regressors' premise). Without it the
+/// neutral model's first component (mostly the sex) tilts the feet: 12 different lowest
+/// vertices over the 1,024 training corners, the floor 2.1 mm RMS (10.9 mm at most) off its best
+/// linear fit. Moves only height (y); the model must have shapedirs and a non-empty mesh.
+void level_soles(smpl::BodyModel& model, double full = 0.02, double fade = 0.05);
+
 }  // namespace modelgen::mh
