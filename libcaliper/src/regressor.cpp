@@ -253,7 +253,8 @@ double input_feature(const std::string& id, double value, const WeightFormula& f
 
 LinearRegressor LinearRegressor::fit(const TrainingSet& training,
                                      const std::vector<std::string>& inputs,
-                                     const ModelSignature& signature, const std::string& name) {
+                                     const ModelSignature& signature, const std::string& name,
+                                     bool intercept_at_mean) {
   if (inputs.empty()) throw InvalidInputError("a regressor needs at least one input");
   check_training(training, inputs.size());
   LinearRegressor r;
@@ -272,6 +273,16 @@ LinearRegressor LinearRegressor::fit(const TrainingSet& training,
                             std::to_string(qr.rank()) + " < " + std::to_string(X.cols()) + ")");
   }
   r.A_ = qr.solve(training.betas).transpose();  // k x (m + 1)
+  if (intercept_at_mean && training.mean_volume > 0.0) {
+    // The weight feature (the cube root of the volume) taken at the mean body instead of its
+    // average over the training set; the lengths keep the least-squares intercept (linear in
+    // beta, or close: arm length's best secant is the least-squares one).
+    const auto m = static_cast<Eigen::Index>(inputs.size());
+    for (Eigen::Index i = 0; i < m; ++i) {
+      if (inputs[static_cast<std::size_t>(i)] != "weight") continue;
+      r.A_.col(m) -= r.A_.col(i) * (std::cbrt(training.mean_volume) - F.col(i).mean());
+    }
+  }
   // Diagnostic: re-measure each body's avatar with the linear forward model f ~ [beta 1] C.
   const Eigen::MatrixXd Bx = with_ones(training.betas);
   const Eigen::MatrixXd C = Bx.colPivHouseholderQr().solve(F);  // (k + 1) x m
@@ -284,8 +295,8 @@ LinearRegressor LinearRegressor::fit(const TrainingSet& training,
 }
 
 LinearRegressor LinearRegressor::fit(const TrainingSet& training, RegressorKind kind,
-                                     const ModelSignature& signature) {
-  return fit(training, regressor_inputs(kind), signature, to_string(kind));
+                                     const ModelSignature& signature, bool intercept_at_mean) {
+  return fit(training, regressor_inputs(kind), signature, to_string(kind), intercept_at_mean);
 }
 
 Eigen::VectorXd LinearRegressor::predict(const MeasurementMap& values) const {
@@ -524,7 +535,7 @@ RegressorSet train_regressors(const TrainingSet& training, const ModelSignature&
                               const TrainOptions& options) {
   RegressorSet s;
   for (RegressorKind k : all_regressor_kinds()) {
-    s.linear.push_back(LinearRegressor::fit(training, k, signature));
+    s.linear.push_back(LinearRegressor::fit(training, k, signature, options.intercept_at_mean));
   }
   if (options.noise_aware) {
     s.noise_aware = NoiseAwareRegressor::fit(training, signature, options.noise);

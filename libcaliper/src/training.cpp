@@ -383,6 +383,10 @@ TrainingSet make_training_set(const ShapeMeasurer& measurer, const Eigen::Matrix
   t.betas = betas;
   for (const auto& d : measurer.definitions()) t.ids.push_back(d.id);
   measurer.measure_batch(betas, t.measurements, t.volumes);
+  Eigen::MatrixXd mean_measurements;
+  Eigen::VectorXd mean_volume;
+  measurer.measure_batch(Eigen::MatrixXd::Zero(1, betas.cols()), mean_measurements, mean_volume);
+  t.mean_volume = mean_volume[0];
   t.weight_formula = formula;
   t.weights = (formula.coefficient * t.volumes).array() + formula.intercept;
   return t;

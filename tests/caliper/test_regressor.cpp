@@ -234,6 +234,31 @@ TEST_F(BodyModelRegressors, AvatarsReproduceTheirInputs) {
   }
 }
 
+TEST_F(BodyModelRegressors, TheWeightEntersTheInterceptAtTheMeanBody) {
+  // Default: the slopes of the paper's least squares; the intercept moved by the weight slope
+  // times (the mean body's cube-root volume - its average over the corners). The paper's
+  // intercept (TrainOptions::intercept_at_mean = false) is the least-squares one.
+  const TrainingSet t = paper_training_set(*model_);
+  ASSERT_GT(t.mean_volume, 0.0);
+  const double shift = std::cbrt(t.mean_volume) - t.column("weight_feature").mean();
+  EXPECT_GT(std::abs(shift), 1e-7);  // the cube root of the volume curves
+  TrainOptions paper;
+  paper.intercept_at_mean = false;
+  paper.noise_aware = false;
+  const RegressorSet least_squares = train_regressors(*model_, paper);
+  for (std::size_t k = 0; k < set_->linear.size(); ++k) {
+    const Eigen::MatrixXd& a = set_->linear[k].coefficients();
+    const Eigen::MatrixXd& b = least_squares.linear[k].coefficients();
+    const Eigen::Index m = a.cols() - 1;
+    const auto w = static_cast<Eigen::Index>(
+        std::find(set_->linear[k].inputs().begin(), set_->linear[k].inputs().end(), "weight") -
+        set_->linear[k].inputs().begin());
+    ASSERT_LT(w, m) << set_->linear[k].name();
+    EXPECT_TRUE(a.leftCols(m) == b.leftCols(m)) << set_->linear[k].name();
+    EXPECT_TRUE(a.col(m).isApprox(b.col(m) - b.col(w) * shift, 1e-12)) << set_->linear[k].name();
+  }
+}
+
 TEST_F(BodyModelRegressors, ExactInputsAreReproducedExactly) {
   // Gauss-Newton refinement after the paper's prediction: every input, weight included, comes
   // back to ~1e-9 m (residual test) / a few micrograms, with a small change of the betas.

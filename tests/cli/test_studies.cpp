@@ -8,12 +8,14 @@
 #include <filesystem>
 #include <fstream>
 
+#include "caliper/assets.hpp"
 #include "caliper/circumference.hpp"
 #include "caliper/measurements.hpp"
 #include "caliper/regressor.hpp"
 #include "caliper/training.hpp"
 #include "cli_fixture.hpp"
 #include "model_source.hpp"
+#include "smpl/io.hpp"
 #include "studies.hpp"
 
 namespace caliper::cli {
@@ -50,6 +52,40 @@ TEST(Table1Study, RegressorsReproduceTheirInputs) {
   }
   // Columns a regressor does not use are not reproduced exactly (the table is informative).
   EXPECT_GT(r.mean_abs(0, 2), kInputTolCm) << table1_markdown(r, false);  // R2, arm span
+}
+
+// The paper's Table 1 on the committed open models (docs/evaluation.md): every length a
+// regressor takes comes back to 1 mm, on each model, the neutral one too (its floor is the same
+// vertex for every body: mh::level_soles); the weight from volume of R2-R5 within 1 kg on
+// average (the tables: 0.2-1.0 kg). Not met, and so not asserted: R6's arm length on the neutral
+// model (1,000 bodies: mean 1.1 mm, max 4.6 mm; the arm's length is not linear in the neutral
+// model's betas), left for the next step (docs/evaluation.md).
+TEST(Table1Study, CommittedModelsGiveTheirLengthInputsBack) {
+  for (const char* sex : {"female", "male", "neutral"}) {
+    const ModelBundle b = bundle_for(smpl::load_model(
+        default_model_path(std::string(CALIPER_SOURCE_DIR) + "/assets/models", sex)));
+    const Table1Result r = table1_study(b, 40, 11);
+    for (size_t k = 0; k < r.regressors.size(); ++k) {
+      const auto kind = parse_regressor_kind(r.regressors[k]);
+      if (!kind) continue;  // the noise-aware row
+      for (const auto& id : regressor_inputs(*kind)) {
+        const auto c = static_cast<Eigen::Index>(
+            std::find(table1_columns().begin(), table1_columns().end(), id) -
+            table1_columns().begin());
+        const auto row = static_cast<Eigen::Index>(k);
+        const bool known_miss =
+            std::string(sex) == "neutral" && *kind == RegressorKind::R6 && id == "arm_length";
+        if (id != "weight" && !known_miss) {
+          EXPECT_LE(r.max_abs(row, c), kInputTolCm)
+              << sex << " " << r.regressors[k] << " " << id << "\n"
+              << table1_markdown(r, false);
+        } else if (*kind != RegressorKind::R6) {
+          EXPECT_LE(r.mean_abs(row, c), 1.0) << sex << " " << r.regressors[k] << " weight\n"
+                                             << table1_markdown(r, false);
+        }
+      }
+    }
+  }
 }
 
 TEST(Table1Study, ExactInputsReproduceEveryInputOnNoisyInput) {

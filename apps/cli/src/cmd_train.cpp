@@ -33,6 +33,8 @@ const std::vector<OptionSpec>& train_options() {
       {"gaussian", "", "N", "train on N Gaussian bodies instead of the 2^K corners", false},
       {"seed", "", "S", "random seed for --gaussian (default 1)", false},
       {"corner-sd", "", "SD", "corner distance in SD (default 2, as the paper)", false},
+      {"paper-intercept", "", "",
+       "the paper's least-squares intercept (default: the weight taken at the mean body)", false},
       {"save", "", "FILE", "write the fitted regressors as JSON", false},
       {"json", "", "", "print the report as JSON", false},
   };
@@ -62,6 +64,7 @@ TrainCommand train_command_from(const ParsedArgs& a) {
     opt.corner_sd = parse_number(*v, "--corner-sd");
     if (opt.corner_sd <= 0) throw UsageError("--corner-sd must be positive");
   }
+  opt.intercept_at_mean = a.flags.count("paper-intercept") == 0;
   if (a.get("sex")) c.sex = normalise_sex(*a.get("sex"));
   c.model = a.get("model");
   c.save = a.get("save");
@@ -194,6 +197,9 @@ int write_train_report(const TrainCommand& c, const TrainResult& r, Io& io) {
        << (opt.gaussian ? "Gaussian samples, seed " + std::to_string(opt.seed)
                         : "corners at +/-" + std::to_string(opt.corner_sd).substr(0, 4) + " SD")
        << ") over " << opt.num_betas << " betas; weight formula " << r.set.weight_formula.name
+       << "\nintercept: "
+       << (opt.intercept_at_mean ? "least squares, the weight taken at the mean body"
+                                 : "the paper's, least squares over the training set")
        << "\n\n";
   const Json stats = training_set_stats(r, text);
   text << "\nfit residuals (RMS over the training set of each input when the avatar is re-measured "
@@ -212,11 +218,14 @@ int write_train_report(const TrainCommand& c, const TrainResult& r, Io& io) {
   Json j = Json::object();
   j.set("command", "train");
   j.set("model", r.path);
-  j.set("training_set", Json::object({{"bodies", Json(r.set.size())},
-                                      {"betas", Json(opt.num_betas)},
-                                      {"kind", Json(opt.gaussian ? "gaussian" : "corners")},
-                                      {"weight_formula", Json(r.set.weight_formula.name)},
-                                      {"inputs", Json(stats)}}));
+  j.set("training_set",
+        Json::object(
+            {{"bodies", Json(r.set.size())},
+             {"betas", Json(opt.num_betas)},
+             {"kind", Json(opt.gaussian ? "gaussian" : "corners")},
+             {"weight_formula", Json(r.set.weight_formula.name)},
+             {"intercept", Json(opt.intercept_at_mean ? "weight at the mean body" : "paper")},
+             {"inputs", Json(stats)}}));
   j.set("linear", regs_json);
   if (r.regressors.noise_aware) j.set("noise_aware", na);
   j.set("seconds", r.seconds);

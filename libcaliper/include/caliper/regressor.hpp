@@ -77,12 +77,15 @@ class LinearRegressor {
  public:
   /// Least squares over `training` of betas on the features of `inputs` (any measurement ids
   /// of the training set, and "weight"). Throws InvalidInputError if an input is not in the set
-  /// or the set has fewer rows than inputs + 1.
+  /// or the set has fewer rows than inputs + 1. `intercept_at_mean`: the slopes as fitted, the
+  /// intercept with the weight feature at the mean body's value instead of its average over the
+  /// set (needs TrainingSet::mean_volume > 0; else the fitted intercept is kept).
   static LinearRegressor fit(const TrainingSet& training, const std::vector<std::string>& inputs,
-                             const ModelSignature& signature, const std::string& name = "");
+                             const ModelSignature& signature, const std::string& name = "",
+                             bool intercept_at_mean = false);
   /// The paper's regressor `kind`.
   static LinearRegressor fit(const TrainingSet& training, RegressorKind kind,
-                             const ModelSignature& signature);
+                             const ModelSignature& signature, bool intercept_at_mean = false);
 
   const std::string& name() const { return name_; }  ///< e.g. "R5"
   const std::vector<std::string>& inputs() const { return inputs_; }
@@ -196,6 +199,11 @@ struct TrainOptions {
   int gaussian_count = 1024;  ///< used when gaussian
   std::uint64_t seed = 1;     ///< used when gaussian
   bool noise_aware = true;    ///< also fit the noise-aware regressor
+  /// The linear regressors' intercept with the weight at the mean body (LinearRegressor::fit):
+  /// their slopes are the paper's; the paper's least-squares intercept over the corners (false)
+  /// carries the curvature of the cube root of the volume at the corners (+/-2 SD in all 10
+  /// components at once) into the weight of every avatar (docs/regressors.md).
+  bool intercept_at_mean = true;
   NoiseLevels noise = self_measurement_noise();
 };
 

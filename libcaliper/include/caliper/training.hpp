@@ -95,6 +95,9 @@ struct TrainingSet {
   Eigen::VectorXd volumes;       ///< N, m^3
   WeightFormula weight_formula;  ///< used for `weights`
   Eigen::VectorXd weights;       ///< N, kg (weight_from_volume of `volumes`)
+  /// The mean body's (betas 0) volume, m^3 (make_training_set measures it; 0 in a set made
+  /// otherwise).
+  double mean_volume = 0.0;
 
   int size() const { return static_cast<int>(betas.rows()); }
   /// Column of a measurement id, or of the derived ids "weight" (kg), "volume" (m^3) and
@@ -102,7 +105,8 @@ struct TrainingSet {
   Eigen::VectorXd column(const std::string& id) const;
 };
 
-/// Measures every row of `betas` (N x k) with `measurer`; weights by `formula`.
+/// Measures every row of `betas` (N x k) with `measurer`, and the mean body's volume; weights
+/// by `formula`.
 TrainingSet make_training_set(const ShapeMeasurer& measurer, const Eigen::MatrixXd& betas,
                               const WeightFormula& formula);
 
