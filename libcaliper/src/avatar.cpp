@@ -44,6 +44,10 @@ void finish(const smpl::BodyModel& model, const Eigen::VectorXd& betas,
 
 Avatar create_avatar(const smpl::BodyModel& model, const LinearRegressor& regressor,
                      const MeasurementMap& measurements, const AvatarOptions& options) {
+  if (options.prior) {
+    throw InvalidInputError("regressor " + regressor.name() +
+                            " cannot take a population prior; use the noise-aware regressor");
+  }
   if (options.check_model) regressor.signature().check(model);
   Avatar a;
   a.input = measurements;
@@ -65,7 +69,7 @@ Avatar create_avatar(const smpl::BodyModel& model, const NoiseAwareRegressor& re
   Avatar a;
   a.input = measurements;
   a.mapped = prepare(measurements, options, a.messages);
-  const Posterior post = regressor.predict(a.mapped, noise);
+  const Posterior post = regressor.predict(a.mapped, noise, options.prior);
   a.covariance = post.covariance;
   finish(model, post.mean, options, a);
   return a;

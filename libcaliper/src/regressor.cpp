@@ -412,8 +412,8 @@ NoiseAwareRegressor NoiseAwareRegressor::fit(const TrainingSet& training,
   return r;
 }
 
-Posterior NoiseAwareRegressor::predict(const MeasurementMap& values,
-                                       const NoiseLevels& noise) const {
+Posterior NoiseAwareRegressor::predict(const MeasurementMap& values, const NoiseLevels& noise,
+                                       const ShapePrior* prior) const {
   const Eigen::Index k = M_.cols();
   std::vector<Eigen::Index> rows;
   std::vector<double> f, var;
@@ -443,6 +443,19 @@ Posterior NoiseAwareRegressor::predict(const MeasurementMap& values,
   }
   Eigen::MatrixXd precision = Eigen::MatrixXd::Identity(k, k);
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(k);
+  if (prior) {  // N(mean, S): precision S^-1, and S^-1 mean on the right-hand side
+    if (prior->mean.size() != k || prior->covariance.rows() != k || prior->covariance.cols() != k) {
+      throw InvalidInputError("the shape prior is over " + std::to_string(prior->mean.size()) +
+                              " betas, the regressor has " + std::to_string(k));
+    }
+    const Eigen::LLT<Eigen::MatrixXd> s(prior->covariance);
+    if (s.info() != Eigen::Success || !prior->mean.allFinite()) {
+      throw InvalidInputError(
+          "the shape prior's covariance is not positive definite (or holds NaN)");
+    }
+    precision = s.solve(Eigen::MatrixXd::Identity(k, k));
+    rhs = precision * prior->mean;
+  }
   for (std::size_t u = 0; u < rows.size(); ++u) {
     const Eigen::VectorXd m = M_.row(rows[u]).transpose();
     precision.noalias() += m * m.transpose() / var[u];

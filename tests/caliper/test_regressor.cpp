@@ -167,6 +167,47 @@ TEST(NoiseAware, ClosedFormPosterior) {
   EXPECT_MATRIX_NEAR(p0.covariance, Eigen::MatrixXd::Identity(10, 10), 0.0);
 }
 
+TEST(NoiseAware, APopulationPriorIsTheClosedFormPosteriorUnderIt) {
+  // betas ~ N(mu, S) instead of N(0, I): precision S^-1 + M' N^-1 M, mean from S^-1 mu + M' N^-1
+  // (f - c). Without inputs the posterior is the prior; N(0, I) given is the default.
+  const AnalyticModel am;
+  const TrainingSet t = am.training(gaussian_betas(2000, 10, 8));
+  const NoiseLevels noise = self_measurement_noise();
+  const NoiseAwareRegressor r = NoiseAwareRegressor::fit(t, analytic_signature(), noise);
+  const Eigen::MatrixXd a = Eigen::MatrixXd::Random(10, 10) / 4.0;
+  ShapePrior prior;
+  prior.mean = Eigen::VectorXd::LinSpaced(10, -0.8, 0.6);
+  prior.covariance = a * a.transpose() + 0.2 * Eigen::MatrixXd::Identity(10, 10);
+  const Eigen::VectorXd b = gaussian_betas(1, 10, 7).row(0).transpose();
+  MeasurementMap in = am.values(b);
+  const MeasurementMap hw = {{"height", in.at("height")}, {"weight", in.at("weight")}};
+  const Posterior p = r.predict(hw, {}, &prior);
+  const Eigen::VectorXd f = am.features(b);
+  Eigen::MatrixXd Mu(2, 10);
+  Mu.row(0) = am.M.row(0);
+  Mu.row(1) = am.M.row(1);
+  Eigen::Vector2d var(noise.at("height"),
+                      noise.at("weight") / (3.0 * am.formula.coefficient * f(1) * f(1)));
+  var = var.cwiseProduct(var);
+  const Eigen::MatrixXd Ninv = var.cwiseInverse().asDiagonal();
+  const Eigen::MatrixXd Sinv = prior.covariance.inverse();
+  const Eigen::MatrixXd cov = (Sinv + Mu.transpose() * Ninv * Mu).inverse();
+  const Eigen::VectorXd mean =
+      cov * (Sinv * prior.mean + Mu.transpose() * Ninv * (f.head(2) - am.c.head(2)));
+  EXPECT_MATRIX_NEAR(p.mean, mean, 1e-9);
+  EXPECT_MATRIX_NEAR(p.covariance, cov, 1e-9);
+  const Posterior p0 = r.predict({}, {}, &prior);
+  EXPECT_MATRIX_NEAR(p0.mean, prior.mean, 1e-12);
+  EXPECT_MATRIX_NEAR(p0.covariance, prior.covariance, 1e-12);
+  ShapePrior standard{Eigen::VectorXd::Zero(10), Eigen::MatrixXd::Identity(10, 10)};
+  EXPECT_MATRIX_NEAR(r.predict(hw, {}, &standard).mean, r.predict(hw).mean, 1e-12);
+  // A prior of other size, or not positive definite, is refused.
+  ShapePrior small{Eigen::VectorXd::Zero(3), Eigen::MatrixXd::Identity(3, 3)};
+  EXPECT_THROW(r.predict(hw, {}, &small), InvalidInputError);
+  ShapePrior singular{Eigen::VectorXd::Zero(10), Eigen::MatrixXd::Zero(10, 10)};
+  EXPECT_THROW(r.predict(hw, {}, &singular), InvalidInputError);
+}
+
 TEST(NoiseAware, TinyNoiseGivesThePlainRegressor) {
   const AnalyticModel am;
   const TrainingSet t = am.training(corner_betas(10, 2.0));

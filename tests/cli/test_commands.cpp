@@ -325,6 +325,37 @@ TEST_F(Commands, ExportOptionsAreCheckedWithClearMessages) {
   EXPECT_NEAR((posed.joints.row(1) - rest.joints.row(1)).norm(), 0.0, kFloatTolM);
 }
 
+// `--population ansur2`: the likeliest soldier of that height and weight (the noise-aware
+// regressor with the model's ANSUR II population as its prior), whose waist is smaller than the
+// general population's body of the same height and weight (docs/evaluation.md, section 3).
+TEST_F(Commands, CreateForAPopulationTheModelCarries) {
+  const std::string open = std::string(CALIPER_SOURCE_DIR) + "/assets/models/caliper-female.npz";
+  const std::vector<std::string> who = {"create", "--model",  open,   "--height",
+                                        "165cm",  "--weight", "64kg", "--json"};
+  auto with = [&who](std::vector<std::string> more) {
+    std::vector<std::string> a = who;
+    a.insert(a.end(), more.begin(), more.end());
+    return a;
+  };
+  const CliRun soldier = run(with({"--population", "ansur2"}));
+  ASSERT_EQ(soldier.code, kExitOk) << soldier.err;
+  const Json s = parse_json(soldier.out);
+  EXPECT_EQ(s.at("regressor").as_string(), "noise-aware");
+  EXPECT_EQ(s.at("population").as_string(), "ansur2");
+  const CliRun general = run(with({"--regressor", "noise-aware"}));
+  ASSERT_EQ(general.code, kExitOk) << general.err;
+  const Json g = parse_json(general.out);
+  EXPECT_LT(s.at("achieved").at("waist_circumference").as_number(),
+            g.at("achieved").at("waist_circumference").as_number() - 0.01);
+  const CliRun r2 = run(with({"--population", "ansur2", "--regressor", "R2"}));
+  EXPECT_EQ(r2.code, kExitUsage);
+  EXPECT_TRUE(contains(r2.err, "--population takes the noise-aware regressor")) << r2.err;
+  const CliRun none = run({"create", "--model", model_, "--height", "170cm", "--weight", "66kg",
+                           "--force", "--population", "ansur2"});
+  EXPECT_EQ(none.code, kExitUsage);
+  EXPECT_TRUE(contains(none.err, "carries no population 'ansur2'")) << none.err;
+}
+
 TEST_F(Commands, CreateRecordsItsModelAndMeasureRefusesAnUnknownOpenModel) {
   const CliRun c = run({"create", "--model", model_, "--height", "170cm", "--weight", "66kg",
                         "--force", "--out", path("a.glb"), "-q"});

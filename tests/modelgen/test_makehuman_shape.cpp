@@ -23,11 +23,11 @@
 
 #include "caliper/circumference.hpp"
 #include "caliper/measurements.hpp"
+#include "caliper/population.hpp"
 #include "makehuman_measures.hpp"
 #include "makehuman_rig.hpp"
 #include "makehuman_shape.hpp"
 #include "makehuman_test_data.hpp"
-#include "population.hpp"
 #include "smpl/simd.hpp"
 
 namespace {
@@ -334,8 +334,8 @@ void check_populations(const Registered& s) {
   EXPECT_GT(betas_of(g, mean_a).norm(), 0.1) << "the soldiers' mean is the population's";
   // The model file carries each survey's population in its betas (population.hpp): the NHANES
   // men's moments as projected above, and the ANSUR II men's mean is the projected mean body.
-  const std::optional<modelgen::SurveyPopulation> pn = modelgen::survey_population(g, "nhanes");
-  const std::optional<modelgen::SurveyPopulation> pa = modelgen::survey_population(g, "ansur2");
+  const std::optional<caliper::SurveyPopulation> pn = caliper::survey_population(g, "nhanes");
+  const std::optional<caliper::SurveyPopulation> pa = caliper::survey_population(g, "ansur2");
   ASSERT_TRUE(pn && pa);
   EXPECT_EQ(pn->survey, "NHANES");
   EXPECT_EQ(pn->subjects, static_cast<int>(nhanes.size()));

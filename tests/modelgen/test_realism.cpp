@@ -14,7 +14,7 @@
 #include <utility>
 
 #include "ansur_stats.hpp"
-#include "population.hpp"
+#include "caliper/population.hpp"
 #include "smpl/evaluate.hpp"
 #include "smpl/io.hpp"
 #include "validation.hpp"
@@ -36,8 +36,8 @@ TEST_P(Realism, SampledBodiesMatchTheSurvey) {
       smpl::load_model(std::string(CALIPER_MODELS_DIR) + "/caliper-" + gender + ".npz");
   // A model whose betas ~ N(0, I) stand for another population (the v2 models: the general
   // adult population) carries the survey's own population in its betas; sampled from that.
-  const std::optional<modelgen::SurveyPopulation> ansur =
-      modelgen::survey_population(model, "ansur2");
+  const std::optional<caliper::SurveyPopulation> ansur =
+      caliper::survey_population(model, "ansur2");
   const modelgen::ValidationFigures m =
       modelgen::model_figures(model, kSamples, 2024, ansur ? &*ansur : nullptr);
   const modelgen::ValidationFigures s = modelgen::survey_figures(stats, gender);
@@ -67,8 +67,8 @@ TEST(Realism, HangingWristHeightOfTheMeanBodyMatchesTheSurvey) {
                                           std::pair<std::string, double>{"male", 847.5}}) {
     const smpl::BodyModel model =
         smpl::load_model(std::string(CALIPER_MODELS_DIR) + "/caliper-" + gender + ".npz");
-    const std::optional<modelgen::SurveyPopulation> ansur =
-        modelgen::survey_population(model, "ansur2");
+    const std::optional<caliper::SurveyPopulation> ansur =
+        caliper::survey_population(model, "ansur2");
     const smpl::Vertices v =
         ansur ? smpl::shape(model, ansur->mean).vertices : smpl::Vertices(model.v_template);
     const modelgen::HangingArms h = modelgen::hanging_arms(model, v);

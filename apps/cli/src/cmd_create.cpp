@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "caliper/errors.hpp"
+#include "caliper/population.hpp"
 #include "command_common.hpp"
 #include "commands.hpp"
 #include "export_options.hpp"
@@ -31,6 +32,7 @@ const app::HelpText kCreateHelp{
     "examples:\n"
     "  caliper create --sex female --height 168cm --weight 62kg --out avatar.glb --png avatar.png\n"
     "  caliper create --sex male --height 181cm --weight 84kg --out me.glb --shape-keys 10\n"
+    "  caliper create --sex female --height 165cm --weight 64kg --population ansur2\n"
     "  caliper create --sex male --height 181cm --weight 84kg --out me.fbx --bone-names smpl "
     "--pose apose.json"};
 }  // namespace
@@ -124,8 +126,10 @@ void require_inputs(const std::string& regressor, const MeasurementMap& inputs) 
 
 Avatar make_avatar(const ModelBundle& bundle, const std::string& regressor,
                    const MeasurementMap& inputs, const MeasurementMapping* mapping,
-                   bool circumferences, bool exact_inputs, bool check_model) {
+                   bool circumferences, bool exact_inputs, bool check_model,
+                   const ShapePrior* prior) {
   AvatarOptions o;
+  o.prior = prior;
   o.check_model = check_model;
   o.exact_inputs = exact_inputs;
   o.mapping = mapping;
@@ -172,6 +176,10 @@ std::vector<OptionSpec> create_options() {
       {"out", "o", "FILE", "write the avatar: .glb, .gltf, .vrm, .fbx, .obj or .ply", false},
       {"png", "", "FILE", "render the avatar to a PNG (three-quarter view)", false},
       {"json", "", "", "print a machine-readable JSON report instead of the text report", false},
+      {"population", "", "NAME",
+       "the person is of this population the model carries (ansur2: US Army soldiers, nhanes: "
+       "US adults): the noise-aware regressor with its shapes as the prior",
+       false},
       {"exact-inputs", "", "",
        "refine R2-R6 betas so that every input (weight too) is reproduced exactly", false},
       {"force", "", "", "create the avatar even when an input is outside the hard limits", false},
@@ -189,7 +197,7 @@ struct CreateOptions {
   bool imperial = false;  ///< an input was typed in imperial units: report in inches and pounds
   std::string sex = "neutral";
   std::string regressor;
-  std::optional<std::string> model, regressors, mapping, out, png;
+  std::optional<std::string> model, regressors, mapping, out, png, population;
   bool json = false, exact_inputs = false, force = false, quiet = false;
 };
 
@@ -207,6 +215,16 @@ CreateOptions create_options_from(const ParsedArgs& a) {
   if (a.get("sex")) o.sex = normalise_sex(*a.get("sex"));
   o.regressor = a.get("regressor") ? normalise_regressor_name(*a.get("regressor"))
                                    : default_regressor(o.inputs);
+  o.population = a.get("population");
+  if (o.population) {
+    if (a.get("regressor") && o.regressor != "noise-aware") {
+      throw UsageError(
+          "--population takes the noise-aware regressor (the population is its "
+          "prior); leave out --regressor " +
+          o.regressor);
+    }
+    o.regressor = "noise-aware";
+  }
   require_inputs(o.regressor, o.inputs);
   o.out = a.get("out");
   if (o.out && !is_avatar_extension(*o.out))
@@ -274,9 +292,24 @@ CreateResult run_create(const CreateOptions& opt, std::ostream& warn) {
   smpl::ExportOptions export_options;
   if (opt.out) export_options = read_export_options(opt.args, *opt.out, model);
 
+  std::optional<ShapePrior> prior;
+  if (opt.population) {
+    if (!r.bundle->regressors.noise_aware) {
+      throw RuntimeError(
+          "--population needs the noise-aware regressor; retrain with "
+          "caliper train --save FILE");
+    }
+    try {
+      prior = population_prior(
+          model, *opt.population,
+          static_cast<int>(r.bundle->regressors.noise_aware->forward_matrix().cols()));
+    } catch (const InvalidInputError& e) {
+      throw UsageError("--population " + *opt.population + ": " + e.what());
+    }
+  }
   const auto t_create = std::chrono::steady_clock::now();
   r.avatar = make_avatar(*r.bundle, opt.regressor, opt.inputs, r.mapping ? &*r.mapping : nullptr,
-                         true, opt.exact_inputs);
+                         true, opt.exact_inputs, true, prior ? &*prior : nullptr);
   r.create_s = seconds_since(t_create);
   if (!r.avatar.plausibility.plausible) {
     const std::string w =
@@ -302,7 +335,8 @@ CreateResult run_create(const CreateOptions& opt, std::ostream& warn) {
   return r;
 }
 
-Json create_report_json(const CreateResult& r, const std::string& regressor) {
+Json create_report_json(const CreateResult& r, const std::string& regressor,
+                        const std::optional<std::string>& population) {
   const Avatar& avatar = r.avatar;
   Json j = Json::object();
   j.set("command", "create");
@@ -315,6 +349,7 @@ Json create_report_json(const CreateResult& r, const std::string& regressor) {
   model.set("betas", r.bundle->model.num_betas());
   j.set("model", model);
   j.set("regressor", regressor);
+  if (population) j.set("population", *population);
   j.set("units",
         Json::object({{"length", Json("m")}, {"weight", Json("kg")}, {"volume", Json("m3")}}));
   j.set("input", measurements_json(avatar.input));
@@ -352,6 +387,7 @@ void write_create_text(const CreateOptions& opt, const CreateResult& r, std::ost
   out << "model: " << (model.meta.name.empty() ? "(unnamed)" : model.meta.name) << " ("
       << (model.meta.gender.empty() ? "?" : model.meta.gender) << ", " << r.bundle->path << ")\n"
       << "regressor: " << opt.regressor;
+  if (opt.population) out << ", prior: the model's population '" << *opt.population << "'";
   if (r.mapping) out << " with mapping " << *opt.mapping << " (input column: mapped values)";
   out << "\n\n"
       << measurement_table(r.mapping ? avatar.mapped : avatar.input, avatar.achieved, opt.imperial);
@@ -377,7 +413,7 @@ int write_create_report(const CreateOptions& opt, const CreateResult& r, Io& io)
               ".ply, to write one)\n";
   }
   if (opt.json) {
-    io.out << create_report_json(r, opt.regressor).dump(2) << "\n";
+    io.out << create_report_json(r, opt.regressor, opt.population).dump(2) << "\n";
   } else if (!opt.quiet) {
     write_create_text(opt, r, io.out);
   }

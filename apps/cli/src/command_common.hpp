@@ -33,9 +33,11 @@ void require_inputs(const std::string& regressor, const MeasurementMap& inputs);
 /// reproduced exactly (libcaliper's refine_to_inputs); off = the paper's linear prediction.
 /// `check_model` false: the caller has already checked the regressor against bundle.model
 /// (check_regressors_once), so the model fingerprint is not recomputed for this avatar.
+/// `prior` (noise-aware only): the population the person comes from (population_prior()).
 Avatar make_avatar(const ModelBundle& bundle, const std::string& regressor,
                    const MeasurementMap& inputs, const MeasurementMapping* mapping,
-                   bool circumferences, bool exact_inputs = false, bool check_model = true);
+                   bool circumferences, bool exact_inputs = false, bool check_model = true,
+                   const ShapePrior* prior = nullptr);
 
 /// Loads a mapping: a .json written by MeasurementMapping::save, or a .csv of paired values
 /// (fitted on the fly). Errors become RuntimeError naming the file.

@@ -8,12 +8,15 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <initializer_list>
+#include <optional>
 #include <sstream>
 
 #include <Eigen/QR>
 
 #include "caliper/avatar.hpp"
+#include "caliper/population.hpp"
 #include "caliper/training.hpp"
 #include "caliper/weight.hpp"
 #include "command_common.hpp"
@@ -280,6 +283,13 @@ const std::vector<std::string>& ansur_avatar_measurements() {
 
 namespace {
 
+/// A way to make an ANSUR avatar: its name in the table, the inputs it takes, the maker.
+struct AnsurMethod {
+  std::string name;
+  std::vector<std::string> inputs;
+  std::function<Avatar(const MeasurementMap&)> make;
+};
+
 /// Linear least squares baseline: target ~ [inputs, 1], fitted on `train`, MAE on `test`.
 AnsurRow linear_baseline(const std::vector<const Person*>& train,
                          const std::vector<const Person*>& test,
@@ -335,22 +345,47 @@ std::vector<AnsurRow> ansur_study(
           .push_back(&people[i]);
     }
     const std::string sex = people.empty() ? "" : people.front().sex;
+    // The paper's regressors and the noise-aware one (the model's own population, N(0, I)), then
+    // the noise-aware regressor with the model's ANSUR II population as its prior and the other
+    // measurer's noise (ANSUR's measurers are trained), from height and weight and from all six.
+    std::vector<AnsurMethod> methods;
     for (const std::string reg : {"R2", "R4", "R5", "noise-aware"}) {
+      methods.push_back(
+          {reg,
+           reg == "noise-aware" ? table1_columns() : regressor_inputs(*parse_regressor_kind(reg)),
+           [bundle = bundle, reg](const MeasurementMap& in) {
+             return make_avatar(*bundle, reg, in, nullptr, true);
+           }});
+    }
+    std::optional<ShapePrior> prior;
+    if (bundle->regressors.noise_aware && survey_population(bundle->model, "ansur2")) {
+      prior = population_prior(
+          bundle->model, "ansur2",
+          static_cast<int>(bundle->regressors.noise_aware->forward_matrix().cols()));
+      const auto with_prior = [bundle = bundle, &prior](const MeasurementMap& in) {
+        AvatarOptions o;
+        o.refuse_invalid = false;
+        o.prior = &*prior;
+        return create_avatar(bundle->model, *bundle->regressors.noise_aware, in, o,
+                             other_measurement_noise());
+      };
+      methods.push_back({"ANSUR II prior (H+W)", {"height", "weight"}, with_prior});
+      methods.push_back({"ANSUR II prior (6 inputs)", table1_columns(), with_prior});
+    }
+    for (const AnsurMethod& method : methods) {
       AnsurRow row;
       row.sex = sex;
-      row.method = reg;
+      row.method = method.name;
       const size_t T = ansur_targets().size();
       row.mae_mm.assign(T, 0.0);
       row.bias_mm.assign(T, 0.0);
       std::vector<int> counts(T, 0);
       for (const Person* q : test) {
         MeasurementMap in;
-        const auto& need =
-            reg == "noise-aware" ? table1_columns() : regressor_inputs(*parse_regressor_kind(reg));
-        for (const auto& id : need) in[id] = q->inputs.at(id);
+        for (const auto& id : method.inputs) in[id] = q->inputs.at(id);
         Avatar av;
         try {
-          av = make_avatar(*bundle, reg, in, nullptr, true);
+          av = method.make(in);
         } catch (const std::exception&) {
           ++row.failed;  // counted and reported, not hidden
           continue;

@@ -70,7 +70,9 @@ std::string simulation_markdown(const std::vector<SimulationRow>& rows);
 /// One row of the ANSUR study: MAE (mm) per target for one sex and one method.
 struct AnsurRow {
   std::string sex;
-  std::string method;           ///< R2, R4, R5, noise-aware, "linear (H+W)", "linear (6)"
+  /// R2, R4, R5, noise-aware, "ANSUR II prior (H+W)", "ANSUR II prior (6 inputs)" (models that
+  /// carry the ANSUR II population), "linear (H+W)", "linear (6 inputs)"
+  std::string method;
   std::vector<double> mae_mm;   ///< per ansur_targets()
   std::vector<double> bias_mm;  ///< mean signed error (avatar - survey)
   int subjects = 0;

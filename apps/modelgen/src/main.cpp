@@ -314,8 +314,8 @@ void write_shape_models(const modelgen::mh::Assets& assets, const smpl::BodyMode
 void print_validation(const std::string& validate, const std::string& stats_path, int samples) {
   const modelgen::SurveyStats st = modelgen::read_stats_table(stats_path);
   const smpl::BodyModel model = smpl::load_model(validate);
-  const std::optional<modelgen::SurveyPopulation> ansur =
-      modelgen::survey_population(model, "ansur2");
+  const std::optional<caliper::SurveyPopulation> ansur =
+      caliper::survey_population(model, "ansur2");
   const auto t0 = std::chrono::steady_clock::now();
   const modelgen::ValidationFigures m =
       modelgen::model_figures(model, samples, 12345, ansur ? &*ansur : nullptr);

@@ -24,12 +24,12 @@
 #include "ansur_stats.hpp"
 #include "caliper/circumference.hpp"
 #include "caliper/measurements.hpp"
+#include "caliper/population.hpp"
 #include "caliper/random.hpp"
 #include "caliper/volume.hpp"
 #include "caliper/weight.hpp"
 #include "makehuman_landmarks.hpp"
 #include "makehuman_measures.hpp"
-#include "population.hpp"
 #include "smpl/atomic_file.hpp"
 #include "validation.hpp"
 
@@ -949,12 +949,12 @@ void store_survey_populations(const std::vector<Subject>& subjects, const FitRes
     }
     if (rows.size() < 2) continue;
     const Moments m = weighted_moments(rows);
-    SurveyPopulation p;
+    caliper::SurveyPopulation p;
     p.survey = survey;
     p.subjects = static_cast<int>(rows.size());
     p.mean = m.mean;
     p.cov = 0.5 * (m.cov + m.cov.transpose());  // symmetric to the bit
-    set_survey_population(model, key, p);
+    caliper::set_survey_population(model, key, p);
   }
 }
 

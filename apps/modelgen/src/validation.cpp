@@ -231,12 +231,13 @@ ValidationFigures survey_figures(const SurveyStats& stats, const std::string& ge
 }
 
 ValidationFigures model_figures(const smpl::BodyModel& model, int samples, std::uint64_t seed,
-                                const SurveyPopulation* population) {
+                                const caliper::SurveyPopulation* population) {
   const DeterministicNumerics pinned;
   Rng rng(seed);
   std::map<std::string, std::vector<double>> vals;
   Eigen::VectorXd betas(model.num_betas());
-  const Eigen::MatrixXd factor = population ? sampling_factor(population->cov) : Eigen::MatrixXd();
+  const Eigen::MatrixXd factor =
+      population ? caliper::sampling_factor(population->cov) : Eigen::MatrixXd();
   for (int b = 0; b < samples; ++b) {
     for (int k = 0; k < betas.size(); ++k) {
       betas[k] = rng.normal();

@@ -16,8 +16,8 @@
 
 #include "ansur_stats.hpp"
 #include "caliper/measurements.hpp"
+#include "caliper/population.hpp"
 #include "caliper/random.hpp"
-#include "population.hpp"
 #include "smpl/body_model.hpp"
 
 namespace modelgen {
@@ -84,7 +84,7 @@ ValidationFigures survey_figures(const SurveyStats& stats, const std::string& ge
 /// population->cov) when `population` is given (a survey's subjects in the model's shape space,
 /// population.hpp), and measures them with libcaliper (validation_measurements()).
 ValidationFigures model_figures(const smpl::BodyModel& model, int samples, std::uint64_t seed,
-                                const SurveyPopulation* population = nullptr);
+                                const caliper::SurveyPopulation* population = nullptr);
 
 /// Makes the generator's arithmetic independent of the CPU it runs on, for its lifetime, so the
 /// models come out byte-identical on every x86-64 machine (issue 18; docs/models.md):

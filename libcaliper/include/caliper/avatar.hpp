@@ -46,6 +46,9 @@ struct AvatarOptions {
   /// The model's landmarks and closedness made once (ModelMeasureInfo(model), from this same
   /// model) by a caller that makes many avatars of one model; null: worked out per avatar.
   const ModelMeasureInfo* model_info = nullptr;
+  /// Noise-aware regressor only: the population the person comes from (population_prior()),
+  /// instead of the model's own N(0, I). A plain regressor refuses it (InvalidInputError).
+  const ShapePrior* prior = nullptr;
 };
 
 /// Gauss-Newton refinement of `betas` (k <= model.num_betas() values) so that the rest-pose

@@ -129,6 +129,14 @@ NoiseLevels other_measurement_noise();
 constexpr double kMaeToSd = 1.2533141373155001;
 
 /// Posterior over the betas.
+/// A population's shape distribution over a regressor's betas: betas ~ N(mean, covariance)
+/// (caliper::population_prior() reads one from a model file). Without one, a model's betas ~
+/// N(0, I): the population the model was made for.
+struct ShapePrior {
+  Eigen::VectorXd mean;        ///< k
+  Eigen::MatrixXd covariance;  ///< k x k, symmetric positive definite
+};
+
 struct Posterior {
   Eigen::VectorXd mean;                  ///< k, the avatar's betas
   Eigen::MatrixXd covariance;            ///< k x k
@@ -156,9 +164,12 @@ class NoiseAwareRegressor {
   const Eigen::VectorXd& linearisation_rms() const { return lin_rms_; }
 
   /// Posterior for whichever of inputs() appear in `values` (extra keys ignored; none at all
-  /// gives the prior). `noise` overrides the stored levels per id. Throws InvalidInputError
-  /// for bad values or a non-positive noise level.
-  Posterior predict(const MeasurementMap& values, const NoiseLevels& noise = {}) const;
+  /// gives the prior). `noise` overrides the stored levels per id. `prior`: the population the
+  /// person comes from (default N(0, I), the model's own); the posterior mean is then the
+  /// population's likeliest body given the inputs. Throws InvalidInputError for bad values, a
+  /// non-positive noise level, or a prior of other size or not positive definite.
+  Posterior predict(const MeasurementMap& values, const NoiseLevels& noise = {},
+                    const ShapePrior* prior = nullptr) const;
 
   Json to_json() const;
   static NoiseAwareRegressor from_json(const Json& json);

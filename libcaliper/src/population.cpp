@@ -1,6 +1,6 @@
 /// \file population.cpp
 /// Survey populations in a model's metadata (population.hpp). JSON through nlohmann-json.
-#include "population.hpp"
+#include "caliper/population.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -8,7 +8,9 @@
 #include <Eigen/Eigenvalues>
 #include <nlohmann/json.hpp>
 
-namespace modelgen {
+#include "caliper/errors.hpp"
+
+namespace caliper {
 
 std::string population_meta_key(const std::string& key) {
   return "population." + key;
@@ -88,4 +90,29 @@ Eigen::MatrixXd sampling_factor(const Eigen::MatrixXd& cov) {
   return eig.eigenvectors() * root.asDiagonal() * eig.eigenvectors().transpose();
 }
 
-}  // namespace modelgen
+std::vector<std::string> population_keys(const smpl::BodyModel& model) {
+  const std::string prefix = population_meta_key("");
+  std::vector<std::string> keys;
+  for (const auto& [key, value] : model.meta.extra) {
+    if (key.compare(0, prefix.size(), prefix) == 0) keys.push_back(key.substr(prefix.size()));
+  }
+  return keys;  // meta.extra is a sorted map
+}
+
+ShapePrior population_prior(const smpl::BodyModel& model, const std::string& key, int k) {
+  const std::optional<SurveyPopulation> p = survey_population(model, key);
+  if (!p) {
+    std::string have;
+    for (const std::string& s : population_keys(model)) have += (have.empty() ? "" : ", ") + s;
+    throw InvalidInputError("the model '" + model.meta.name + "' carries no population '" + key +
+                            "' (" + (have.empty() ? "it carries none" : "it carries: " + have) +
+                            "; the open models carry ansur2 and nhanes)");
+  }
+  if (k <= 0 || k > p->mean.size()) {
+    throw InvalidInputError("population '" + key + "' is over " + std::to_string(p->mean.size()) +
+                            " betas; " + std::to_string(k) + " were asked for");
+  }
+  return {p->mean.head(k), p->cov.topLeftCorner(k, k)};
+}
+
+}  // namespace caliper

@@ -4,18 +4,22 @@
 /// (the v2 models: the general adult population); the subjects of a survey (ANSUR II's soldiers)
 /// are another, and sampling them needs their own moments. The generator writes them into the
 /// model file's metadata (BodyModel::meta.extra["population.<key>"], JSON: survey, subjects, mean,
-/// cov), and the validation samples from them (caliper-modelgen --validate, tests/modelgen
-/// Realism).
+/// cov), the validation samples from them (caliper-modelgen --validate, tests/modelgen
+/// Realism), and the noise-aware regressor takes one as its prior to make the avatar of a person
+/// of that population (population_prior(); `caliper create --population`, `caliper evaluate
+/// ansur`).
 #pragma once
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
+#include "caliper/regressor.hpp"
 #include "smpl/body_model.hpp"
 
-namespace modelgen {
+namespace caliper {
 
 /// The betas of one survey's subjects in a model's shape space.
 struct SurveyPopulation {
@@ -39,8 +43,17 @@ void set_survey_population(smpl::BodyModel& model, const std::string& key,
 std::optional<SurveyPopulation> survey_population(const smpl::BodyModel& model,
                                                   const std::string& key);
 
+/// The populations `model` carries (the keys of its "population.<key>" metadata, sorted).
+std::vector<std::string> population_keys(const smpl::BodyModel& model);
+
+/// Population `key` of `model` as the prior of a regressor over its first `k` betas (the mean's
+/// head and the covariance's top-left block). Throws InvalidInputError naming the populations
+/// the model carries when it has no population `key`, or when k exceeds the model's betas;
+/// std::runtime_error for a malformed entry (survey_population()).
+ShapePrior population_prior(const smpl::BodyModel& model, const std::string& key, int k);
+
 /// A matrix L with L L' = cov (symmetric square root of the positive part: works for a
 /// semi-definite covariance), for drawing betas = mean + L n, n ~ N(0, I).
 Eigen::MatrixXd sampling_factor(const Eigen::MatrixXd& cov);
 
-}  // namespace modelgen
+}  // namespace caliper
