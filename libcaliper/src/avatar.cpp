@@ -28,11 +28,13 @@ MeasurementMap prepare(const MeasurementMap& input, const AvatarOptions& options
   return options.mapping ? options.mapping->apply(input) : input;
 }
 
+// `betas` (at most the model's), the first `judged` of them the regressor's, whose plausibility
+// is reported (all of them when `judged` < 0).
 void finish(const smpl::BodyModel& model, const Eigen::VectorXd& betas,
-            const AvatarOptions& options, Avatar& a) {
+            const AvatarOptions& options, Avatar& a, Eigen::Index judged = -1) {
   a.betas = Eigen::VectorXd::Zero(model.num_betas());
   a.betas.head(betas.size()) = betas;
-  a.plausibility = plausibility(betas);
+  a.plausibility = plausibility(judged < 0 ? betas : betas.head(judged).eval());
   a.vertices = shaped_vertices(model, a.betas);
   MeasureOptions mo;
   mo.circumferences = options.circumferences;
@@ -71,7 +73,21 @@ Avatar create_avatar(const smpl::BodyModel& model, const NoiseAwareRegressor& re
   a.mapped = prepare(measurements, options, a.messages);
   const Posterior post = regressor.predict(a.mapped, noise, options.prior);
   a.covariance = post.covariance;
-  finish(model, post.mean, options, a);
+  const ShapePrior* p = options.prior;
+  const Eigen::Index k = post.mean.size();
+  if (p == nullptr || p->mean.size() == k) {
+    finish(model, post.mean, options, a);
+    return a;
+  }
+  // The population's betas beyond the regressor's: their mean given the regressor's,
+  // mu_r + S_rk S_kk^-1 (beta_k - mu_k) (the model's own N(0, I) would leave them at 0).
+  const Eigen::Index rest = std::min<Eigen::Index>(p->mean.size(), model.num_betas()) - k;
+  Eigen::VectorXd betas(k + rest);
+  betas.head(k) = post.mean;
+  const Eigen::LLT<Eigen::MatrixXd> s(p->covariance.topLeftCorner(k, k));
+  betas.tail(rest) = p->mean.segment(k, rest) +
+                     p->covariance.block(k, 0, rest, k) * s.solve(post.mean - p->mean.head(k));
+  finish(model, betas, options, a, k);
   return a;
 }
 

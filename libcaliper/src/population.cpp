@@ -99,7 +99,7 @@ std::vector<std::string> population_keys(const smpl::BodyModel& model) {
   return keys;  // meta.extra is a sorted map
 }
 
-ShapePrior population_prior(const smpl::BodyModel& model, const std::string& key, int k) {
+ShapePrior population_prior(const smpl::BodyModel& model, const std::string& key) {
   const std::optional<SurveyPopulation> p = survey_population(model, key);
   if (!p) {
     std::string have;
@@ -108,11 +108,7 @@ ShapePrior population_prior(const smpl::BodyModel& model, const std::string& key
                             "' (" + (have.empty() ? "it carries none" : "it carries: " + have) +
                             "; the open models carry ansur2 and nhanes)");
   }
-  if (k <= 0 || k > p->mean.size()) {
-    throw InvalidInputError("population '" + key + "' is over " + std::to_string(p->mean.size()) +
-                            " betas; " + std::to_string(k) + " were asked for");
-  }
-  return {p->mean.head(k), p->cov.topLeftCorner(k, k)};
+  return {p->mean, p->cov};
 }
 
 }  // namespace caliper

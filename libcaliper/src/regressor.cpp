@@ -444,17 +444,18 @@ Posterior NoiseAwareRegressor::predict(const MeasurementMap& values, const Noise
   Eigen::MatrixXd precision = Eigen::MatrixXd::Identity(k, k);
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(k);
   if (prior) {  // N(mean, S): precision S^-1, and S^-1 mean on the right-hand side
-    if (prior->mean.size() != k || prior->covariance.rows() != k || prior->covariance.cols() != k) {
-      throw InvalidInputError("the shape prior is over " + std::to_string(prior->mean.size()) +
+    const Eigen::Index b = prior->mean.size();
+    if (b < k || prior->covariance.rows() != b || prior->covariance.cols() != b) {
+      throw InvalidInputError("the shape prior is over " + std::to_string(b) +
                               " betas, the regressor has " + std::to_string(k));
     }
-    const Eigen::LLT<Eigen::MatrixXd> s(prior->covariance);
+    const Eigen::LLT<Eigen::MatrixXd> s(prior->covariance.topLeftCorner(k, k));
     if (s.info() != Eigen::Success || !prior->mean.allFinite()) {
       throw InvalidInputError(
           "the shape prior's covariance is not positive definite (or holds NaN)");
     }
     precision = s.solve(Eigen::MatrixXd::Identity(k, k));
-    rhs = precision * prior->mean;
+    rhs = precision * prior->mean.head(k);
   }
   for (std::size_t u = 0; u < rows.size(); ++u) {
     const Eigen::VectorXd m = M_.row(rows[u]).transpose();

@@ -75,7 +75,7 @@ TEST(Population, PriorOfARegressorsBetasAndWhatAModelWithoutOneSays) {
   smpl::BodyModel m = model_with_betas(4);
   m.meta.name = "test-model";
   try {
-    caliper::population_prior(m, "ansur2", 3);
+    caliper::population_prior(m, "ansur2");
     ADD_FAILURE() << "no population, no prior";
   } catch (const caliper::InvalidInputError& e) {
     EXPECT_NE(std::string(e.what()).find("carries no population 'ansur2' (it carries none"),
@@ -85,12 +85,11 @@ TEST(Population, PriorOfARegressorsBetasAndWhatAModelWithoutOneSays) {
   const caliper::SurveyPopulation p = example(4);
   caliper::set_survey_population(m, "ansur2", p);
   EXPECT_EQ(caliper::population_keys(m), std::vector<std::string>{"ansur2"});
-  const caliper::ShapePrior prior = caliper::population_prior(m, "ansur2", 3);
-  EXPECT_TRUE(prior.mean == p.mean.head(3));
-  EXPECT_TRUE(prior.covariance == p.cov.topLeftCorner(3, 3));
-  EXPECT_THROW(caliper::population_prior(m, "ansur2", 5), caliper::InvalidInputError);
+  const caliper::ShapePrior prior = caliper::population_prior(m, "ansur2");
+  EXPECT_TRUE(prior.mean == p.mean);
+  EXPECT_TRUE(prior.covariance == p.cov);
   try {
-    caliper::population_prior(m, "soldiers", 3);
+    caliper::population_prior(m, "soldiers");
     ADD_FAILURE() << "unknown population";
   } catch (const caliper::InvalidInputError& e) {
     EXPECT_NE(std::string(e.what()).find("it carries: ansur2"), std::string::npos) << e.what();

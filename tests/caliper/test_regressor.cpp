@@ -201,7 +201,12 @@ TEST(NoiseAware, APopulationPriorIsTheClosedFormPosteriorUnderIt) {
   EXPECT_MATRIX_NEAR(p0.covariance, prior.covariance, 1e-12);
   ShapePrior standard{Eigen::VectorXd::Zero(10), Eigen::MatrixXd::Identity(10, 10)};
   EXPECT_MATRIX_NEAR(r.predict(hw, {}, &standard).mean, r.predict(hw).mean, 1e-12);
-  // A prior of other size, or not positive definite, is refused.
+  // A prior over more betas: its leading block is the regressor's prior.
+  ShapePrior wide{Eigen::VectorXd::Zero(12), Eigen::MatrixXd::Identity(12, 12)};
+  wide.mean.head(10) = prior.mean;
+  wide.covariance.topLeftCorner(10, 10) = prior.covariance;
+  EXPECT_MATRIX_NEAR(r.predict(hw, {}, &wide).mean, p.mean, 0.0);
+  // A prior over fewer betas, or not positive definite, is refused.
   ShapePrior small{Eigen::VectorXd::Zero(3), Eigen::MatrixXd::Identity(3, 3)};
   EXPECT_THROW(r.predict(hw, {}, &small), InvalidInputError);
   ShapePrior singular{Eigen::VectorXd::Zero(10), Eigen::MatrixXd::Zero(10, 10)};
@@ -298,6 +303,35 @@ TEST_F(BodyModelRegressors, TheWeightEntersTheInterceptAtTheMeanBody) {
     EXPECT_TRUE(a.leftCols(m) == b.leftCols(m)) << set_->linear[k].name();
     EXPECT_TRUE(a.col(m).isApprox(b.col(m) - b.col(w) * shift, 1e-12)) << set_->linear[k].name();
   }
+}
+
+TEST_F(BodyModelRegressors, APopulationPriorSetsTheBetasBeyondTheRegressorsToTheirMeanGivenThem) {
+  // A regressor of 6 betas on a 10-beta model, a population over all 10: betas 7-10 of the avatar
+  // are mu_r + S_rk S_kk^-1 (beta_k - mu_k); the plausibility counts the regressor's 6.
+  TrainOptions six;
+  six.num_betas = 6;
+  const RegressorSet s = train_regressors(*model_, six);
+  ASSERT_TRUE(s.noise_aware.has_value());
+  ShapePrior p;
+  p.mean = Eigen::VectorXd::LinSpaced(10, -0.5, 0.4);
+  const Eigen::MatrixXd a = Eigen::MatrixXd::Random(10, 10) / 3.0;
+  p.covariance = a * a.transpose() + 0.3 * Eigen::MatrixXd::Identity(10, 10);
+  const Eigen::VectorXd truth = gaussian_betas(1, 10, 79).row(0).transpose();
+  const MeasurementMap m = measure_all(*model_, shaped_vertices(*model_, truth), {false, true});
+  AvatarOptions o;
+  o.prior = &p;
+  o.refuse_invalid = false;
+  o.circumferences = false;
+  const Avatar av = create_avatar(*model_, *s.noise_aware, m, o);
+  ASSERT_EQ(av.betas.size(), 10);
+  const Eigen::VectorXd k = av.betas.head(6);
+  const Eigen::VectorXd rest = p.mean.tail(4) + p.covariance.block(6, 0, 4, 6) *
+                                                    p.covariance.topLeftCorner(6, 6).inverse() *
+                                                    (k - p.mean.head(6));
+  EXPECT_MATRIX_NEAR(av.betas.tail(4), rest, 1e-10);
+  EXPECT_EQ(av.plausibility.dof, 6);
+  // A plain regressor refuses a prior.
+  EXPECT_THROW(create_avatar(*model_, set_->linear.front(), m, o), InvalidInputError);
 }
 
 TEST_F(BodyModelRegressors, ExactInputsAreReproducedExactly) {

@@ -94,9 +94,10 @@ TEST(Table1Study, CommittedModelsGiveTheirLengthInputsBack) {
 
 // Issue 11, "Must show" 3 on the committed models: held-out ANSUR II soldiers' girths from height
 // and weight, with the model's ANSUR II population as the prior, within 1.1x of the direct linear
-// baseline (chest, waist, buttock, thigh) and the thigh's bias within +/-10 mm. Every 25th subject
-// held out here (docs/evaluation.md: every 5th). Not met, and so not asserted: the men's thigh
-// (every 5th: 23.8 vs 17.8 mm, bias +18.9 mm), left for the next step.
+// baseline (chest, waist, buttock, thigh) and the thigh's bias within +/-10 mm. Every 5th subject
+// held out, as in docs/evaluation.md (fewer are too noisy for a 1.1x bound: every 25th puts the
+// women's thigh at 1.10x, every 10th the men's waist at 1.11x). Not met, and so not asserted: the
+// men's thigh (24.6 vs 17.8 mm, bias +20.3 mm), left for the next step.
 TEST(AnsurStudy, TheAnsurPriorMatchesTheLinearBaselineOnTheCommittedModels) {
   const std::string dir = CALIPER_ANSUR_DIR;
   if (!std::filesystem::exists(dir + "/ANSUR_II_MALE_Public.csv")) {
@@ -108,7 +109,7 @@ TEST(AnsurStudy, TheAnsurPriorMatchesTheLinearBaselineOnTheCommittedModels) {
   std::vector<std::pair<std::vector<Person>, const ModelBundle*>> groups;
   groups.emplace_back(read_ansur_csv(dir + "/ANSUR_II_MALE_Public.csv"), &male);
   groups.emplace_back(read_ansur_csv(dir + "/ANSUR_II_FEMALE_Public.csv"), &female);
-  const std::vector<AnsurRow> rows = ansur_study(groups, 25);
+  const std::vector<AnsurRow> rows = ansur_study(groups, 5);
   for (const char* sex : {"male", "female"}) {
     const auto row = [&](const std::string& method) {
       const auto it = std::find_if(rows.begin(), rows.end(), [&](const AnsurRow& r) {

@@ -300,9 +300,7 @@ CreateResult run_create(const CreateOptions& opt, std::ostream& warn) {
           "caliper train --save FILE");
     }
     try {
-      prior = population_prior(
-          model, *opt.population,
-          static_cast<int>(r.bundle->regressors.noise_aware->forward_matrix().cols()));
+      prior = population_prior(model, *opt.population);
     } catch (const InvalidInputError& e) {
       throw UsageError("--population " + *opt.population + ": " + e.what());
     }

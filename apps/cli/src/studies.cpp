@@ -359,9 +359,7 @@ std::vector<AnsurRow> ansur_study(
     }
     std::optional<ShapePrior> prior;
     if (bundle->regressors.noise_aware && survey_population(bundle->model, "ansur2")) {
-      prior = population_prior(
-          bundle->model, "ansur2",
-          static_cast<int>(bundle->regressors.noise_aware->forward_matrix().cols()));
+      prior = population_prior(bundle->model, "ansur2");
       const auto with_prior = [bundle = bundle, &prior](const MeasurementMap& in) {
         AvatarOptions o;
         o.refuse_invalid = false;

@@ -46,11 +46,11 @@ std::optional<SurveyPopulation> survey_population(const smpl::BodyModel& model,
 /// The populations `model` carries (the keys of its "population.<key>" metadata, sorted).
 std::vector<std::string> population_keys(const smpl::BodyModel& model);
 
-/// Population `key` of `model` as the prior of a regressor over its first `k` betas (the mean's
-/// head and the covariance's top-left block). Throws InvalidInputError naming the populations
-/// the model carries when it has no population `key`, or when k exceeds the model's betas;
-/// std::runtime_error for a malformed entry (survey_population()).
-ShapePrior population_prior(const smpl::BodyModel& model, const std::string& key, int k);
+/// Population `key` of `model` as a shape prior over all the model's betas (a regressor uses its
+/// leading block; ShapePrior). Throws InvalidInputError naming the populations the model carries
+/// when it has no population `key`; std::runtime_error for a malformed entry
+/// (survey_population()).
+ShapePrior population_prior(const smpl::BodyModel& model, const std::string& key);
 
 /// A matrix L with L L' = cov (symmetric square root of the positive part: works for a
 /// semi-definite covariance), for drawing betas = mean + L n, n ~ N(0, I).

@@ -129,12 +129,13 @@ NoiseLevels other_measurement_noise();
 constexpr double kMaeToSd = 1.2533141373155001;
 
 /// Posterior over the betas.
-/// A population's shape distribution over a regressor's betas: betas ~ N(mean, covariance)
-/// (caliper::population_prior() reads one from a model file). Without one, a model's betas ~
-/// N(0, I): the population the model was made for.
+/// A population's shape distribution: betas ~ N(mean, covariance), over at least a regressor's
+/// betas (its leading block is the regressor's prior; create_avatar() sets the betas beyond the
+/// regressor's to their mean given the regressor's). caliper::population_prior() reads one from
+/// a model file. Without one, a model's betas ~ N(0, I): the population the model was made for.
 struct ShapePrior {
-  Eigen::VectorXd mean;        ///< k
-  Eigen::MatrixXd covariance;  ///< k x k, symmetric positive definite
+  Eigen::VectorXd mean;        ///< b >= the regressor's k
+  Eigen::MatrixXd covariance;  ///< b x b, symmetric, its leading k x k block positive definite
 };
 
 struct Posterior {
@@ -165,9 +166,10 @@ class NoiseAwareRegressor {
 
   /// Posterior for whichever of inputs() appear in `values` (extra keys ignored; none at all
   /// gives the prior). `noise` overrides the stored levels per id. `prior`: the population the
-  /// person comes from (default N(0, I), the model's own); the posterior mean is then the
-  /// population's likeliest body given the inputs. Throws InvalidInputError for bad values, a
-  /// non-positive noise level, or a prior of other size or not positive definite.
+  /// person comes from (default N(0, I), the model's own; its leading k x k block is used); the
+  /// posterior mean is then the population's likeliest body given the inputs. Throws
+  /// InvalidInputError for bad values, a non-positive noise level, or a prior over fewer betas
+  /// or not positive definite.
   Posterior predict(const MeasurementMap& values, const NoiseLevels& noise = {},
                     const ShapePrior* prior = nullptr) const;
 
