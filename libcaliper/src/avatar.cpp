@@ -75,18 +75,21 @@ Avatar create_avatar(const smpl::BodyModel& model, const NoiseAwareRegressor& re
   a.covariance = post.covariance;
   const ShapePrior* p = options.prior;
   const Eigen::Index k = post.mean.size();
-  if (p == nullptr || p->mean.size() == k) {
-    finish(model, post.mean, options, a);
-    return a;
+  Eigen::VectorXd betas = post.mean;
+  if (p != nullptr && p->mean.size() > k) {
+    // The population's betas beyond the regressor's: their mean given the regressor's,
+    // mu_r + S_rk S_kk^-1 (beta_k - mu_k) (the model's own N(0, I) would leave them at 0).
+    const Eigen::Index rest = std::min<Eigen::Index>(p->mean.size(), model.num_betas()) - k;
+    betas.conservativeResize(k + rest);
+    const Eigen::LLT<Eigen::MatrixXd> s(p->covariance.topLeftCorner(k, k));
+    betas.tail(rest) = p->mean.segment(k, rest) +
+                       p->covariance.block(k, 0, rest, k) * s.solve(post.mean - p->mean.head(k));
   }
-  // The population's betas beyond the regressor's: their mean given the regressor's,
-  // mu_r + S_rk S_kk^-1 (beta_k - mu_k) (the model's own N(0, I) would leave them at 0).
-  const Eigen::Index rest = std::min<Eigen::Index>(p->mean.size(), model.num_betas()) - k;
-  Eigen::VectorXd betas(k + rest);
-  betas.head(k) = post.mean;
-  const Eigen::LLT<Eigen::MatrixXd> s(p->covariance.topLeftCorner(k, k));
-  betas.tail(rest) = p->mean.segment(k, rest) +
-                     p->covariance.block(k, 0, rest, k) * s.solve(post.mean - p->mean.head(k));
+  if (options.exact_inputs) {  // every given input, from the posterior mean
+    MeasurementMap targets;
+    for (const auto& id : post.used_inputs) targets[id] = a.mapped.at(id);
+    betas = refine_to_inputs(model, betas, targets, regressor.weight_formula());
+  }
   finish(model, betas, options, a, k);
   return a;
 }

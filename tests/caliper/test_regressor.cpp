@@ -330,6 +330,14 @@ TEST_F(BodyModelRegressors, APopulationPriorSetsTheBetasBeyondTheRegressorsToThe
                                                     (k - p.mean.head(6));
   EXPECT_MATRIX_NEAR(av.betas.tail(4), rest, 1e-10);
   EXPECT_EQ(av.plausibility.dof, 6);
+  // With exact inputs every input comes back (from the population's posterior mean).
+  AvatarOptions exact = o;
+  exact.exact_inputs = true;
+  const Avatar ex = create_avatar(*model_, *s.noise_aware, m, exact);
+  for (const auto& [id, value] : m) {
+    if (std::find(kSix.begin(), kSix.end(), id) == kSix.end()) continue;
+    EXPECT_NEAR(ex.achieved.at(id), value, id == "weight" ? 1e-6 : 1e-8) << id;
+  }
   // A plain regressor refuses a prior.
   EXPECT_THROW(create_avatar(*model_, set_->linear.front(), m, o), InvalidInputError);
 }

@@ -159,8 +159,7 @@ const std::vector<OptionSpec>& batch_options() {
       {"jobs", "j", "N", "parallel jobs (default: the number of cores)", false},
       {"limit", "", "N", "process only the first N people", false},
       {"circumferences", "", "", "also measure circumferences (slices the mesh; slower)", false},
-      {"exact-inputs", "", "", "refine R2-R6 betas to reproduce every input exactly (slower)",
-       false},
+      {"exact-inputs", "", "", "refine the betas to reproduce every input exactly (slower)", false},
       {"force", "", "", "create avatars even for inputs outside the hard limits", false},
   };
   return specs;

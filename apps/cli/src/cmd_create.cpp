@@ -181,7 +181,7 @@ std::vector<OptionSpec> create_options() {
        "US adults): the noise-aware regressor with its shapes as the prior",
        false},
       {"exact-inputs", "", "",
-       "refine R2-R6 betas so that every input (weight too) is reproduced exactly", false},
+       "refine the betas so that every input (weight too) is reproduced exactly", false},
       {"force", "", "", "create the avatar even when an input is outside the hard limits", false},
       {"quiet", "q", "", "print nothing but errors and warnings", false},
   };

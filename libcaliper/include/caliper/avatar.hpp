@@ -34,9 +34,9 @@ struct AvatarOptions {
   const MeasurementMapping* mapping = nullptr;  ///< applied to the inputs first, if given
   bool circumferences = true;                   ///< in `achieved`
   bool refuse_invalid = true;  ///< throw InvalidInputError when validation finds an Error
-  /// Plain regressors only: after the paper's linear prediction, refine the betas with
-  /// refine_to_inputs() so that every input (weight included) is reproduced exactly. Off by
-  /// default (the paper's behaviour).
+  /// After the regressor's prediction (the paper's linear one, or the noise-aware posterior
+  /// mean), refine the betas with refine_to_inputs() so that every given input (weight included)
+  /// is reproduced exactly. Off by default (the paper's behaviour).
   bool exact_inputs = false;
   /// Check the regressor's model signature against `model` (ModelMismatchError). The check
   /// computes the model's fingerprint (a pass over the template and shape directions); a caller
