@@ -130,7 +130,9 @@ TEST(AnsurStudy, TheAnsurPriorMatchesTheLinearBaselineOnTheCommittedModels) {
           << sex << " " << ansur_targets()[t] << "\n"
           << ansur_markdown(rows);
     }
-    if (!men) EXPECT_LE(std::abs(avatar.bias_mm[3]), 10.0) << ansur_markdown(rows);
+    if (!men) {
+      EXPECT_LE(std::abs(avatar.bias_mm[3]), 10.0) << ansur_markdown(rows);
+    }
   }
 }
 
