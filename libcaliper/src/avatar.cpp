@@ -85,7 +85,7 @@ Avatar create_avatar(const smpl::BodyModel& model, const NoiseAwareRegressor& re
     betas.tail(rest) = p->mean.segment(k, rest) +
                        p->covariance.block(k, 0, rest, k) * s.solve(post.mean - p->mean.head(k));
   }
-  if (options.exact_inputs) {  // every given input, from the posterior mean
+  if (options.exact_inputs && !post.used_inputs.empty()) {  // every given input, from the mean
     MeasurementMap targets;
     for (const auto& id : post.used_inputs) targets[id] = a.mapped.at(id);
     betas = refine_to_inputs(model, betas, targets, regressor.weight_formula());
