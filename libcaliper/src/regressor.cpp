@@ -452,7 +452,9 @@ Posterior NoiseAwareRegressor::predict(const MeasurementMap& values, const Noise
     const Eigen::LLT<Eigen::MatrixXd> s(prior->covariance.topLeftCorner(k, k));
     if (s.info() != Eigen::Success || !prior->mean.allFinite()) {
       throw InvalidInputError(
-          "the shape prior's covariance is not positive definite (or holds NaN)");
+          "the shape prior's covariance is not positive definite (or holds NaN): a population "
+          "read from a model file (population_prior) comes from caliper-modelgen; regenerate the "
+          "model, or make the avatar without the population");
     }
     precision = s.solve(Eigen::MatrixXd::Identity(k, k));
     rhs = precision * prior->mean.head(k);
