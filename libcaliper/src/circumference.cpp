@@ -288,6 +288,15 @@ const std::vector<std::string>& circumference_ids() {
   return ids;
 }
 
+std::optional<double> thigh_fold_level(const smpl::Vertices& vertices,
+                                       const LandmarkTable& landmarks) {
+  const auto fold = landmarks.find("left_gluteal_fold");
+  const auto crotch = landmarks.find("crotch");
+  if (fold == landmarks.end() || crotch == landmarks.end()) return std::nullopt;
+  return std::min(landmark_point(vertices, fold->second).y(),
+                  landmark_point(vertices, crotch->second).y() - kThighBelowCrotch);
+}
+
 MeasurementMap circumferences(const smpl::Vertices& vertices, const smpl::Faces& faces,
                               const LandmarkTable& landmarks, bool convex_hull, double thigh_drop) {
   const auto has = [&](const char* n) { return landmarks.count(n) > 0; };
@@ -312,9 +321,8 @@ MeasurementMap circumferences(const smpl::Vertices& vertices, const smpl::Faces&
   torso("waist_iliac_circumference", "left_iliac_crest", "left_iliac_crest", "right_iliac_crest");
   if (has("crotch")) {
     const Eigen::Vector3d crotch = pt("crotch");
-    if (has("left_gluteal_fold")) {
-      levels.push_back(
-          {"thigh_circumference", pt("left_gluteal_fold").y(), crotch.x(), 0.0, true, true});
+    if (const std::optional<double> fold = thigh_fold_level(vertices, landmarks)) {
+      levels.push_back({"thigh_circumference", *fold, crotch.x(), 0.0, true, true});
     } else {
       levels.push_back({"thigh_circumference", crotch.y() - thigh_drop, crotch.x(), 0.0, true});
     }

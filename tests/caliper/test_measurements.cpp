@@ -330,6 +330,26 @@ TEST(Circumference, ThighAtTheGlutealFoldKeepsToTheLeftOfTouchingThighs) {
   EXPECT_NEAR(with.at("thigh_circumference"), half_circle + 2 * 0.1 + 2 * r, 1e-9);
 }
 
+TEST(Circumference, TheThighLevelIsTheFoldButAtLeastThreeCentimetresUnderTheCrotch) {
+  // A man's fold vertex can lie above his crotch (the open male model's mean ANSUR II man: 6.5 mm
+  // above), where a slice goes round the pelvis: the level is then 3 cm under the crotch; a fold
+  // further down (the average woman's, 4.3 cm) is taken as it is.
+  smpl::Vertices v(3, 3);
+  v << 0.0, 0.80, 0.0,  // crotch
+      0.1, 0.81, -0.1,  // a fold above the crotch
+      0.1, 0.75, -0.1;  // a fold 5 cm under it
+  LandmarkTable t;
+  EXPECT_FALSE(thigh_fold_level(v, t).has_value());
+  t["crotch"] = {0};
+  EXPECT_FALSE(thigh_fold_level(v, t).has_value());
+  t["left_gluteal_fold"] = {1};
+  ASSERT_TRUE(thigh_fold_level(v, t).has_value());
+  EXPECT_DOUBLE_EQ(*thigh_fold_level(v, t), 0.80 - kThighBelowCrotch);
+  EXPECT_DOUBLE_EQ(kThighBelowCrotch, 0.03);
+  t["left_gluteal_fold"] = {2};
+  EXPECT_DOUBLE_EQ(*thigh_fold_level(v, t), 0.75);
+}
+
 TEST(Circumference, IliacCrestWaistIsTheGirthAtTheCrestLandmarks) {
   // A torso of three stacked prisms: r = 0.16 from 0.8 to 1.05 (the pelvis, iliac crest level),
   // r = 0.13 from 1.05 to 1.4 (the waist at the navel) and r = 0.2 from 1.4 to 1.6 (the

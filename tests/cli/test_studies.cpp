@@ -96,8 +96,9 @@ TEST(Table1Study, CommittedModelsGiveTheirLengthInputsBack) {
 // and weight, with the model's ANSUR II population as the prior, within 1.1x of the direct linear
 // baseline (chest, waist, buttock, thigh) and the thigh's bias within +/-10 mm. Every 5th subject
 // held out, as in docs/evaluation.md (fewer are too noisy for a 1.1x bound: every 25th puts the
-// women's thigh at 1.10x, every 10th the men's waist at 1.11x). Not met, and so not asserted: the
-// men's thigh (24.6 vs 17.8 mm, bias +20.3 mm), left for the next step.
+// women's thigh at 1.10x, every 10th the men's waist at 1.11x). The men's thigh was 24.6 vs
+// 17.8 mm (bias +20.3 mm) until its level was kept 3 cm under the crotch (caliper::
+// thigh_fold_level()).
 TEST(AnsurStudy, TheAnsurPriorMatchesTheLinearBaselineOnTheCommittedModels) {
   const std::string dir = CALIPER_ANSUR_DIR;
   if (!std::filesystem::exists(dir + "/ANSUR_II_MALE_Public.csv")) {
@@ -123,16 +124,12 @@ TEST(AnsurStudy, TheAnsurPriorMatchesTheLinearBaselineOnTheCommittedModels) {
     ASSERT_EQ(avatar.mae_mm.size(), 5u);
     ASSERT_EQ(baseline.mae_mm.size(), 5u);
     EXPECT_EQ(avatar.failed, 0) << sex;
-    const bool men = std::string(sex) == "male";
     for (size_t t = 0; t < 4; ++t) {  // chest, waist, buttock, thigh (not biacromial)
-      if (men && t == 3) continue;    // the known miss above
       EXPECT_LE(avatar.mae_mm[t], 1.1 * baseline.mae_mm[t])
           << sex << " " << ansur_targets()[t] << "\n"
           << ansur_markdown(rows);
     }
-    if (!men) {
-      EXPECT_LE(std::abs(avatar.bias_mm[3]), 10.0) << ansur_markdown(rows);
-    }
+    EXPECT_LE(std::abs(avatar.bias_mm[3]), 10.0) << sex << "\n" << ansur_markdown(rows);
   }
 }
 

@@ -265,7 +265,9 @@ void check_populations(const Registered& s) {
   std::vector<Eigen::VectorXd> nhanes;
   int na = 0;
   for (size_t i = 0; i < s.subjects.size(); ++i) {
-    if (s.subjects[i].sex != "male") continue;
+    // The models are made of the registered subjects only (mh::registered(): a fit that missed a
+    // measurement by more than its bound is left out).
+    if (s.subjects[i].sex != "male" || !mh::registered(s.fit, i)) continue;
     const Eigen::VectorXd f = registered_body(s, i);
     if (s.subjects[i].source == "NHANES") {
       nhanes.push_back(f);

@@ -2,6 +2,7 @@
 /// The survey measurements of the open model v2 (makehuman_measures.hpp).
 #include "makehuman_measures.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -265,7 +266,8 @@ Eigen::VectorXd Measurer::operator()(const smpl::Vertices& v) const {
   const double floor = v.col(1).minCoeff();
   const Eigen::Vector3d shoulder = caliper::landmark_point(v, landmarks.at("left_shoulder"));
   const Eigen::Vector3d wrist = caliper::landmark_point(v, landmarks.at("left_wrist"));
-  const double mid = caliper::landmark_point(v, landmarks.at("crotch")).x();
+  const Eigen::Vector3d crotch = caliper::landmark_point(v, landmarks.at("crotch"));
+  const double mid = crotch.x();
   all["iliac_crest_height"] = v(at.iliac_crest, 1) - floor;
   std::vector<Eigen::Vector2d> torso;  // the loops between the shoulders, as for the waist
   for (const caliper::SliceLoop& l : caliper::slice_mesh(v, faces, v(at.iliac_crest, 1))) {
@@ -282,7 +284,11 @@ Eigen::VectorXd Measurer::operator()(const smpl::Vertices& v) const {
     if (!(g >= neck_min)) neck_min = g;
   }
   all["neck_circumference"] = neck_min;
-  all["thigh_circumference"] = left_leg_girth(v, leg_faces, v(at.gluteal_fold, 1), mid);
+  // At the fold, but never less than caliper::kThighBelowCrotch under the crotch, on the whole
+  // mesh, as libcaliper measures a model carrying the fold (caliper::thigh_fold_level()): so close
+  // to a man's crotch, the leg region's slice misses faces that the whole mesh's has.
+  const double thigh_y = std::min(v(at.gluteal_fold, 1), crotch.y() - caliper::kThighBelowCrotch);
+  all["thigh_circumference"] = left_leg_girth(v, faces, thigh_y, mid);
   all["calf_circumference"] = left_leg_girth(v, leg_faces, v(at.calf_back, 1), mid);
   all["wrist_circumference"] = nearest_loop_girth(slice_x(v, wrist_faces, wrist.x()),
                                                   Eigen::Vector2d(wrist.y(), wrist.z() - 0.025));

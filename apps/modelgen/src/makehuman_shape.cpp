@@ -702,6 +702,12 @@ std::uint64_t fit_fingerprint(const ShapeBasis& basis, const smpl::BodyModel& tm
   f.matrix(basis.male_mean);
   f.matrix(basis.dirs);
   f.matrix(tmpl.faces);
+  // The version of the survey measurements' definitions and of the rules that place their
+  // levels (makehuman_measures.cpp, caliper::thigh_fold_level(); raise it when one changes), and
+  // the thigh's floor under the crotch: a changed definition makes another fit.
+  constexpr std::int32_t kMeasuresVersion = 2;  // 2: the thigh at least 3 cm under the crotch
+  f.bytes(&kMeasuresVersion, sizeof kMeasuresVersion);
+  f.bytes(&caliper::kThighBelowCrotch, sizeof caliper::kThighBelowCrotch);
   for (const FitMeasure& m : fit_measures()) {
     f.text(m.id);
     f.bytes(&m.tolerance, sizeof m.tolerance);

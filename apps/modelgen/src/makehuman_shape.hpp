@@ -136,9 +136,10 @@ FitCheckReport check_fit(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
 bool registered(const FitResult& fit, size_t i);
 
 /// A fingerprint (64-bit FNV-1a) of the inputs fit_subjects() reads: the basis (names, sexes,
-/// both average bodies, the directions), the fit_measures() ids and tolerances, the subjects
+/// both average bodies, the directions), the version of the survey measurements' definitions
+/// (a constant raised when one changes), the fit_measures() ids and tolerances, the subjects
 /// (sex, source, values, in order) and the template's faces. Not the fitting code: a cache of a
-/// fit must be deleted by hand when the code of the fit changes.
+/// fit must be deleted by hand when the code of the fit changes in another way.
 std::uint64_t fit_fingerprint(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
                               const std::vector<Subject>& subjects);
 

@@ -33,9 +33,9 @@ namespace modelgen {
 
 /// Options of pose_correctives().
 struct PoseCorrectiveOptions {
-  int rings = 20;                                 ///< 1-rings the band grows beyond the mixing
-  double band = 1e-3;                             ///< mixing: weight in (band, 1 - band)
-  std::vector<double> angles_deg = {45.0, 90.0};  ///< bends fitted, each axis, both ways
+  int rings = 20;      ///< 1-rings the band grows beyond the mixing
+  double band = 1e-3;  ///< mixing: weight in (band, 1 - band)
+  std::vector<double> angles_deg = {45.0, 90.0, 110.0};  ///< bends fitted, each axis, both ways
   double anchor = 0.2;     ///< pull to skinning at the band's edge when it reaches a limb's end
   int cleanup_rounds = 8;  ///< local smoothing rounds for folds left
   int threads = 1;         ///< joints solved at once (same result)

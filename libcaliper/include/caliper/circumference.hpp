@@ -56,7 +56,7 @@ std::optional<double> circumference_between(const smpl::Vertices& vertices,
 ///   (both legs together when the plane is below the crotch);
 /// - thigh_circumference: with a left_gluteal_fold landmark (ANSUR II's thigh circumference,
 ///   at the lowest point of the buttock's fold; not in the shared vocabulary, carried by the
-///   open models' own tables), at its height around the left leg: the convex hull of the
+///   open models' own tables), at thigh_fold_level() around the left leg: the convex hull of the
 ///   slice's points on the left of crotch.x (where the thighs touch, the tape stays on the
 ///   left one; with `convex_hull` false, the length of the loop below). Without it,
 ///   `thigh_drop` metres below the crotch, the loop whose centroid has the smallest x greater
@@ -66,6 +66,21 @@ std::optional<double> circumference_between(const smpl::Vertices& vertices,
 ///   right_iliac_crest.x and left_iliac_crest.x. These two landmarks are not in the shared
 ///   vocabulary: only a model whose own table (BodyModel::landmarks) carries them has this
 ///   girth (derive_iliac_crest_landmarks() places them by a rule, on request).
+/// The thigh's level at the gluteal fold: the height of the left_gluteal_fold landmark, but at
+/// least kThighBelowCrotch under the crotch. The fold is the vertex where the average body's
+/// buttock profile bends most sharply; the average woman's lies 4.3 cm under her crotch, but the
+/// average man's buttock has no crease there (its sharpest bend is 5 mm under the crotch), and
+/// on a man with fuller thighs that vertex rises above the crotch, where a slice goes round the
+/// pelvis, not the thigh (6.5 mm above on the open male model's mean ANSUR II man). The survey's
+/// furrow lies under the ischial tuberosities, a few centimetres under the crotch. std::nullopt
+/// without both landmarks. The open models' generator measures its survey subjects' thighs here
+/// too (docs/models.md: the floor of 3 cm against 1 cm).
+std::optional<double> thigh_fold_level(const smpl::Vertices& vertices,
+                                       const LandmarkTable& landmarks);
+
+/// How far under the crotch the thigh's level lies at least (thigh_fold_level()), metres.
+inline constexpr double kThighBelowCrotch = 0.03;
+
 MeasurementMap circumferences(const smpl::Vertices& vertices, const smpl::Faces& faces,
                               const LandmarkTable& landmarks, bool convex_hull = true,
                               double thigh_drop = 0.02);
