@@ -37,6 +37,16 @@ class Normal {
     has_spare_ = true;
     return r * std::cos(2.0 * kPi * u2);
   }
+  /// Three draws in a fixed order: z, then y, then x. The order of a call's arguments is
+  /// unspecified in C++ (GCC 12 evaluated Vector3d(n(), n(), n()) last argument first, clang
+  /// first argument first, so the simulated logs differed between the two compilers); this is
+  /// GCC's order, which the committed logs and expected results were made with.
+  Eigen::Vector3d vector() {
+    const double z = (*this)();
+    const double y = (*this)();
+    const double x = (*this)();
+    return {x, y, z};
+  }
 
  private:
   std::mt19937_64 rng_;
@@ -390,7 +400,7 @@ void play_actions(const std::vector<Action>& actions, const SimulatorOptions& o,
       for (int h = 0; h < 2; ++h) {
         to[h] = a.target[h] ? *a.target[h] : rest[h];
         // A new, slightly different grip for every action (so the tip offset matters).
-        const Eigen::Vector3d axis = Eigen::Vector3d(normal(), normal(), normal()).normalized();
+        const Eigen::Vector3d axis = normal.vector().normalized();
         q_to[h] = Eigen::Quaterniond(Eigen::AngleAxisd(-0.6, Eigen::Vector3d::UnitX())) *
                   Eigen::Quaterniond(Eigen::AngleAxisd(0.3 * normal(), axis));
       }
@@ -413,7 +423,7 @@ void play_actions(const std::vector<Action>& actions, const SimulatorOptions& o,
         tip[h] = from[h] + s * (to[h] - from[h]);
         orient[h] = q_from[h].slerp(s, q_to[h]);
         Eigen::Vector3d noisy = tip[h];
-        if (o.tip_noise > 0.0) noisy += o.tip_noise * Eigen::Vector3d(normal(), normal(), normal());
+        if (o.tip_noise > 0.0) noisy += o.tip_noise * normal.vector();
         DevicePose& d = f.device(h == 0 ? Device::Left : Device::Right);
         const Eigen::Vector3d& offset = h == 0 ? o.tip_offsets.left : o.tip_offsets.right;
         d.valid = true;
