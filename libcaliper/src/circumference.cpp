@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -198,18 +199,63 @@ std::vector<SliceLoop> chain_segments(const PlaneCut& c) {
   return loops;
 }
 
+// `loop` clipped to the band lo <= x <= hi (Sutherland-Hodgman against the two lines): a closed
+// loop stays closed, running straight along a line where it was cut; an open one keeps its
+// points inside and the crossing points.
+SliceLoop clip_loop_to_band(const SliceLoop& loop, double lo, double hi) {
+  std::vector<Eigen::Vector2d> pts = loop.points;
+  for (int side = 0; side < 2 && !pts.empty(); ++side) {
+    const auto inside = [&](const Eigen::Vector2d& p) {
+      return side == 0 ? p.x() >= lo : p.x() <= hi;
+    };
+    const double e = side == 0 ? lo : hi;
+    std::vector<Eigen::Vector2d> out;
+    const std::size_t n = pts.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::Vector2d& cur = pts[i];
+      const Eigen::Vector2d& prev = pts[(i + n - 1) % n];
+      if (inside(cur) != inside(prev) && (loop.closed || i > 0)) {
+        out.push_back(prev + (e - prev.x()) / (cur.x() - prev.x()) * (cur - prev));
+      }
+      if (inside(cur)) out.push_back(cur);
+    }
+    pts = std::move(out);
+  }
+  SliceLoop c;
+  c.points = std::move(pts);
+  c.closed = loop.closed;
+  const std::size_t m = c.points.size();
+  for (std::size_t i = 0; i + 1 < m; ++i) c.length += (c.points[i + 1] - c.points[i]).norm();
+  if (c.closed && m > 1) c.length += (c.points.front() - c.points.back()).norm();
+  return c;
+}
+
 // Circumference of the loops of `loops` whose centroid x lies within [x_min, x_max]
-// (circumference_between()).
-std::optional<double> loops_circumference(const std::vector<SliceLoop>& loops, double x_min,
-                                          double x_max, bool convex_hull) {
+// (circumference_between()). With a finite band [band_lo, band_hi] (the chest's, between the
+// acromia), every loop is clipped to it instead and every loop with a part inside counts, as
+// long as one loop's centroid lies within [x_min, x_max]: the part of an arm under the plane
+// counts up to the band whether or not it has met the torso's loop yet, so the girth does not
+// jump when the plane passes the armpit.
+std::optional<double> loops_circumference(
+    const std::vector<SliceLoop>& loops, double x_min, double x_max, bool convex_hull,
+    double band_lo = -std::numeric_limits<double>::infinity(),
+    double band_hi = std::numeric_limits<double>::infinity()) {
   std::vector<Eigen::Vector2d> pts;
   double length = 0.0;
   bool any = false;
+  const bool clip = std::isfinite(band_lo) && std::isfinite(band_hi);
   for (const auto& l : loops) {
-    if (l.centroid.x() < x_min || l.centroid.x() > x_max) continue;
-    any = true;
-    length += l.length;
-    pts.insert(pts.end(), l.points.begin(), l.points.end());
+    const bool between = l.centroid.x() >= x_min && l.centroid.x() <= x_max;
+    any = any || between;
+    if (!clip) {
+      if (!between) continue;
+      length += l.length;
+      pts.insert(pts.end(), l.points.begin(), l.points.end());
+      continue;
+    }
+    const SliceLoop part = clip_loop_to_band(l, band_lo, band_hi);
+    length += part.length;
+    pts.insert(pts.end(), part.points.begin(), part.points.end());
   }
   if (!any) return std::nullopt;
   return convex_hull ? convex_hull_perimeter(pts) : length;
@@ -308,6 +354,9 @@ MeasurementMap circumferences(const smpl::Vertices& vertices, const smpl::Faces&
     double x_min, x_max;  // torso: the loops between the side landmarks
     bool thigh;           // thigh: the loop right of x_min (the crotch)
     bool fold = false;    // thigh at the gluteal fold: every point right of x_min
+    // chest: the loops clipped to the band between the acromia (infinite: no clipping)
+    double band_lo = -std::numeric_limits<double>::infinity();
+    double band_hi = std::numeric_limits<double>::infinity();
   };
   std::vector<Level> levels;
   const auto torso = [&](const char* id, const char* at, const char* left, const char* right) {
@@ -316,6 +365,11 @@ MeasurementMap circumferences(const smpl::Vertices& vertices, const smpl::Faces&
     levels.push_back({id, pt(at).y(), std::min(xl, xr), std::max(xl, xr), false});
   };
   torso("chest_circumference", "left_nipple", "left_chest", "right_chest");
+  if (!levels.empty() && has("left_shoulder") && has("right_shoulder")) {
+    const double sl = pt("left_shoulder").x(), sr = pt("right_shoulder").x();
+    levels.back().band_lo = std::min(sl, sr);
+    levels.back().band_hi = std::max(sl, sr);
+  }
   torso("waist_circumference", "navel", "left_waist", "right_waist");
   torso("hip_circumference", "left_hip", "left_hip", "right_hip");
   torso("waist_iliac_circumference", "left_iliac_crest", "left_iliac_crest", "right_iliac_crest");
@@ -338,7 +392,8 @@ MeasurementMap circumferences(const smpl::Vertices& vertices, const smpl::Faces&
     const Level& l = levels[i];
     const auto loops = chain_segments(cut_mesh(vertices, faces, l.height, cut[i]));
     if (!l.thigh) {
-      const auto c = loops_circumference(loops, l.x_min, l.x_max, convex_hull);
+      const auto c =
+          loops_circumference(loops, l.x_min, l.x_max, convex_hull, l.band_lo, l.band_hi);
       if (c) out[l.id] = *c;
       continue;
     }

@@ -705,7 +705,8 @@ std::uint64_t fit_fingerprint(const ShapeBasis& basis, const smpl::BodyModel& tm
   // The version of the survey measurements' definitions and of the rules that place their
   // levels (makehuman_measures.cpp, caliper::thigh_fold_level(); raise it when one changes), and
   // the thigh's floor under the crotch: a changed definition makes another fit.
-  constexpr std::int32_t kMeasuresVersion = 2;  // 2: the thigh at least 3 cm under the crotch
+  // 2: the thigh at least 3 cm under the crotch; 3: the chest clipped between the acromia
+  constexpr std::int32_t kMeasuresVersion = 3;
   f.bytes(&kMeasuresVersion, sizeof kMeasuresVersion);
   f.bytes(&caliper::kThighBelowCrotch, sizeof caliper::kThighBelowCrotch);
   for (const FitMeasure& m : fit_measures()) {

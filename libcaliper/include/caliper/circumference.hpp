@@ -50,7 +50,15 @@ std::optional<double> circumference_between(const smpl::Vertices& vertices,
 
 /// The five circumferences, metres, for a rest-pose body (T-pose), each left out when its
 /// landmarks are missing or no loop qualifies:
-/// - chest_circumference at left_nipple height, loops between right_chest.x and left_chest.x;
+/// - chest_circumference at left_nipple height, loops between right_chest.x and left_chest.x,
+///   but when the table has the acromia (left_shoulder, right_shoulder) every loop of the plane
+///   clipped to the band between their x instead: in the T-pose the plane at the nipples can run
+///   through the armpits' folds or along the underside of the arms (one loop round the torso and
+///   both arms: 1.84 m on one registered ANSUR II man of the open male model), and a tape round
+///   the chest takes none of the arm beyond the shoulders. The part of an arm under the plane
+///   counts up to the band whether or not it has met the torso's loop, so that the girth does
+///   not jump as the plane passes the armpit. A closed loop cut by the band is closed along the
+///   cut (`convex_hull` false: the sum of the clipped loops' lengths);
 /// - waist_circumference at navel height, loops between right_waist.x and left_waist.x;
 /// - hip_circumference at left_hip height, loops between right_hip.x and left_hip.x
 ///   (both legs together when the plane is below the crotch);
