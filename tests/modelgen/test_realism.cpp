@@ -27,9 +27,9 @@
 namespace {
 
 constexpr int kSamples = 2000;
-constexpr double kMeanTol = 0.02;  // issue 6: means within 2 %
-constexpr double kSdTol = 0.20;    // issue 6: SDs within 20 %
-constexpr double kCorrTol = 0.10;  // issue 6: correlations within 0.1
+constexpr double kMeanTol = 0.02;     // issue 6: means within 2 %
+constexpr double kSdTol = 0.20;       // issue 6: SDs within 20 %
+constexpr double kCorrTol = 0.10;     // issue 6: correlations within 0.1
 constexpr double kMeanTarget = 0.01;  // issue 11: means within 1 %
 constexpr double kSdTarget = 0.10;    // issue 11: SDs within 10 %
 constexpr double kCorrTarget = 0.05;  // issue 11: correlations within 0.05
