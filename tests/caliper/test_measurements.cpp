@@ -297,32 +297,42 @@ TEST(Circumference, TorsoLegsAndArmsAreSeparated) {
   EXPECT_NEAR(lengths.at("hip_circumference"), 2 * polygon_perimeter(32, 0.07), 1e-9);
 }
 
+// The chest's landmarks on a prism torso of half-width 0.15 m from 1.0 to 1.4 m (rings at 1.0,
+// 1.133, 1.267, 1.4): the nipple between the two middle rings (the plane at 1.2 m), the chest's
+// sides at the torso's sides and, with `acromia`, the shoulders at x = +/-0.2.
+LandmarkTable chest_landmarks(const Mesh& m, bool acromia) {
+  const auto at = [&](double x, double y, double z) {
+    return test::nearest_vertex(m.v, Eigen::Vector3d(x, y, z));
+  };
+  LandmarkTable t;
+  t["left_nipple"] = {at(0.15, 1.13, 0.1), at(0.15, 1.27, 0.1)};
+  t["left_chest"] = {at(0.15, 1.2, 0.1)};
+  t["right_chest"] = {at(-0.15, 1.2, 0.1)};
+  if (acromia) {
+    t["left_shoulder"] = {at(0.2, 1.4, 0.04)};
+    t["right_shoulder"] = {at(-0.2, 1.4, 0.04)};
+  }
+  return t;
+}
+
 TEST(Circumference, TheChestTakesNoneOfTheArmsBeyondTheAcromia) {
   // In the T-pose the plane at the nipples can run along the underside of the arms: one loop
   // round the torso and both arms. The torso's section here is the rectangle |x| <= 0.15,
-  // |z| <= 0.1, each arm the band 0.15 <= |x| <= 0.6, |z| <= 0.04 (one outline, a prism from 1.0
-  // to 1.4 m). With the acromia at x = +/-0.2 the tape goes round the torso and the arms' roots
-  // up to there: the hull of (+/-0.15, +/-0.1) and (+/-0.2, +/-0.04). Without the shoulder
-  // landmarks, the girth as before: the hull reaches the arms' ends.
+  // |z| <= 0.1, each arm the band 0.15 <= |x| <= 0.6, |z| <= 0.04 (one outline, a prism). With
+  // the acromia at x = +/-0.2 the tape goes round the torso and the arms' roots up to there: the
+  // hull of (+/-0.15, +/-0.1) and (+/-0.2, +/-0.04). Without the shoulder landmarks, the girth
+  // as before: the hull reaches the arms' ends.
   const std::vector<Eigen::Vector2d> outline = {
       // counter-clockwise in (x, z)
       {0.15, -0.1},  {0.15, -0.04}, {0.2, -0.04},   {0.6, -0.04},  {0.6, 0.04},  {0.2, 0.04},
       {0.15, 0.04},  {0.15, 0.1},   {-0.15, 0.1},   {-0.15, 0.04}, {-0.2, 0.04}, {-0.6, 0.04},
       {-0.6, -0.04}, {-0.2, -0.04}, {-0.15, -0.04}, {-0.15, -0.1}};
-  const Mesh body = test::make_prism(outline, 1.0, 1.4, 4);  // rings at 1.0, 1.133, 1.267, 1.4
-  LandmarkTable t;
-  const auto at = [&](double x, double y, double z) {
-    return test::nearest_vertex(body.v, Eigen::Vector3d(x, y, z));
-  };
-  // The nipple between two rings (the plane at 1.2 m), the chest's sides at the torso's sides.
-  t["left_nipple"] = {at(0.15, 1.13, 0.1), at(0.15, 1.27, 0.1)};
-  t["left_chest"] = {at(0.15, 1.2, 0.0)};
-  t["right_chest"] = {at(-0.15, 1.2, 0.0)};
+  const Mesh body = test::make_prism(outline, 1.0, 1.4, 4);
+  LandmarkTable t = chest_landmarks(body, false);
   ASSERT_NEAR(landmark_point(body.v, t.at("left_nipple")).y(), 1.2, 1e-12);
   const double whole = 2 * 0.3 + 2 * 0.08 + 4 * std::hypot(0.45, 0.06);
   EXPECT_NEAR(circumferences(body.v, body.f, t).at("chest_circumference"), whole, 1e-9);
-  t["left_shoulder"] = {at(0.2, 1.4, 0.04)};
-  t["right_shoulder"] = {at(-0.2, 1.4, 0.04)};
+  t = chest_landmarks(body, true);
   const double clipped = 2 * 0.3 + 2 * 0.08 + 4 * std::hypot(0.05, 0.06);
   EXPECT_NEAR(circumferences(body.v, body.f, t).at("chest_circumference"), clipped, 1e-9);
   // The tape's length (convex_hull false): the outline closed straight along the cuts.
@@ -339,17 +349,10 @@ TEST(Circumference, TheChestTakesNoneOfTheArmsBeyondTheAcromia) {
     if (side < 0) std::reverse(arm.begin(), arm.end());  // counter-clockwise once mirrored
     test::append(apart, test::make_prism(arm, 1.0, 1.4, 4, side * 0.4));
   }
-  LandmarkTable u;
-  const auto on = [&](double x, double y, double z) {
-    return test::nearest_vertex(apart.v, Eigen::Vector3d(x, y, z));
-  };
-  u["left_nipple"] = {on(0.15, 1.13, 0.1), on(0.15, 1.27, 0.1)};
-  u["left_chest"] = {on(0.15, 1.2, 0.1)};
-  u["right_chest"] = {on(-0.15, 1.2, 0.1)};
-  u["left_shoulder"] = {on(0.2, 1.4, 0.04)};
-  u["right_shoulder"] = {on(-0.2, 1.4, 0.04)};
   ASSERT_EQ(slice_mesh(apart.v, apart.f, 1.2).size(), 3u);
-  EXPECT_NEAR(circumferences(apart.v, apart.f, u).at("chest_circumference"), clipped, 1e-9);
+  EXPECT_NEAR(
+      circumferences(apart.v, apart.f, chest_landmarks(apart, true)).at("chest_circumference"),
+      clipped, 1e-9);
 }
 
 TEST(Circumference, ThighAtTheGlutealFoldKeepsToTheLeftOfTouchingThighs) {
