@@ -231,11 +231,11 @@ SliceLoop clip_loop_to_band(const SliceLoop& loop, double lo, double hi) {
 }
 
 // Circumference of the loops of `loops` whose centroid x lies within [x_min, x_max]
-// (circumference_between()). With a finite band [band_lo, band_hi] (the chest's, between the
-// acromia), every loop is clipped to it instead and every loop with a part inside counts, as
-// long as one loop's centroid lies within [x_min, x_max]: the part of an arm under the plane
-// counts up to the band whether or not it has met the torso's loop yet, so the girth does not
-// jump when the plane passes the armpit.
+// (circumference_between()). With a finite band band_lo < band_hi (the chest's, between the
+// acromia; none when they coincide), every loop is clipped to it instead and every loop with a part
+// inside counts, as long as one loop's centroid lies within [x_min, x_max]: the part of an arm
+// under the plane counts up to the band whether or not it has met the torso's loop yet, so the
+// girth does not jump when the plane passes the armpit.
 std::optional<double> loops_circumference(
     const std::vector<SliceLoop>& loops, double x_min, double x_max, bool convex_hull,
     double band_lo = -std::numeric_limits<double>::infinity(),
@@ -243,7 +243,7 @@ std::optional<double> loops_circumference(
   std::vector<Eigen::Vector2d> pts;
   double length = 0.0;
   bool any = false;
-  const bool clip = std::isfinite(band_lo) && std::isfinite(band_hi);
+  const bool clip = std::isfinite(band_lo) && std::isfinite(band_hi) && band_hi > band_lo;
   for (const auto& l : loops) {
     const bool between = l.centroid.x() >= x_min && l.centroid.x() <= x_max;
     any = any || between;

@@ -335,6 +335,10 @@ TEST(Circumference, TheChestTakesNoneOfTheArmsBeyondTheAcromia) {
   t = chest_landmarks(body, true);
   const double clipped = 2 * 0.3 + 2 * 0.08 + 4 * std::hypot(0.05, 0.06);
   EXPECT_NEAR(circumferences(body.v, body.f, t).at("chest_circumference"), clipped, 1e-9);
+  // Acromia that coincide (a broken landmark table) give no band: the girth as without them.
+  LandmarkTable same = t;
+  same["right_shoulder"] = same["left_shoulder"];
+  EXPECT_NEAR(circumferences(body.v, body.f, same).at("chest_circumference"), whole, 1e-9);
   // The tape's length (convex_hull false): the outline closed straight along the cuts.
   const double along = 2 * 0.3 + 4 * 0.06 + 4 * 0.05 + 2 * 0.08;
   EXPECT_NEAR(circumferences(body.v, body.f, t, false).at("chest_circumference"), along, 1e-9);
