@@ -365,7 +365,8 @@ MeasurementMap circumferences(const smpl::Vertices& vertices, const smpl::Faces&
     levels.push_back({id, pt(at).y(), std::min(xl, xr), std::max(xl, xr), false});
   };
   torso("chest_circumference", "left_nipple", "left_chest", "right_chest");
-  if (!levels.empty() && has("left_shoulder") && has("right_shoulder")) {
+  const bool chest = !levels.empty();  // the first level, when its landmarks are there
+  if (chest && has("left_shoulder") && has("right_shoulder")) {
     const double sl = pt("left_shoulder").x(), sr = pt("right_shoulder").x();
     levels.back().band_lo = std::min(sl, sr);
     levels.back().band_hi = std::max(sl, sr);
