@@ -199,9 +199,9 @@ std::vector<SliceLoop> chain_segments(const PlaneCut& c) {
   return loops;
 }
 
-// `loop` clipped to the band lo <= x <= hi (Sutherland-Hodgman against the two lines): a closed
-// loop stays closed, running straight along a line where it was cut; an open one keeps its
-// points inside and the crossing points.
+// `loop` clipped to the band lo <= x <= hi (Sutherland-Hodgman against the two lines; an
+// infinite bound is no line): a closed loop stays closed, running straight along a line where it
+// was cut; an open one keeps its points inside and the crossing points.
 SliceLoop clip_loop_to_band(const SliceLoop& loop, double lo, double hi) {
   std::vector<Eigen::Vector2d> pts = loop.points;
   for (int side = 0; side < 2 && !pts.empty(); ++side) {
@@ -209,6 +209,7 @@ SliceLoop clip_loop_to_band(const SliceLoop& loop, double lo, double hi) {
       return side == 0 ? p.x() >= lo : p.x() <= hi;
     };
     const double e = side == 0 ? lo : hi;
+    if (!std::isfinite(e)) continue;  // no line on this side (clip_loops_left())
     std::vector<Eigen::Vector2d> out;
     const std::size_t n = pts.size();
     for (std::size_t i = 0; i < n; ++i) {
@@ -313,17 +314,8 @@ std::optional<double> circumference_between(const smpl::Vertices& vertices,
 std::vector<Eigen::Vector2d> clip_loops_left(const std::vector<SliceLoop>& loops, double mid) {
   std::vector<Eigen::Vector2d> out;
   for (const SliceLoop& l : loops) {
-    const std::size_t n = l.points.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      const Eigen::Vector2d& cur = l.points[i];
-      const Eigen::Vector2d& prev = l.points[(i + n - 1) % n];
-      const bool in_cur = cur.x() >= mid, in_prev = prev.x() >= mid;
-      if (in_cur != in_prev && (l.closed || i > 0)) {
-        const double t = (mid - prev.x()) / (cur.x() - prev.x());
-        out.emplace_back(prev + t * (cur - prev));
-      }
-      if (in_cur) out.push_back(cur);
-    }
+    const SliceLoop part = clip_loop_to_band(l, mid, std::numeric_limits<double>::infinity());
+    out.insert(out.end(), part.points.begin(), part.points.end());
   }
   return out;
 }
@@ -334,13 +326,17 @@ const std::vector<std::string>& circumference_ids() {
   return ids;
 }
 
+double thigh_fold_level(double fold_height, double crotch_height) {
+  return std::min(fold_height, crotch_height - kThighBelowCrotch);
+}
+
 std::optional<double> thigh_fold_level(const smpl::Vertices& vertices,
                                        const LandmarkTable& landmarks) {
   const auto fold = landmarks.find("left_gluteal_fold");
   const auto crotch = landmarks.find("crotch");
   if (fold == landmarks.end() || crotch == landmarks.end()) return std::nullopt;
-  return std::min(landmark_point(vertices, fold->second).y(),
-                  landmark_point(vertices, crotch->second).y() - kThighBelowCrotch);
+  return thigh_fold_level(landmark_point(vertices, fold->second).y(),
+                          landmark_point(vertices, crotch->second).y());
 }
 
 MeasurementMap circumferences(const smpl::Vertices& vertices, const smpl::Faces& faces,

@@ -2,7 +2,6 @@
 /// The survey measurements of the open model v2 (makehuman_measures.hpp).
 #include "makehuman_measures.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -287,8 +286,8 @@ Eigen::VectorXd Measurer::operator()(const smpl::Vertices& v) const {
   // At the fold, but never less than caliper::kThighBelowCrotch under the crotch, on the whole
   // mesh, as libcaliper measures a model carrying the fold (caliper::thigh_fold_level()): so close
   // to a man's crotch, the leg region's slice misses faces that the whole mesh's has.
-  const double thigh_y = std::min(v(at.gluteal_fold, 1), crotch.y() - caliper::kThighBelowCrotch);
-  all["thigh_circumference"] = left_leg_girth(v, faces, thigh_y, mid);
+  all["thigh_circumference"] =
+      left_leg_girth(v, faces, caliper::thigh_fold_level(v(at.gluteal_fold, 1), crotch.y()), mid);
   all["calf_circumference"] = left_leg_girth(v, leg_faces, v(at.calf_back, 1), mid);
   all["wrist_circumference"] = nearest_loop_girth(slice_x(v, wrist_faces, wrist.x()),
                                                   Eigen::Vector2d(wrist.y(), wrist.z() - 0.025));

@@ -89,6 +89,10 @@ std::optional<double> thigh_fold_level(const smpl::Vertices& vertices,
 /// How far under the crotch the thigh's level lies at least (thigh_fold_level()), metres.
 inline constexpr double kThighBelowCrotch = 0.03;
 
+/// The same rule on two heights (metres): the fold's, but at least kThighBelowCrotch under the
+/// crotch's (for a measurer that has the fold as a vertex of its own rather than a landmark).
+double thigh_fold_level(double fold_height, double crotch_height);
+
 MeasurementMap circumferences(const smpl::Vertices& vertices, const smpl::Faces& faces,
                               const LandmarkTable& landmarks, bool convex_hull = true,
                               double thigh_drop = 0.02);
