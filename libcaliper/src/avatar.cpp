@@ -3,12 +3,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 
 #include "caliper/errors.hpp"
+#include "caliper/shape_curve.hpp"
+#include "caliper/training.hpp"
 #include "caliper/volume.hpp"
 
 namespace caliper {
@@ -54,7 +57,12 @@ Avatar create_avatar(const smpl::BodyModel& model, const LinearRegressor& regres
   Avatar a;
   a.input = measurements;
   a.mapped = prepare(measurements, options, a.messages);
-  Eigen::VectorXd betas = regressor.predict(a.mapped);
+  const std::optional<ShapeCurve> curve =
+      options.shape_curve ? caliper::shape_curve(model) : std::nullopt;
+  Eigen::VectorXd betas = curve ? linear_betas(model, regressor, a.mapped, &*curve,
+                                               options.model_info ? options.model_info->landmarks
+                                                                  : landmarks_for(model))
+                                : regressor.predict(a.mapped);
   if (options.exact_inputs) {
     MeasurementMap targets;
     for (const auto& id : regressor.inputs()) targets[id] = a.mapped.at(id);
@@ -92,6 +100,51 @@ Avatar create_avatar(const smpl::BodyModel& model, const NoiseAwareRegressor& re
   }
   finish(model, betas, options, a, k);
   return a;
+}
+
+Eigen::VectorXd linear_betas(const smpl::BodyModel& model, const LinearRegressor& regressor,
+                             const MeasurementMap& inputs, const ShapeCurve* curve,
+                             const LandmarkTable& landmarks, const ShapeMeasurer* measurer) {
+  const std::vector<std::string>& ids = regressor.inputs();
+  const auto has = [&ids](const char* id) {
+    return std::find(ids.begin(), ids.end(), id) != ids.end();
+  };
+  Eigen::VectorXd paper = regressor.predict(inputs);  // also names a missing or bad input
+  const Eigen::MatrixXd& A = regressor.coefficients();
+  const Eigen::Index k = A.rows();
+  if (!curve || !has("height") || !has("weight") || curve->coefficients.rows() < k) return paper;
+  // beta = c + A (f - f(c)): c the curve's betas, A the regressor's slopes, f the inputs'
+  // features and f(c) the same features measured on the curve's body.
+  Eigen::VectorXd c = curve->betas(inputs.at("height"), inputs.at("weight"));
+  const bool fast = measurer != nullptr && measurer->num_betas() >= c.size();
+  Eigen::VectorXd lengths;  // the measurer's definitions, on the curve's body
+  smpl::Vertices v;
+  if (fast) {
+    lengths = measurer->measure(c);
+  } else {
+    v = shaped_vertices(model, c);
+  }
+  Eigen::VectorXd diff(static_cast<Eigen::Index>(ids.size()));
+  for (size_t i = 0; i < ids.size(); ++i) {
+    const double want = input_feature(ids[i], inputs.at(ids[i]), regressor.weight_formula());
+    double have = 0.0;
+    if (ids[i] == "weight") {
+      have = std::cbrt(fast ? measurer->volume(c) : mesh_volume(v, model.faces));
+    } else if (fast) {
+      const auto& defs = measurer->definitions();
+      const auto it = std::find_if(defs.begin(), defs.end(),
+                                   [&](const MeasurementDef& d) { return d.id == ids[i]; });
+      if (it == defs.end()) {
+        throw InvalidInputError("linear_betas: the measurer does not measure " + ids[i]);
+      }
+      have = lengths[it - defs.begin()];
+    } else {
+      have = measure(v, landmarks, measurement_def(ids[i]));
+    }
+    diff[static_cast<Eigen::Index>(i)] = want - have;
+  }
+  c.head(k) += A.leftCols(diff.size()) * diff;
+  return c;
 }
 
 Eigen::VectorXd refine_to_inputs(const smpl::BodyModel& model, const Eigen::VectorXd& betas,

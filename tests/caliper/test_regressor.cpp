@@ -12,6 +12,7 @@
 #include "caliper/avatar.hpp"
 #include "caliper/errors.hpp"
 #include "caliper/regressor.hpp"
+#include "caliper/shape_curve.hpp"
 #include "caliper/training.hpp"
 #include "caliper_test/matrix_compare.hpp"
 #include "caliper_test/random_model.hpp"
@@ -365,6 +366,59 @@ TEST_F(BodyModelRegressors, ExactInputsAreReproducedExactly) {
   EXPECT_THROW(refine_to_inputs(*model_, Eigen::VectorXd::Zero(1),
                                 {{"height", 1.7}, {"weight", 60}}, female_weight_formula()),
                InvalidInputError);  // more targets than betas
+}
+
+TEST_F(BodyModelRegressors, AShapeCurveDecidesOnlyWhatTheInputsDoNotMeasure) {
+  // A plain regressor started from a shape curve (linear_betas, create_avatar's default when
+  // the model carries one): along the directions its inputs measure (the span of its slopes)
+  // the betas are the inputs' correction, across them the curve's own; the inputs come back as
+  // well as from the paper's prediction; the measurer's shortcut gives the mesh's betas.
+  smpl::BodyModel curved = *model_;
+  ShapeCurve curve;
+  curve.population = "test";
+  curve.subjects = 100;
+  curve.center = {1.7, std::cbrt(70.0)};
+  curve.scale = {0.1, 0.3};
+  curve.lo = {1.4, std::cbrt(40.0)};
+  curve.hi = {2.0, std::cbrt(150.0)};
+  curve.coefficients = Eigen::MatrixXd::Random(10, 6) * 0.3;
+  set_shape_curve(curved, curve);
+  const ShapeMeasurer measurer(curved, landmarks_for(curved), paper_measurements(), 10);
+  const Eigen::MatrixXd truth = gaussian_betas(8, 10, 79);
+  AvatarOptions o, paper;
+  o.circumferences = paper.circumferences = false;
+  o.refuse_invalid = paper.refuse_invalid = false;
+  paper.shape_curve = false;
+  for (const auto& r : set_->linear) {
+    const Eigen::MatrixXd A = r.coefficients().leftCols(r.inputs().size());
+    const Eigen::MatrixXd across =  // projector onto what the inputs do not measure
+        Eigen::MatrixXd::Identity(10, 10) - A * (A.transpose() * A).inverse() * A.transpose();
+    for (int s = 0; s < truth.rows(); ++s) {
+      const MeasurementMap m =
+          measure_all(curved, shaped_vertices(curved, truth.row(s).transpose()), {false, true});
+      const Avatar a = create_avatar(curved, r, m, o);
+      const Avatar b = create_avatar(curved, r, m, paper);
+      EXPECT_MATRIX_NEAR(b.betas, r.predict(m), 1e-12);
+      const Eigen::VectorXd c = curve.betas(m.at("height"), m.at("weight"));
+      // (1e-8: the projector's rounding; the slopes are hundreds of betas per metre)
+      EXPECT_MATRIX_NEAR(across * a.betas, across * c, 1e-8);
+      EXPECT_GT((across * (a.betas - b.betas)).norm(), 1e-3) << "the curve changed nothing";
+      for (const auto& id : r.inputs()) {
+        const double tol = id == "weight" ? 0.5 : 1e-3;
+        EXPECT_NEAR(a.achieved.at(id), m.at(id), tol) << r.name() << " " << id;
+      }
+      const LandmarkTable lm = landmarks_for(curved);
+      EXPECT_MATRIX_NEAR(linear_betas(curved, r, m, &curve, lm, &measurer), a.betas, 1e-9);
+      EXPECT_MATRIX_NEAR(linear_betas(curved, r, m, nullptr, lm), b.betas, 1e-12);
+    }
+  }
+  // A regressor that does not take both height and weight keeps its own prediction.
+  const TrainingSet t = paper_training_set(*model_);
+  const LinearRegressor spans =
+      LinearRegressor::fit(t, {"height", "arm_span_fingertips"}, ModelSignature::of(curved, 10));
+  const MeasurementMap in{{"height", 1.7}, {"arm_span_fingertips", 1.72}};
+  EXPECT_MATRIX_NEAR(linear_betas(curved, spans, in, &curve, landmarks_for(curved)),
+                     spans.predict(in), 0.0);
 }
 
 TEST_F(BodyModelRegressors, JsonRoundTripAndMismatch) {

@@ -24,6 +24,8 @@
 #include "caliper/circumference.hpp"
 #include "caliper/measurements.hpp"
 #include "caliper/population.hpp"
+#include "caliper/portable_math.hpp"
+#include "caliper/shape_curve.hpp"
 #include "makehuman_measures.hpp"
 #include "makehuman_rig.hpp"
 #include "makehuman_shape.hpp"
@@ -263,6 +265,7 @@ double template_offset(const smpl::BodyModel& m, const Eigen::VectorXd& body) {
 void check_populations(const Registered& s) {
   Eigen::VectorXd mean_a, mean_n;
   std::vector<Eigen::VectorXd> nhanes;
+  std::vector<size_t> nhanes_subject;
   int na = 0;
   for (size_t i = 0; i < s.subjects.size(); ++i) {
     // The models are made of the registered subjects only (mh::registered(): a fit that missed a
@@ -271,6 +274,7 @@ void check_populations(const Registered& s) {
     const Eigen::VectorXd f = registered_body(s, i);
     if (s.subjects[i].source == "NHANES") {
       nhanes.push_back(f);
+      nhanes_subject.push_back(i);
       mean_n = mean_n.size() ? Eigen::VectorXd(mean_n + f) : f;
     } else {
       mean_a = mean_a.size() ? Eigen::VectorXd(mean_a + f) : f;
@@ -346,6 +350,22 @@ void check_populations(const Registered& s) {
   EXPECT_LT((pn->mean - sum_g / n).norm(), kProjection);
   EXPECT_LT((pn->cov - (cov - (sum_g / n) * (sum_g / n).transpose())).norm(), kProjection);
   EXPECT_LT((pa->mean - betas_of(g, mean_a)).norm(), kProjection);
+  // And the general population's shape curve (caliper/shape_curve.hpp): the least-squares
+  // quadratic of the NHANES men's betas on their surveyed height and weight, so its residuals
+  // sum to zero and are orthogonal to every feature.
+  const std::optional<caliper::ShapeCurve> curve = caliper::shape_curve(g);
+  ASSERT_TRUE(curve);
+  EXPECT_EQ(curve->subjects, static_cast<int>(nhanes.size()));
+  EXPECT_FALSE(caliper::shape_curve(pooled)) << "only the general population has a curve";
+  Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(6, 16);
+  for (size_t j = 0; j < nhanes.size(); ++j) {
+    const Eigen::VectorXd& v = s.subjects[nhanes_subject[j]].values;
+    const Eigen::Vector2d x(v[0], caliper::portable::cbrt(v[1]));
+    const Eigen::Vector2d z = (x - curve->center).cwiseQuotient(curve->scale);
+    const Eigen::VectorXd residual = betas_of(g, nhanes[j]) - curve->betas(v[0], v[1]);
+    normal += caliper::shape_curve_features(z[0], z[1]) * residual.transpose();
+  }
+  EXPECT_LT(normal.cwiseAbs().maxCoeff(), kProjection * 100) << normal;
 }
 
 /// mh::check_fit() (caliper-modelgen --check-fit): every 25th subject of each stage and sex refits

@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -464,7 +465,8 @@ TEST(VrApp, CommittedSampleLogsReplay) {
 
 TEST(VrApp, HipWidthMappingIsApplied) {
   // A learned real->virtual mapping of the hip width changes the regressor's input: the avatar
-  // is the R5 prediction for the mapped hip width.
+  // is the R5 prediction for the mapped hip width (from the model's shape curve, as every plain
+  // regressor's avatar: caliper::linear_betas).
   const std::string dir = work_dir("mapping");
   const Json truth = simulate(dir, "log.jsonl", "");
   std::ofstream(dir + "/mapping.json")
@@ -476,12 +478,17 @@ TEST(VrApp, HipWidthMappingIsApplied) {
   const smpl::BodyModel model = smpl::load_model(kModel);
   const caliper::RegressorSet set = caliper::train_regressors(model);
   const caliper::LinearRegressor& r5 = *set.find("R5");
+  const std::optional<caliper::ShapeCurve> curve = caliper::shape_curve(model);
+  ASSERT_TRUE(curve) << "the open model carries its shape curve";
+  const auto predict = [&](const caliper::MeasurementMap& in) {
+    return caliper::linear_betas(model, r5, in, &*curve, caliper::landmarks_for(model));
+  };
   caliper::MeasurementMap in;
   for (const std::string& id : r5.inputs())
     in[id] = session.at("measurements").at(id).at("value").as_number();
-  const Eigen::VectorXd unmapped = r5.predict(in);
+  const Eigen::VectorXd unmapped = predict(in);
   in["hip_width"] += 0.03;
-  const Eigen::VectorXd mapped = r5.predict(in);
+  const Eigen::VectorXd mapped = predict(in);
   const std::vector<double> betas = session.at("avatar").at("betas").as_numbers();
   // Same inputs, same arithmetic: equal to rounding.
   constexpr double kSameArithmetic = 1e-9;

@@ -113,7 +113,8 @@ void fast_avatar(const ModelBundle& b, const ShapeMeasurer& measurer, const std:
   } else {
     const LinearRegressor* r = b.regressors.find(regressor);
     if (!r) throw RuntimeError("the regressor set has no regressor " + regressor);
-    k_betas = r->predict(mapped);
+    k_betas = linear_betas(b.model, *r, mapped, b.curve ? &*b.curve : nullptr,
+                           b.measure_info ? b.measure_info->landmarks : LandmarkTable{}, &measurer);
   }
   const Eigen::VectorXd m = measurer.measure(k_betas);
   for (size_t i = 0; i < measurer.definitions().size(); ++i)
@@ -160,6 +161,10 @@ const std::vector<OptionSpec>& batch_options() {
       {"limit", "", "N", "process only the first N people", false},
       {"circumferences", "", "", "also measure circumferences (slices the mesh; slower)", false},
       {"exact-inputs", "", "", "refine the betas to reproduce every input exactly (slower)", false},
+      {"no-shape-curve", "", "",
+       "plain regressors (R2-R6) as in the paper: from the mean body, not from the general "
+       "population's body of the height and weight",
+       false},
       {"force", "", "", "create avatars even for inputs outside the hard limits", false},
   };
   return specs;
@@ -177,6 +182,7 @@ struct BatchOptions {
   int jobs = 1;
   std::optional<int> limit;
   bool circumferences = false, exact_inputs = false, force = false;
+  bool shape_curve = true;  ///< false: --no-shape-curve
   /// Without avatar files or circumferences no mesh is needed: the measurements, volume and
   /// weight come from the betas through ShapeMeasurer's exact precomputed maps (fast path).
   bool need_mesh() const { return circumferences || exact_inputs || out_dir.has_value(); }
@@ -207,6 +213,7 @@ BatchOptions batch_options_from(const ParsedArgs& a) {
   if (auto l = a.get("limit")) o.limit = parse_int(*l, "limit", 0, 100000000);
   o.circumferences = a.flags.count("circumferences") > 0;
   o.exact_inputs = a.flags.count("exact-inputs") > 0;
+  o.shape_curve = a.flags.count("no-shape-curve") == 0;
   o.force = a.flags.count("force") > 0;
   return o;
 }
@@ -258,7 +265,9 @@ struct BatchModels {
 
 std::unique_ptr<ShapeMeasurer> fast_measurer(const ModelBundle& b) {
   const LandmarkTable lm = landmarks_for(b.model);
-  const int k = b.regressors.linear.empty()
+  // With a shape curve the avatars' betas are all the model's (linear_betas()).
+  const int k = b.curve ? std::min(b.model.num_betas(), kMaxTrainingBetas)
+                : b.regressors.linear.empty()
                     ? std::min(10, b.model.num_betas())
                     : static_cast<int>(b.regressors.linear.front().coefficients().rows());
   return std::make_unique<ShapeMeasurer>(b.model, lm, available_measurements(lm), k);
@@ -284,7 +293,7 @@ BatchModels load_batch_models(const BatchOptions& opt, std::vector<Person>& peop
   BatchModels m;
   const auto t_load = std::chrono::steady_clock::now();
   if (opt.mapping) m.mapping = load_mapping(*opt.mapping);
-  BundleCache cache(opt.model, opt.regressors);
+  BundleCache cache(opt.model, opt.regressors, opt.shape_curve);
   no_sex = 0;
   for (auto& p : people) {
     if (p.sex.empty()) {

@@ -132,6 +132,7 @@ Avatar make_avatar(const ModelBundle& bundle, const std::string& regressor,
   o.prior = prior;
   o.check_model = check_model;
   o.exact_inputs = exact_inputs;
+  o.shape_curve = bundle.curve.has_value();
   o.mapping = mapping;
   o.circumferences = circumferences;
   o.refuse_invalid = false;  // validation and --force are handled by check_inputs()
@@ -182,6 +183,10 @@ std::vector<OptionSpec> create_options() {
        false},
       {"exact-inputs", "", "",
        "refine the betas so that every input (weight too) is reproduced exactly", false},
+      {"no-shape-curve", "", "",
+       "plain regressors (R2-R6) as in the paper: from the mean body, not from the general "
+       "population's body of the height and weight",
+       false},
       {"force", "", "", "create the avatar even when an input is outside the hard limits", false},
       {"quiet", "q", "", "print nothing but errors and warnings", false},
   };
@@ -199,6 +204,7 @@ struct CreateOptions {
   std::string regressor;
   std::optional<std::string> model, regressors, mapping, out, png, population;
   bool json = false, exact_inputs = false, force = false, quiet = false;
+  bool shape_curve = true;  ///< false: --no-shape-curve
 };
 
 CreateOptions create_options_from(const ParsedArgs& a) {
@@ -244,6 +250,7 @@ CreateOptions create_options_from(const ParsedArgs& a) {
   o.exact_inputs = a.flags.count("exact-inputs") > 0;
   o.force = a.flags.count("force") > 0;
   o.quiet = a.flags.count("quiet") > 0;
+  o.shape_curve = a.flags.count("no-shape-curve") == 0;
   return o;
 }
 
@@ -283,7 +290,8 @@ CreateResult run_create(const CreateOptions& opt, std::ostream& warn) {
   CreateResult r;
   r.warnings = check_inputs(opt.inputs, opt.force);
   for (const auto& w : r.warnings) warn << "caliper: warning: " << w << "\n";
-  r.bundle = load_bundle(resolve_model_path(opt.model, opt.sex), opt.regressors);
+  r.bundle =
+      load_bundle(resolve_model_path(opt.model, opt.sex), opt.regressors, true, opt.shape_curve);
   const smpl::BodyModel& model = r.bundle->model;
   if (!opt.model && !model.meta.gender.empty() && model.meta.gender != opt.sex)
     warn << "caliper: warning: the model's gender is " << model.meta.gender << "\n";

@@ -49,6 +49,10 @@ const std::vector<OptionSpec>& evaluate_options() {
       {"nhanes-dir", "", "DIR", "nhanes: folder with NHANES_2017_2020_{FEMALE,MALE}_dev.csv",
        false},
       {"folds", "", "K", "nhanes: folds of the cross-validated baseline (default 10)", false},
+      {"no-shape-curve", "", "",
+       "R2-R6 as in the paper: from the mean body, not from the general population's body of "
+       "the height and weight (models that carry a shape curve)",
+       false},
       {"derive-iliac-crest", "", "",
        "nhanes: place left/right_iliac_crest by the v2 generator's rule on models without them",
        false},
@@ -68,6 +72,7 @@ struct EvaluateCommand {
   int every = 5;
   int folds = 10;
   bool derive_iliac_crest = false;
+  bool shape_curve = true;  ///< false: --no-shape-curve
 };
 
 EvaluateCommand evaluate_command_from(const ParsedArgs& a) {
@@ -88,6 +93,7 @@ EvaluateCommand evaluate_command_from(const ParsedArgs& a) {
   c.nhanes_dir = a.get_or("nhanes-dir", "");
   if (auto f = a.get("folds")) c.folds = parse_int(*f, "folds", 2, 1000);
   c.derive_iliac_crest = a.flags.count("derive-iliac-crest") > 0;
+  c.shape_curve = a.flags.count("no-shape-curve") == 0;
   if (c.study != "table1" && c.study != "simulation" && c.study != "ansur" && c.study != "nhanes")
     throw UsageError("unknown study '" + c.study + "' (table1, simulation, ansur, nhanes)");
   if (c.study == "nhanes" && c.nhanes_dir.empty())
@@ -101,8 +107,12 @@ EvaluateCommand evaluate_command_from(const ParsedArgs& a) {
 /// by caliper::derive_iliac_crest_landmarks() on its mean body when it had none. `note` gets a
 /// line saying which landmarks were used.
 std::shared_ptr<const ModelBundle> nhanes_bundle(const std::string& path, bool derive,
-                                                 std::string& note) {
-  auto loaded = load_bundle(path, std::nullopt);
+                                                 bool shape_curve, std::string& note) {
+  auto loaded = load_bundle(path, std::nullopt, true, shape_curve);
+  note += "- " + path + ": " +
+          (loaded->curve ? "R2 from the model's shape curve (" + loaded->curve->population + ")"
+                         : std::string("the paper's R2 (from the mean body)")) +
+          "\n";
   LandmarkTable table = landmarks_for(loaded->model);
   const bool carried = table.count("left_iliac_crest") && table.count("right_iliac_crest");
   if (carried || !derive) {
@@ -126,10 +136,10 @@ std::string run_evaluate(const EvaluateCommand& c) {
   std::ostringstream out;
   if (c.study == "nhanes") {
     std::string note;
-    const auto female =
-        nhanes_bundle(resolve_model_path(c.female_model, "female"), c.derive_iliac_crest, note);
-    const auto male =
-        nhanes_bundle(resolve_model_path(c.male_model, "male"), c.derive_iliac_crest, note);
+    const auto female = nhanes_bundle(resolve_model_path(c.female_model, "female"),
+                                      c.derive_iliac_crest, c.shape_curve, note);
+    const auto male = nhanes_bundle(resolve_model_path(c.male_model, "male"), c.derive_iliac_crest,
+                                    c.shape_curve, note);
     std::vector<NhanesGroup> groups(2);
     groups[0] = {"female", read_nhanes_csv(c.nhanes_dir + "/NHANES_2017_2020_FEMALE_dev.csv"),
                  female.get()};
@@ -148,8 +158,10 @@ std::string run_evaluate(const EvaluateCommand& c) {
   }
   if (c.study == "ansur") {
     std::vector<std::pair<std::vector<Person>, const ModelBundle*>> groups;
-    const auto male = load_bundle(resolve_model_path(c.male_model, "male"), std::nullopt);
-    const auto female = load_bundle(resolve_model_path(c.female_model, "female"), std::nullopt);
+    const auto male =
+        load_bundle(resolve_model_path(c.male_model, "male"), std::nullopt, true, c.shape_curve);
+    const auto female = load_bundle(resolve_model_path(c.female_model, "female"), std::nullopt,
+                                    true, c.shape_curve);
     groups.emplace_back(read_ansur_csv(c.ansur_dir + "/ANSUR_II_MALE_Public.csv"), male.get());
     groups.emplace_back(read_ansur_csv(c.ansur_dir + "/ANSUR_II_FEMALE_Public.csv"), female.get());
     out << "held out: every " << c.every
@@ -158,7 +170,8 @@ std::string run_evaluate(const EvaluateCommand& c) {
         << ansur_markdown(ansur_study(groups, c.every));
     return out.str();
   }
-  const auto bundle = load_bundle(resolve_model_path(c.model, c.sex), c.regressors);
+  const auto bundle =
+      load_bundle(resolve_model_path(c.model, c.sex), c.regressors, true, c.shape_curve);
   out << "model: " << bundle->path << " (" << bundle->model.meta.name << ", "
       << bundle->model.num_vertices() << " vertices)\n\n";
   if (c.study == "table1") {
@@ -167,7 +180,8 @@ std::string run_evaluate(const EvaluateCommand& c) {
     out << n << " bodies; " << r.condition << "; cm, weight kg; bold: not an input\n\n"
         << table1_markdown(r, true);
   } else {
-    out << simulation_markdown(simulation_study(*bundle, c.bodies.value_or(500), c.seed));
+    out << (bundle->curve ? "R2-R6 from the model's shape curve\n\n" : "")
+        << simulation_markdown(simulation_study(*bundle, c.bodies.value_or(500), c.seed));
   }
   return out.str();
 }

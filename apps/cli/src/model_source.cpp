@@ -42,7 +42,7 @@ std::string resolve_model_path(const std::optional<std::string>& model_file,
 
 std::shared_ptr<const ModelBundle> load_bundle(const std::string& model_path,
                                                const std::optional<std::string>& regressors_file,
-                                               bool need_regressors) {
+                                               bool need_regressors, bool shape_curve) {
   auto bundle = std::make_shared<ModelBundle>();
   const auto t0 = std::chrono::steady_clock::now();
   bundle->model = smpl::load_model(model_path);
@@ -51,6 +51,13 @@ std::shared_ptr<const ModelBundle> load_bundle(const std::string& model_path,
     bundle->measure_info.emplace(bundle->model);
   } catch (const LandmarkError&) {
     // left empty: measure_all() throws the same error for each avatar, where it is reported
+  }
+  if (shape_curve) {
+    try {
+      bundle->curve = caliper::shape_curve(bundle->model);
+    } catch (const std::runtime_error& e) {
+      throw RuntimeError(model_path + ": " + e.what() + " (or pass --no-shape-curve)");
+    }
   }
   const auto t1 = std::chrono::steady_clock::now();
   bundle->load_seconds = std::chrono::duration<double>(t1 - t0).count();
@@ -70,7 +77,7 @@ std::shared_ptr<const ModelBundle> BundleCache::get(const std::string& sex) {
   std::lock_guard<std::mutex> lock(mutex_);
   auto it = bundles_.find(key);
   if (it != bundles_.end()) return it->second;
-  auto b = load_bundle(resolve_model_path(model_file_, sex), regressors_file_);
+  auto b = load_bundle(resolve_model_path(model_file_, sex), regressors_file_, true, shape_curve_);
   bundles_[key] = b;
   return b;
 }

@@ -12,6 +12,7 @@
 
 #include "caliper/measurements.hpp"
 #include "caliper/regressor.hpp"
+#include "caliper/shape_curve.hpp"
 #include "smpl/body_model.hpp"
 
 namespace caliper::cli {
@@ -24,6 +25,10 @@ struct ModelBundle {
   /// The model's landmarks and closedness for measure_all(), made once at load; empty when the
   /// model's landmarks are broken (each avatar then reports the LandmarkError itself).
   std::optional<ModelMeasureInfo> measure_info;
+  /// The model's shape curve (caliper/shape_curve.hpp): plain regressors start from the general
+  /// population's body of the height and weight. Empty when the model carries none or with
+  /// --no-shape-curve (the paper's regressors).
+  std::optional<ShapeCurve> curve;
   double load_seconds = 0.0;
   double train_seconds = 0.0;
 };
@@ -37,21 +42,28 @@ std::string resolve_model_path(const std::optional<std::string>& model_file,
 /// Loads the model (smpl::load_model; smpl::ModelError propagates) and either loads the
 /// regressors from `regressors_file` (checked against the model) or trains them with the
 /// paper's defaults.
+/// `shape_curve` false leaves ModelBundle::curve empty (--no-shape-curve). A malformed curve
+/// entry throws RuntimeError naming the file.
 std::shared_ptr<const ModelBundle> load_bundle(const std::string& model_path,
                                                const std::optional<std::string>& regressors_file,
-                                               bool need_regressors = true);
+                                               bool need_regressors = true,
+                                               bool shape_curve = true);
 
 /// Lazily loads one bundle per sex (or one for an explicit --model), thread-safe, for batch.
 class BundleCache {
  public:
-  BundleCache(std::optional<std::string> model_file, std::optional<std::string> regressors_file)
-      : model_file_(std::move(model_file)), regressors_file_(std::move(regressors_file)) {}
+  BundleCache(std::optional<std::string> model_file, std::optional<std::string> regressors_file,
+              bool shape_curve = true)
+      : model_file_(std::move(model_file)),
+        regressors_file_(std::move(regressors_file)),
+        shape_curve_(shape_curve) {}
   /// The bundle for `sex`; the same for every sex when an explicit model was given.
   std::shared_ptr<const ModelBundle> get(const std::string& sex);
 
  private:
   std::optional<std::string> model_file_;
   std::optional<std::string> regressors_file_;
+  bool shape_curve_ = true;
   std::mutex mutex_;
   std::map<std::string, std::shared_ptr<const ModelBundle>> bundles_;
 };

@@ -145,6 +145,7 @@ Table1Result table1_study(const ModelBundle& bundle, int n, std::uint64_t seed, 
   r.condition = noisy ? "bodies drawn from the model, inputs perturbed by the paper's self "
                         "(half) and other (half) measurement errors"
                       : "exact measurements of bodies drawn from the model";
+  if (bundle.curve) r.condition += "; R2-R6 from the model's shape curve";
   if (exact_inputs) r.condition += "; R2-R6 betas refined to reproduce the inputs exactly";
   const int R = static_cast<int>(r.regressors.size());
   r.mean_abs = Eigen::MatrixXd::Zero(R, 6);
@@ -613,6 +614,25 @@ std::vector<NhanesRow> nhanes_study(const std::vector<NhanesGroup>& groups, int 
   return rows;
 }
 
+std::vector<std::string> nhanes_misses(const NhanesRow& r) {
+  std::vector<std::string> misses;
+  if (r.measured() > 0) {
+    const double hip_ratio = r.hip_mae_mm / r.hip_baseline_mae_mm;
+    const double waist_ratio = r.waist_mae_mm / r.waist_baseline_mae_mm;
+    const double share = 100.0 * r.beyond_3sd / r.measured();
+    const double bias_limit = r.bin == ">50" ? 30.0 : 20.0;
+    if (std::abs(r.hip_bias_mm) > bias_limit) misses.push_back("hip bias");
+    if (!(hip_ratio <= 1.15)) misses.push_back("hip MAE");
+    if (std::abs(r.waist_bias_mm) > bias_limit) misses.push_back("waist bias");
+    if (!(waist_ratio <= 1.15)) misses.push_back("waist MAE");
+    if (r.weight_mean_abs_kg > 0.5) misses.push_back("weight mean");
+    if (r.weight_max_abs_kg > 2.0) misses.push_back("weight max");
+    if (r.bin != ">50" && r.bin != "all" && share >= 5.0) misses.push_back("3 SD");
+  }
+  if (r.failed) misses.push_back(std::to_string(r.failed) + " failed");
+  return misses;
+}
+
 std::string nhanes_markdown(const std::vector<NhanesRow>& rows) {
   std::ostringstream s;
   s << markdown_header({"sex", "BMI", "people", "hip bias", "hip MAE", "hip baseline MAE",
@@ -625,20 +645,8 @@ std::string nhanes_markdown(const std::vector<NhanesRow>& rows) {
     const double hip_ratio = r.hip_mae_mm / r.hip_baseline_mae_mm;
     const double waist_ratio = r.waist_mae_mm / r.waist_baseline_mae_mm;
     const double share = r.measured() ? 100.0 * r.beyond_3sd / r.measured() : 0.0;
-    std::vector<std::string> misses;
-    if (r.measured() > 0) {
-      const double bias_limit = r.bin == ">50" ? 30.0 : 20.0;
-      if (std::abs(r.hip_bias_mm) > bias_limit) misses.push_back("hip bias");
-      if (!(hip_ratio <= 1.15)) misses.push_back("hip MAE");
-      if (std::abs(r.waist_bias_mm) > bias_limit) misses.push_back("waist bias");
-      if (!(waist_ratio <= 1.15)) misses.push_back("waist MAE");
-      if (r.weight_mean_abs_kg > 0.5) misses.push_back("weight mean");
-      if (r.weight_max_abs_kg > 2.0) misses.push_back("weight max");
-      if (r.bin != ">50" && r.bin != "all" && share >= 5.0) misses.push_back("3 SD");
-    }
-    if (r.failed) misses.push_back(std::to_string(r.failed) + " failed");
     std::string m;
-    for (const auto& x : misses) m += (m.empty() ? "" : ", ") + x;
+    for (const auto& x : nhanes_misses(r)) m += (m.empty() ? "" : ", ") + x;
     if (r.measured() == 0) {  // an empty bin (or every avatar failed): no figures
       s << "| " << r.sex << " | " << r.bin << " | " << r.count
         << " | - | - | - | - | - | - | - | - | - | - | - | " << (m.empty() ? "none" : m) << " |\n";

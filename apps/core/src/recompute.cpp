@@ -5,6 +5,7 @@
 #include <cmath>
 #include <optional>
 
+#include "caliper/avatar.hpp"
 #include "caliper/errors.hpp"
 #include "smpl/io.hpp"
 
@@ -18,6 +19,7 @@ ModelEntry make_model_entry(std::shared_ptr<const smpl::BodyModel> model, const 
   e.measure_info = std::make_shared<const ModelMeasureInfo>(*model);
   e.landmarks = e.measure_info->landmarks;
   e.regressors = std::make_shared<const RegressorSet>(train_regressors(*model, options));
+  e.curve = shape_curve(*model);
   e.model = std::move(model);
   return e;
 }
@@ -63,7 +65,7 @@ Prediction predict(const Document& doc, const ModelEntry& e) {
   } else {
     const LinearRegressor* r = e.regressors->find(to_string(choice));
     if (r == nullptr) throw InvalidInputError("this model has no regressor " + to_string(choice));
-    p.betas = r->predict(in);
+    p.betas = linear_betas(*e.model, *r, in, e.curve ? &*e.curve : nullptr, e.landmarks);
   }
   if (!p.betas.allFinite()) throw InvalidInputError("the regressor returned non-finite betas");
   return p;

@@ -26,6 +26,7 @@
 #include "caliper/measurements.hpp"
 #include "caliper/population.hpp"
 #include "caliper/random.hpp"
+#include "caliper/shape_curve.hpp"
 #include "caliper/volume.hpp"
 #include "caliper/weight.hpp"
 #include "makehuman_landmarks.hpp"
@@ -965,6 +966,37 @@ void store_survey_populations(const std::vector<Subject>& subjects, const FitRes
   }
 }
 
+/// The general population's body for a height and a weight (caliper/shape_curve.hpp): the
+/// quadratic curve of the NHANES subjects' betas on their surveyed height and weight (the
+/// neutral model: both sexes, each weighted to half). NHANES, not ANSUR II: the curve is the
+/// general adult population's, whose betas ~ N(0, I) the model's are.
+void store_shape_curve(const std::vector<Subject>& subjects, const FitResult& fit,
+                       const std::string& sex, const Eigen::VectorXd& mean,
+                       const Eigen::MatrixXd& to_betas, smpl::BodyModel& model) {
+  std::map<std::string, int> per_sex;
+  std::vector<size_t> rows;
+  for (size_t i = 0; i < subjects.size(); ++i) {
+    const Subject& s = subjects[i];
+    if (s.source == "NHANES" && (sex == "neutral" || s.sex == sex) && registered(fit, i)) {
+      ++per_sex[s.sex];
+      rows.push_back(i);
+    }
+  }
+  const auto n = static_cast<Eigen::Index>(rows.size());
+  Eigen::VectorXd height(n), weight(n), wt(n);
+  Eigen::MatrixXd betas(n, to_betas.rows());
+  for (Eigen::Index r = 0; r < n; ++r) {
+    const size_t i = rows[static_cast<size_t>(r)];
+    height[r] = subjects[i].values[0];
+    weight[r] = subjects[i].values[1];
+    wt[r] = sex == "neutral" ? 0.5 / per_sex.at(subjects[i].sex) : 1.0;
+    betas.row(r) = (to_betas * (coordinates(subjects, fit, i) - mean)).transpose();
+  }
+  caliper::set_shape_curve(
+      model, caliper::fit_shape_curve(height, weight, betas, wt,
+                                      "NHANES 2017-2020 development half, registered"));
+}
+
 }  // namespace
 
 smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl,
@@ -1027,6 +1059,7 @@ smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl
     to_betas.row(b) = sign / std::sqrt(lambda) * eig.eigenvectors().col(e).transpose() * R;
   }
   store_survey_populations(subjects, fit, sex, mean, to_betas, model);
+  if (population.general) store_shape_curve(subjects, fit, sex, mean, to_betas, model);
   // The basis is symmetric, so the mean and the components are to rounding; made exact here
   // (mirrored landmarks then agree to the last bit).
   const Eigen::Index nv = model.v_template.rows();

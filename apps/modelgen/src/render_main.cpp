@@ -12,11 +12,14 @@
 #include <cstdio>
 #include <exception>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "app/cli_style.hpp"
+#include "caliper/avatar.hpp"
 #include "caliper/regressor.hpp"
+#include "caliper/shape_curve.hpp"
 #include "render/render_mesh.hpp"
 #include "smpl/evaluate.hpp"
 #include "smpl/export.hpp"
@@ -71,17 +74,21 @@ smpl::Faces region(const smpl::BodyModel& model, const smpl::Vertices& body,
 }
 
 /// Avatars of `height` metres at BMI 18, 25, 35, 45 and 55: betas from the model's plain R2
-/// regressor (the paper's corner training; weight enters through the volume).
+/// regressor (the paper's corner training; weight enters through the volume), from the model's
+/// shape curve when it carries one (caliper create's path).
 void render_bmi(const smpl::BodyModel& model, double height, const std::string& prefix,
                 caliper::render::RenderOptions o) {
   caliper::TrainOptions t;
   t.noise_aware = false;
   const caliper::RegressorSet set = caliper::train_regressors(model, t);
   const caliper::LinearRegressor* r2 = set.find("R2");
+  const std::optional<caliper::ShapeCurve> curve = caliper::shape_curve(model);
+  const caliper::LandmarkTable landmarks = caliper::landmarks_for(model);
   std::vector<smpl::Vertices> bodies;
   for (const double bmi : {18.0, 25.0, 35.0, 45.0, 55.0}) {
-    const Eigen::VectorXd b =
-        r2->predict(caliper::MeasurementMap{{"height", height}, {"weight", bmi * height * height}});
+    const Eigen::VectorXd b = caliper::linear_betas(
+        model, *r2, caliper::MeasurementMap{{"height", height}, {"weight", bmi * height * height}},
+        curve ? &*curve : nullptr, landmarks);
     Eigen::VectorXd betas = Eigen::VectorXd::Zero(model.num_betas());
     betas.head(b.size()) = b;
     bodies.push_back(smpl::shape(model, betas).vertices);

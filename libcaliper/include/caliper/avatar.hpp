@@ -12,6 +12,8 @@
 #include "caliper/measurements.hpp"
 #include "caliper/plausibility.hpp"
 #include "caliper/regressor.hpp"
+#include "caliper/shape_curve.hpp"
+#include "caliper/training.hpp"
 #include "smpl/body_model.hpp"
 
 namespace caliper {
@@ -38,6 +40,12 @@ struct AvatarOptions {
   /// mean), refine the betas with refine_to_inputs() so that every given input (weight included)
   /// is reproduced exactly. Off by default (the paper's behaviour).
   bool exact_inputs = false;
+  /// Plain (linear) regressors: start from the general population's body for the given height
+  /// and weight when the model carries a shape curve (shape_curve.hpp; the open models do),
+  /// instead of from the mean body. The inputs are reproduced as by the paper's regressor; the
+  /// directions they do not measure follow real people of that height and weight (the hip of
+  /// the heaviest and thinnest: docs/evaluation.md, section 4). false: the paper's regressor.
+  bool shape_curve = true;
   /// Check the regressor's model signature against `model` (ModelMismatchError). The check
   /// computes the model's fingerprint (a pass over the template and shape directions); a caller
   /// that makes many avatars with one model and regressor checks once (`regressor.signature()
@@ -50,6 +58,23 @@ struct AvatarOptions {
   /// instead of the model's own N(0, I). A plain regressor refuses it (InvalidInputError).
   const ShapePrior* prior = nullptr;
 };
+
+/// The betas of a plain (linear) regressor for `inputs` (its inputs; extra keys ignored). Without
+/// `curve`, or for a regressor whose inputs lack height or weight: the paper's prediction,
+/// regressor.predict(inputs) (its k betas). With the model's shape curve (shape_curve.hpp):
+/// beta = c + A (f - f(c)) over the regressor's k betas, c the curve's betas for the height and
+/// weight (all the model's betas, which is what is returned), A the regressor's slopes, f the
+/// inputs' features and f(c) the same features measured on the curve's body. To first order the
+/// body reproduces the inputs as the paper's prediction does (A is the minimum-norm inverse of
+/// the linearised measurements), and where the inputs measure nothing it is the general
+/// population's body of that height and weight. `landmarks`: landmarks_for(model).
+/// `measurer`: used for f(c) when it covers the model's betas (exact and faster; its
+/// definitions must hold the regressor's length inputs), else the mesh is shaped and measured.
+/// Throws what predict() throws for a missing or bad input.
+Eigen::VectorXd linear_betas(const smpl::BodyModel& model, const LinearRegressor& regressor,
+                             const MeasurementMap& inputs, const ShapeCurve* curve,
+                             const LandmarkTable& landmarks,
+                             const ShapeMeasurer* measurer = nullptr);
 
 /// Gauss-Newton refinement of `betas` (k <= model.num_betas() values) so that the rest-pose
 /// body reproduces every value in `targets` (paper measurement ids and "weight"; other keys

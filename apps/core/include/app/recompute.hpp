@@ -6,6 +6,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,7 @@
 #include "caliper/measurements.hpp"
 #include "caliper/plausibility.hpp"
 #include "caliper/regressor.hpp"
+#include "caliper/shape_curve.hpp"
 #include "smpl/body_model.hpp"
 
 namespace caliper::app {
@@ -28,6 +30,9 @@ struct ModelEntry {
   /// The model's landmarks and closedness for measure_all(), made once by make_model_entry();
   /// null: worked out at each complete measurement.
   std::shared_ptr<const ModelMeasureInfo> measure_info;
+  /// The model's shape curve (caliper/shape_curve.hpp), if it carries one: R2-R6 start from the
+  /// general population's body of the height and weight (linear_betas()).
+  std::optional<ShapeCurve> curve;
 };
 
 /// Builds a ModelEntry: validates the model, computes its landmark table and fits the
