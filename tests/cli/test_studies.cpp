@@ -65,10 +65,10 @@ TEST(Table1Study, RegressorsReproduceTheirInputs) {
 // The paper's Table 1 on the committed open models (docs/evaluation.md): every length a
 // regressor takes comes back to 1 mm, on each model, the neutral one too (its floor is the same
 // vertex for every body: mh::level_soles); the weight from volume of R2-R5 within 1 kg on
-// average (the tables: 0.2-1.0 kg). Not met, and so not asserted: R6's arm length on the neutral
-// model (the arm's length is not linear in the neutral model's betas): on this test's 40 bodies
-// up to 2.6 mm; `caliper evaluate table1 --sex neutral -n 1000` mean 0.11 mm, max 0.39 mm since
-// the refit with the thigh 3 cm under the crotch (1.1 and 4.6 mm before; docs/evaluation.md).
+// average (the tables: 0.0-0.9 kg from the models' shape curve). Not met, and so not asserted:
+// R6's arm length on the neutral model (the arm's length is not linear in the neutral model's
+// betas): `caliper evaluate table1 --sex neutral -n 1000` mean 0.7 mm, max 3.8 mm from the
+// shape curve (1.2 and 4.1 mm from the mean body; docs/evaluation.md).
 TEST(Table1Study, CommittedModelsGiveTheirLengthInputsBack) {
   for (const char* sex : {"female", "male", "neutral"}) {
     const ModelBundle b = bundle_for(smpl::load_model(
