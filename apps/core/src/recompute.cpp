@@ -20,6 +20,11 @@ ModelEntry make_model_entry(std::shared_ptr<const smpl::BodyModel> model, const 
   e.landmarks = e.measure_info->landmarks;
   e.regressors = std::make_shared<const RegressorSet>(train_regressors(*model, options));
   e.curve = shape_curve(*model);
+  if (e.curve) {
+    e.curve_measurer = std::make_shared<const ShapeMeasurer>(
+        *model, e.landmarks, available_measurements(e.landmarks),
+        std::min(model->num_betas(), kMaxTrainingBetas));
+  }
   e.model = std::move(model);
   return e;
 }
@@ -65,7 +70,8 @@ Prediction predict(const Document& doc, const ModelEntry& e) {
   } else {
     const LinearRegressor* r = e.regressors->find(to_string(choice));
     if (r == nullptr) throw InvalidInputError("this model has no regressor " + to_string(choice));
-    p.betas = linear_betas(*e.model, *r, in, e.curve ? &*e.curve : nullptr, e.landmarks);
+    p.betas = linear_betas(*e.model, *r, in, e.curve ? &*e.curve : nullptr, e.landmarks,
+                           e.curve_measurer.get());
   }
   if (!p.betas.allFinite()) throw InvalidInputError("the regressor returned non-finite betas");
   return p;
