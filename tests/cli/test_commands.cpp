@@ -1,6 +1,7 @@
 // The subcommands run in process (main_guarded) on a small generated model: happy paths, exact
 // exit codes and messages for bad input.
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +12,7 @@
 #include "app/editor_core.hpp"
 #include "caliper/json.hpp"
 #include "caliper/measurements.hpp"
+#include "caliper/shape_curve.hpp"
 #include "cli_fixture.hpp"
 #include "cli_support.hpp"
 #include "commands.hpp"
@@ -493,6 +495,65 @@ TEST_F(Commands, BatchFastPathEqualsMeasuringTheMesh) {
   EXPECT_LT(f.column("chest_circumference_cm"), 0);
   ASSERT_GE(m.column("chest_circumference_cm"), 0);
   EXPECT_FALSE(m.rows[0][static_cast<size_t>(m.column("chest_circumference_cm"))].empty());
+}
+
+// A model that carries a shape curve (caliper/shape_curve.hpp): create and batch start R2-R6
+// from it (every beta set; the fast batch path equals measuring the mesh), --no-shape-curve gives
+// the paper's betas, and a malformed curve entry is refused naming the file and the way out.
+TEST_F(Commands, ShapeCurveIsUsedSwitchedOffAndAMalformedOneRefused) {
+  smpl::BodyModel m = test::cli_test_model("female");
+  ShapeCurve c;
+  c.population = "test";
+  c.subjects = 100;
+  c.center = {1.7, std::cbrt(70.0)};
+  c.scale = {0.1, 0.3};
+  c.lo = {1.5, std::cbrt(45.0)};
+  c.hi = {1.9, std::cbrt(120.0)};
+  c.coefficients = Eigen::MatrixXd::Constant(m.num_betas(), 6, 0.05);
+  set_shape_curve(m, c);
+  const std::string curved = path("curved.npz");
+  smpl::save_model(m, curved);
+  const std::vector<std::string> who = {"create",   "--model", curved,    "--height", "172cm",
+                                        "--weight", "73kg",    "--force", "--json"};
+  auto with = [&who](std::vector<std::string> more) {
+    std::vector<std::string> a = who;
+    a.insert(a.end(), more.begin(), more.end());
+    return a;
+  };
+  const CliRun from_curve = run(who), paper = run(with({"--no-shape-curve"}));
+  ASSERT_EQ(from_curve.code, kExitOk) << from_curve.err;
+  ASSERT_EQ(paper.code, kExitOk) << paper.err;
+  const std::vector<double> bc = parse_json(from_curve.out).at("betas").as_numbers();
+  const std::vector<double> bp = parse_json(paper.out).at("betas").as_numbers();
+  ASSERT_EQ(bc.size(), bp.size());
+  double moved = 0.0;
+  for (size_t i = 0; i < bc.size(); ++i) moved = std::max(moved, std::abs(bc[i] - bp[i]));
+  EXPECT_GT(moved, 1e-3) << "the curve changed nothing";
+  // Batch: the fast path (ShapeMeasurer over every beta) equals measuring the mesh.
+  std::ofstream(path("people.csv")) << "id,height_cm,weight_kg\na,172,73\nb,160,90\n";
+  const CliRun fast = run({"batch", path("people.csv"), "--model", curved, "--force", "--out",
+                           path("fast.csv"), "--regressor", "R2"});
+  const CliRun mesh = run({"batch", path("people.csv"), "--model", curved, "--force", "--out",
+                           path("mesh.csv"), "--regressor", "R2", "--circumferences"});
+  ASSERT_EQ(fast.code, kExitOk) << fast.err;
+  ASSERT_EQ(mesh.code, kExitOk) << mesh.err;
+  const CsvTable f = read_csv(path("fast.csv")), g = read_csv(path("mesh.csv"));
+  for (const char* col : {"height_cm", "weight_kg", "volume_L", "beta0", "mahalanobis"}) {
+    const int a = f.column(col), b = g.column(col);
+    ASSERT_GE(a, 0) << col;
+    ASSERT_GE(b, 0) << col;
+    for (size_t r = 0; r < 2; ++r)
+      EXPECT_EQ(f.rows[r][static_cast<size_t>(a)], g.rows[r][static_cast<size_t>(b)]) << col;
+  }
+  // A malformed entry: refused, naming the file and what to do; --no-shape-curve still works.
+  m.meta.extra[shape_curve_meta_key()] = "{\"population\": 3";
+  smpl::save_model(m, curved);
+  const CliRun bad = run(who);
+  EXPECT_EQ(bad.code, kExitRuntime);
+  EXPECT_TRUE(contains(bad.err, "curved.npz") && contains(bad.err, "shape_curve") &&
+              contains(bad.err, "--no-shape-curve"))
+      << bad.err;
+  EXPECT_EQ(run(with({"--no-shape-curve"})).code, kExitOk);
 }
 
 TEST_F(Commands, BatchRefusesImplausibleRowsWithoutForce) {
