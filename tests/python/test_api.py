@@ -75,6 +75,17 @@ def test_exact_inputs_reproduces_every_input(model, regressors):
     assert abs(a.achieved["weight"] - 62.0) < 1e-4
 
 
+def test_shape_curve_starts_plain_regressors_and_can_be_switched_off(model, regressors):
+    # The open models carry the general population's shape curve: R2 from it sets every beta
+    # (the paper's R2 leaves those beyond its 10 at 0) and gives the height back as well.
+    curve = caliper.create(model, regressors, height="160cm", weight="110kg")
+    paper = caliper.create(model, regressors, height="160cm", weight="110kg", shape_curve=False)
+    assert np.abs(curve.betas[10:]).max() > 1e-3
+    assert np.abs(paper.betas[10:]).max() == 0
+    for a in (curve, paper):
+        assert abs(a.achieved["height"] - 1.60) < 1e-3
+
+
 def test_batch_evaluation_equals_single_calls(model):
     rng = np.random.default_rng(7)
     n, k = 16, model.num_joints

@@ -88,6 +88,9 @@ def _create(args, out, err):
     p.add_argument("--json", action="store_true", help="print the JSON report")
     p.add_argument("--exact-inputs", action="store_true", help="refine R2-R6 betas so that "
                    "every input is reproduced exactly")
+    p.add_argument("--no-shape-curve", action="store_true", help="plain regressors (R2-R6) as "
+                   "in the paper: from the mean body, not from the general population's body of "
+                   "the height and weight")
     p.add_argument("--force", action="store_true", help="create the avatar even when an input "
                    "is outside the hard limits")
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but warnings")
@@ -151,7 +154,7 @@ def _create(args, out, err):
     mapping = _c.load_mapping(a.mapping) if a.mapping else None
     t_create = time.perf_counter()
     avatar = _c.create(model, regs, inputs, regressor=regressor, exact_inputs=a.exact_inputs,
-                       force=True, mapping=mapping)
+                       force=True, mapping=mapping, shape_curve=not a.no_shape_curve)
     create_s = time.perf_counter() - t_create
     pl = avatar.plausibility
     if not pl.plausible:

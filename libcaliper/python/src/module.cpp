@@ -311,6 +311,7 @@ struct CreateRequest {
   caliper::MeasurementMap inputs;
   std::string regressor;
   bool exact_inputs = false;
+  bool shape_curve = true;
   bool force = false;
   bool circumferences = true;
   caliper::NoiseLevels noise;
@@ -322,6 +323,7 @@ PyAvatar create_avatar(const ModelPtr& model, const caliper::RegressorSet& regre
                        const CreateRequest& r) {
   caliper::AvatarOptions o;
   o.exact_inputs = r.exact_inputs;
+  o.shape_curve = r.shape_curve;
   o.mapping = r.mapping.get();
   o.circumferences = r.circumferences;
   o.refuse_invalid = !r.force;
@@ -972,7 +974,8 @@ void bind_create(py::module_& m) {
          const py::object& height, const py::object& weight, const py::object& arm_span,
          const py::object& inseam, const py::object& hip_width, const py::object& arm_length,
          const py::object& regressor, bool exact_inputs, bool force, bool circumferences,
-         const py::object& noise, const std::shared_ptr<caliper::MeasurementMapping>& mapping) {
+         const py::object& noise, const std::shared_ptr<caliper::MeasurementMapping>& mapping,
+         bool shape_curve) {
         if (!model) invalid("create: model is None; load one with load_model() or open_model()");
         py::dict named;
         named["height"] = height;
@@ -981,8 +984,9 @@ void bind_create(py::module_& m) {
         named["inseam"] = inseam;
         named["hip_width"] = hip_width;
         named["arm_length"] = arm_length;
-        const CreateRequest r = make_request(measurements, named, regressor, exact_inputs, force,
-                                             circumferences, noise, mapping);
+        CreateRequest r = make_request(measurements, named, regressor, exact_inputs, force,
+                                       circumferences, noise, mapping);
+        r.shape_curve = shape_curve;
         RegressorsPtr regs = regressors;
         py::gil_scoped_release release;
         if (!regs)
@@ -995,6 +999,7 @@ void bind_create(py::module_& m) {
       py::arg("hip_width") = py::none(), py::arg("arm_length") = py::none(),
       py::arg("regressor") = py::none(), py::arg("exact_inputs") = false, py::arg("force") = false,
       py::arg("circumferences") = true, py::arg("noise") = py::none(), py::arg("mapping") = nullptr,
+      py::arg("shape_curve") = true,
       "Creates an avatar from measurements, as `caliper create`. Values are numbers in metres "
       "and kilograms or texts with a unit ('168cm', '5ft6in', '62kg', '137lb'), given as "
       "keywords (height, weight, arm_span, inseam, hip_width, arm_length) and/or a dict of "
@@ -1002,6 +1007,8 @@ void bind_create(py::module_& m) {
       "them now, about as long as `caliper create` without --regressors). regressor: 'R2', "
       "'R4', 'R5', 'R6' or 'noise-aware' (default: R2/R4/R5 for exactly their inputs, else "
       "noise-aware). exact_inputs: refine R2-R6 betas so every input is reproduced exactly. "
+      "shape_curve: R2-R6 start from the general population's body of the height and weight "
+      "when the model carries a shape curve (the open models do); False: the paper's. "
       "noise: SD per input for the noise-aware regressor. mapping: a real-to-virtual Mapping. "
       "force: accept inputs outside the hard limits (else InvalidInputError).");
 }
