@@ -10,6 +10,15 @@
 
 namespace caliper::test {
 
+/// Noise-free logs are written with 6 decimals (see test_session.cpp): a measurement read back
+/// from one is within this of the truth.
+constexpr double kNoiseFreeTolerance = 5e-6;  // m
+
+/// A file in the tests' data folder.
+inline std::string data_path(const std::string& name) {
+  return std::string(CALIPER_TEST_DATA_DIR) + "/" + name;
+}
+
 /// A person given by landmark points only (metres, floor at y = 0, facing +Z): no model needed.
 inline SimulatedPerson hand_made_person() {
   SimulatedPerson p;

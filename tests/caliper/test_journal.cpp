@@ -14,12 +14,8 @@
 namespace caliper {
 namespace {
 
-// Noise-free logs are written with 6 decimals; see test_session.cpp.
-constexpr double kNoiseFreeTolerance = 5e-6;  // m
-
-std::string data_path(const std::string& name) {
-  return std::string(CALIPER_TEST_DATA_DIR) + "/" + name;
-}
+using test::data_path;
+using test::kNoiseFreeTolerance;
 
 std::string read_all(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

@@ -16,15 +16,11 @@
 namespace caliper {
 namespace {
 
-// Noise-free logs are written with 6 decimals; see test_session.cpp.
-constexpr double kNoiseFreeTolerance = 5e-6;  // m
+using test::data_path;
+using test::kNoiseFreeTolerance;
 
 bool contains(const std::string& s, const std::string& part) {
   return s.find(part) != std::string::npos;
-}
-
-std::string data_path(const std::string& name) {
-  return std::string(CALIPER_TEST_DATA_DIR) + "/" + name;
 }
 
 TEST(SessionOddInput, TipBelowTheFloorIsARetakeNotAnAbort) {

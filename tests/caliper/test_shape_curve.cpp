@@ -21,7 +21,7 @@
 namespace {
 
 // Only the number of betas matters for the metadata.
-smpl::BodyModel model_with_betas(int b) {
+smpl::BodyModel curve_test_model(int b) {
   smpl::BodyModel m;
   m.shapedirs = Eigen::MatrixXd::Zero(3, b);
   return m;
@@ -29,13 +29,13 @@ smpl::BodyModel model_with_betas(int b) {
 
 // n subjects over heights 1.5-1.9 m and weights 45-160 kg; betas an exact quadratic of the
 // standardised (height, cube root of weight) with coefficients `truth` (B x 6).
-struct Sample {
+struct CurveSample {
   Eigen::VectorXd height, weight, wt;
   Eigen::MatrixXd betas;
 };
 
-Sample quadratic_sample(const Eigen::MatrixXd& truth, int n) {
-  Sample s;
+CurveSample curve_sample(const Eigen::MatrixXd& truth, int n) {
+  CurveSample s;
   s.height.resize(n);
   s.weight.resize(n);
   s.wt = Eigen::VectorXd::Ones(n);
@@ -57,7 +57,7 @@ Sample quadratic_sample(const Eigen::MatrixXd& truth, int n) {
   return s;
 }
 
-Eigen::MatrixXd example_truth(int b) {
+Eigen::MatrixXd curve_truth(int b) {
   Eigen::MatrixXd t(b, 6);
   for (int r = 0; r < b; ++r) {
     for (int q = 0; q < 6; ++q) t(r, q) = 0.1 * (r + 1) - 0.07 * q + 0.01 * r * q;
@@ -66,8 +66,8 @@ Eigen::MatrixXd example_truth(int b) {
 }
 
 TEST(ShapeCurve, FitRecoversAQuadraticAndStopsAtTheSubjectsRange) {
-  const Eigen::MatrixXd truth = example_truth(3);
-  const Sample s = quadratic_sample(truth, 200);
+  const Eigen::MatrixXd truth = curve_truth(3);
+  const CurveSample s = curve_sample(truth, 200);
   const caliper::ShapeCurve c =
       caliper::fit_shape_curve(s.height, s.weight, s.betas, s.wt, "test population");
   EXPECT_EQ(c.subjects, 200);
@@ -80,7 +80,7 @@ TEST(ShapeCurve, FitRecoversAQuadraticAndStopsAtTheSubjectsRange) {
   EXPECT_LT((c.betas(2.5, 400.0) - c.betas(c.hi[0], c.hi[1] * c.hi[1] * c.hi[1])).norm(), 1e-9);
   EXPECT_LT((c.betas(1.0, 20.0) - c.betas(c.lo[0], c.lo[1] * c.lo[1] * c.lo[1])).norm(), 1e-9);
   // Subjects with sample weight 0 take no part.
-  Sample z = s;
+  CurveSample z = s;
   z.betas(0, 0) += 1e6;
   z.wt[0] = 0.0;
   const caliper::ShapeCurve d = caliper::fit_shape_curve(z.height, z.weight, z.betas, z.wt, "");
@@ -89,11 +89,11 @@ TEST(ShapeCurve, FitRecoversAQuadraticAndStopsAtTheSubjectsRange) {
 }
 
 TEST(ShapeCurve, BadSubjectsAndInputsAreRefused) {
-  const Sample s = quadratic_sample(example_truth(2), 40);
-  const auto fit = [](const Sample& x) {
+  const CurveSample s = curve_sample(curve_truth(2), 40);
+  const auto fit = [](const CurveSample& x) {
     return caliper::fit_shape_curve(x.height, x.weight, x.betas, x.wt, "");
   };
-  Sample bad = s;
+  CurveSample bad = s;
   bad.height[3] = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(fit(bad), std::invalid_argument);
   bad = s;
@@ -115,9 +115,9 @@ TEST(ShapeCurve, BadSubjectsAndInputsAreRefused) {
 }
 
 TEST(ShapeCurve, RoundTripsThroughTheModelMetadataToTheBit) {
-  smpl::BodyModel m = model_with_betas(3);
+  smpl::BodyModel m = curve_test_model(3);
   EXPECT_FALSE(caliper::shape_curve(m).has_value());
-  const Sample s = quadratic_sample(example_truth(3), 60);
+  const CurveSample s = curve_sample(curve_truth(3), 60);
   const caliper::ShapeCurve c = caliper::fit_shape_curve(s.height, s.weight, s.betas, s.wt, "p");
   caliper::set_shape_curve(m, c);
   const std::optional<caliper::ShapeCurve> back = caliper::shape_curve(m);
@@ -127,13 +127,13 @@ TEST(ShapeCurve, RoundTripsThroughTheModelMetadataToTheBit) {
   EXPECT_TRUE(back->center == c.center && back->scale == c.scale);
   EXPECT_TRUE(back->lo == c.lo && back->hi == c.hi);
   EXPECT_TRUE(back->coefficients == c.coefficients);
-  EXPECT_THROW(caliper::set_shape_curve(*std::make_unique<smpl::BodyModel>(model_with_betas(4)), c),
+  EXPECT_THROW(caliper::set_shape_curve(*std::make_unique<smpl::BodyModel>(curve_test_model(4)), c),
                std::invalid_argument);
 }
 
 TEST(ShapeCurve, BadEntriesAreRefusedNamingTheKeyAndWhatToDo) {
-  smpl::BodyModel m = model_with_betas(2);
-  const Sample s = quadratic_sample(example_truth(2), 40);
+  smpl::BodyModel m = curve_test_model(2);
+  const CurveSample s = curve_sample(curve_truth(2), 40);
   caliper::set_shape_curve(m, caliper::fit_shape_curve(s.height, s.weight, s.betas, s.wt, "p"));
   const std::string good = m.meta.extra.at(caliper::shape_curve_meta_key());
   const auto refused = [&](const std::string& text) {
@@ -161,7 +161,7 @@ TEST(ShapeCurve, BadEntriesAreRefusedNamingTheKeyAndWhatToDo) {
   EXPECT_TRUE(refused(replaced("\"coefficients\":[[", "\"coefficients\":[[1,")));    // 7 wide
   EXPECT_TRUE(refused(replaced("\"center\":[", "\"center\":[1e999,")));  // 3 values, inf
   // Values that parse but cannot be used.
-  smpl::BodyModel n = model_with_betas(2);
+  smpl::BodyModel n = curve_test_model(2);
   caliper::ShapeCurve c = caliper::fit_shape_curve(s.height, s.weight, s.betas, s.wt, "p");
   c.scale[1] = 0.0;
   caliper::set_shape_curve(n, c);
