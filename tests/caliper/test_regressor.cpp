@@ -16,6 +16,7 @@
 #include "caliper/training.hpp"
 #include "caliper_test/matrix_compare.hpp"
 #include "caliper_test/random_model.hpp"
+#include "caliper_test/shape_curve_example.hpp"
 #include "core_test_meshes.hpp"
 
 namespace caliper {
@@ -243,6 +244,14 @@ TEST(NoiseAware, DefaultNoiseIsPaperTable2) {
 // ---------------------------------------------------------------------------------------------
 // A body-shaped model (tests/support): real measurements, volume and training.
 
+// Avatars without circumferences (faster) and without refusing unusual inputs.
+AvatarOptions quiet_options() {
+  AvatarOptions o;
+  o.circumferences = false;
+  o.refuse_invalid = false;
+  return o;
+}
+
 class BodyModelRegressors : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -347,9 +356,8 @@ TEST_F(BodyModelRegressors, ExactInputsAreReproducedExactly) {
   // Gauss-Newton refinement after the paper's prediction: every input, weight included, comes
   // back to ~1e-9 m (residual test) / a few micrograms, with a small change of the betas.
   const Eigen::MatrixXd truth = gaussian_betas(5, 10, 78);
-  AvatarOptions plain, exact;
-  plain.circumferences = exact.circumferences = false;
-  plain.refuse_invalid = exact.refuse_invalid = false;
+  const AvatarOptions plain = quiet_options();
+  AvatarOptions exact = quiet_options();
   exact.exact_inputs = true;
   for (const auto& r : set_->linear) {
     for (int s = 0; s < truth.rows(); ++s) {
@@ -374,20 +382,12 @@ TEST_F(BodyModelRegressors, AShapeCurveDecidesOnlyWhatTheInputsDoNotMeasure) {
   // the betas are the inputs' correction, across them the curve's own; the inputs come back as
   // well as from the paper's prediction; the measurer's shortcut gives the mesh's betas.
   smpl::BodyModel curved = *model_;
-  ShapeCurve curve;
-  curve.population = "test";
-  curve.subjects = 100;
-  curve.center = {1.7, std::cbrt(70.0)};
-  curve.scale = {0.1, 0.3};
-  curve.lo = {1.4, std::cbrt(40.0)};
-  curve.hi = {2.0, std::cbrt(150.0)};
-  curve.coefficients = Eigen::MatrixXd::Random(10, 6) * 0.3;
+  const ShapeCurve curve = test::example_shape_curve(Eigen::MatrixXd::Random(10, 6) * 0.3);
   set_shape_curve(curved, curve);
   const ShapeMeasurer measurer(curved, landmarks_for(curved), paper_measurements(), 10);
   const Eigen::MatrixXd truth = gaussian_betas(8, 10, 79);
-  AvatarOptions o, paper;
-  o.circumferences = paper.circumferences = false;
-  o.refuse_invalid = paper.refuse_invalid = false;
+  const AvatarOptions o = quiet_options();
+  AvatarOptions paper = quiet_options();
   paper.shape_curve = false;
   for (const auto& r : set_->linear) {
     const Eigen::MatrixXd A = r.coefficients().leftCols(r.inputs().size());

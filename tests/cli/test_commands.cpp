@@ -13,6 +13,7 @@
 #include "caliper/json.hpp"
 #include "caliper/measurements.hpp"
 #include "caliper/shape_curve.hpp"
+#include "caliper_test/shape_curve_example.hpp"
 #include "cli_fixture.hpp"
 #include "cli_support.hpp"
 #include "commands.hpp"
@@ -52,6 +53,12 @@ class Commands : public ::testing::Test {
     smpl::save_model(test::cli_test_model("female"), model_);
   }
   std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  /// `caliper batch PEOPLE` (a file in the test folder) on `model` with `regressor`, by the fast
+  /// path and by measuring meshes (--circumferences): every column of `cols` prints alike in each
+  /// row. Returns the fast and the mesh results.
+  std::pair<CsvTable, CsvTable> expect_fast_batch_equals_mesh(
+      const std::string& model, const std::string& people, const std::string& regressor,
+      const std::vector<const char*>& cols) const;
   CliRun run(const std::vector<std::string>& args) const {
     std::ostringstream out, err;
     Io io{out, err, false};
@@ -472,25 +479,37 @@ TEST_F(Commands, BatchWritesResultsAvatarsAndReportsBadRows) {
   EXPECT_FALSE(std::filesystem::exists(path("avatars/b.glb")));
 }
 
+std::pair<CsvTable, CsvTable> Commands::expect_fast_batch_equals_mesh(
+    const std::string& model, const std::string& people, const std::string& regressor,
+    const std::vector<const char*>& cols) const {
+  const CliRun fast = run({"batch", path(people), "--model", model, "--force", "--out",
+                           path("fast.csv"), "--regressor", regressor});
+  const CliRun mesh = run({"batch", path(people), "--model", model, "--force", "--out",
+                           path("mesh.csv"), "--regressor", regressor, "--circumferences"});
+  EXPECT_EQ(fast.code, kExitOk) << fast.err;
+  EXPECT_EQ(mesh.code, kExitOk) << mesh.err;
+  CsvTable f = read_csv(path("fast.csv")), m = read_csv(path("mesh.csv"));
+  EXPECT_EQ(f.rows.size(), m.rows.size());
+  for (const char* col : cols) {
+    const int c = f.column(col), cm = m.column(col);  // the mesh CSV has more columns
+    EXPECT_GE(c, 0) << col;
+    EXPECT_GE(cm, 0) << col;
+    if (c < 0 || cm < 0) continue;
+    for (size_t r = 0; r < std::min(f.rows.size(), m.rows.size()); ++r)  // to printing
+      EXPECT_EQ(f.rows[r][static_cast<size_t>(c)], m.rows[r][static_cast<size_t>(cm)]) << col;
+  }
+  return {std::move(f), std::move(m)};
+}
+
 TEST_F(Commands, BatchFastPathEqualsMeasuringTheMesh) {
   std::ofstream(path("people.csv")) << "id,height_cm,weight_kg,arm_span_cm,inseam_cm\n"
                                        "a,172,73,27,75\nb,168,66,26.5,74\n";
-  const CliRun fast = run({"batch", path("people.csv"), "--model", model_, "--force", "--out",
-                           path("fast.csv"), "--regressor", "R4"});
-  const CliRun mesh = run({"batch", path("people.csv"), "--model", model_, "--force", "--out",
-                           path("mesh.csv"), "--regressor", "R4", "--circumferences"});
-  ASSERT_EQ(fast.code, kExitOk) << fast.err;
-  ASSERT_EQ(mesh.code, kExitOk) << mesh.err;
-  const CsvTable f = read_csv(path("fast.csv")), m = read_csv(path("mesh.csv"));
+  // The CSV's 2 decimals: the values agree to printing.
+  const auto [f, m] =
+      expect_fast_batch_equals_mesh(model_, "people.csv", "R4",
+                                    {"height_cm", "weight_kg", "inseam_height_cm", "hip_width_cm",
+                                     "arm_length_cm", "volume_L", "beta0", "mahalanobis"});
   ASSERT_EQ(f.rows.size(), 2u);
-  for (const char* col : {"height_cm", "weight_kg", "inseam_height_cm", "hip_width_cm",
-                          "arm_length_cm", "volume_L", "beta0", "mahalanobis"}) {
-    const int c = f.column(col), cm = m.column(col);  // the mesh CSV has more columns
-    ASSERT_GE(c, 0) << col;
-    ASSERT_GE(cm, 0) << col;
-    for (size_t r = 0; r < 2; ++r)  // the CSV's 2 decimals: the values agree to printing
-      EXPECT_EQ(f.rows[r][static_cast<size_t>(c)], m.rows[r][static_cast<size_t>(cm)]) << col;
-  }
   // Circumferences only when asked (issue 17: no columns that are always empty).
   EXPECT_LT(f.column("chest_circumference_cm"), 0);
   ASSERT_GE(m.column("chest_circumference_cm"), 0);
@@ -502,15 +521,7 @@ TEST_F(Commands, BatchFastPathEqualsMeasuringTheMesh) {
 // the paper's betas, and a malformed curve entry is refused naming the file and the way out.
 TEST_F(Commands, ShapeCurveIsUsedSwitchedOffAndAMalformedOneRefused) {
   smpl::BodyModel m = test::cli_test_model("female");
-  ShapeCurve c;
-  c.population = "test";
-  c.subjects = 100;
-  c.center = {1.7, std::cbrt(70.0)};
-  c.scale = {0.1, 0.3};
-  c.lo = {1.5, std::cbrt(45.0)};
-  c.hi = {1.9, std::cbrt(120.0)};
-  c.coefficients = Eigen::MatrixXd::Constant(m.num_betas(), 6, 0.05);
-  set_shape_curve(m, c);
+  set_shape_curve(m, test::example_shape_curve(Eigen::MatrixXd::Constant(m.num_betas(), 6, 0.05)));
   const std::string curved = path("curved.npz");
   smpl::save_model(m, curved);
   const std::vector<std::string> who = {"create",   "--model", curved,    "--height", "172cm",
@@ -531,20 +542,9 @@ TEST_F(Commands, ShapeCurveIsUsedSwitchedOffAndAMalformedOneRefused) {
   EXPECT_GT(moved, 1e-3) << "the curve changed nothing";
   // Batch: the fast path (ShapeMeasurer over every beta) equals measuring the mesh.
   std::ofstream(path("people.csv")) << "id,height_cm,weight_kg\na,172,73\nb,160,90\n";
-  const CliRun fast = run({"batch", path("people.csv"), "--model", curved, "--force", "--out",
-                           path("fast.csv"), "--regressor", "R2"});
-  const CliRun mesh = run({"batch", path("people.csv"), "--model", curved, "--force", "--out",
-                           path("mesh.csv"), "--regressor", "R2", "--circumferences"});
-  ASSERT_EQ(fast.code, kExitOk) << fast.err;
-  ASSERT_EQ(mesh.code, kExitOk) << mesh.err;
-  const CsvTable f = read_csv(path("fast.csv")), g = read_csv(path("mesh.csv"));
-  for (const char* col : {"height_cm", "weight_kg", "volume_L", "beta0", "mahalanobis"}) {
-    const int a = f.column(col), b = g.column(col);
-    ASSERT_GE(a, 0) << col;
-    ASSERT_GE(b, 0) << col;
-    for (size_t r = 0; r < 2; ++r)
-      EXPECT_EQ(f.rows[r][static_cast<size_t>(a)], g.rows[r][static_cast<size_t>(b)]) << col;
-  }
+  const auto tables = expect_fast_batch_equals_mesh(
+      curved, "people.csv", "R2", {"height_cm", "weight_kg", "volume_L", "beta0", "mahalanobis"});
+  EXPECT_EQ(tables.first.rows.size(), 2u);
   // A malformed entry: refused, naming the file and what to do; --no-shape-curve still works.
   m.meta.extra[shape_curve_meta_key()] = "{\"population\": 3";
   smpl::save_model(m, curved);

@@ -31,6 +31,7 @@ constexpr double kInputTolCm = 0.1;
 constexpr double kStudyWeightTolKg = 0.5;
 
 // As load_bundle() makes it by default: the model's shape curve too, when it carries one.
+
 ModelBundle bundle_for(const smpl::BodyModel& model) {
   ModelBundle b;
   b.model = model;
@@ -38,6 +39,12 @@ ModelBundle bundle_for(const smpl::BodyModel& model) {
   b.curve = shape_curve(b.model);
   b.measure_info.emplace(b.model);
   return b;
+}
+
+// The committed open model of `sex` (assets/models).
+ModelBundle committed_bundle(const char* sex) {
+  return bundle_for(smpl::load_model(
+      default_model_path(std::string(CALIPER_SOURCE_DIR) + "/assets/models", sex)));
 }
 
 TEST(Table1Study, RegressorsReproduceTheirInputs) {
@@ -71,8 +78,7 @@ TEST(Table1Study, RegressorsReproduceTheirInputs) {
 // shape curve (1.2 and 4.1 mm from the mean body; docs/evaluation.md).
 TEST(Table1Study, CommittedModelsGiveTheirLengthInputsBack) {
   for (const char* sex : {"female", "male", "neutral"}) {
-    const ModelBundle b = bundle_for(smpl::load_model(
-        default_model_path(std::string(CALIPER_SOURCE_DIR) + "/assets/models", sex)));
+    const ModelBundle b = committed_bundle(sex);
     const Table1Result r = table1_study(b, 40, 11);
     for (size_t k = 0; k < r.regressors.size(); ++k) {
       const auto kind = parse_regressor_kind(r.regressors[k]);
@@ -109,9 +115,8 @@ TEST(AnsurStudy, TheAnsurPriorMatchesTheLinearBaselineOnTheCommittedModels) {
   if (!std::filesystem::exists(dir + "/ANSUR_II_MALE_Public.csv")) {
     GTEST_SKIP() << "no ANSUR II files in " << dir << " (../shared/data/ansur2)";
   }
-  const std::string models = std::string(CALIPER_SOURCE_DIR) + "/assets/models";
-  const ModelBundle male = bundle_for(smpl::load_model(default_model_path(models, "male")));
-  const ModelBundle female = bundle_for(smpl::load_model(default_model_path(models, "female")));
+  const ModelBundle male = committed_bundle("male");
+  const ModelBundle female = committed_bundle("female");
   std::vector<std::pair<std::vector<Person>, const ModelBundle*>> groups;
   groups.emplace_back(read_ansur_csv(dir + "/ANSUR_II_MALE_Public.csv"), &male);
   groups.emplace_back(read_ansur_csv(dir + "/ANSUR_II_FEMALE_Public.csv"), &female);
@@ -150,9 +155,8 @@ TEST(NhanesStudy, CommittedModelsMeetTheIssueTargetsInEveryBmiBin) {
   if (!std::filesystem::exists(dir + "/NHANES_2017_2020_FEMALE_dev.csv")) {
     GTEST_SKIP() << "no NHANES files in " << dir << " (../shared/data/nhanes)";
   }
-  const std::string models = std::string(CALIPER_SOURCE_DIR) + "/assets/models";
-  const ModelBundle female = bundle_for(smpl::load_model(default_model_path(models, "female")));
-  const ModelBundle male = bundle_for(smpl::load_model(default_model_path(models, "male")));
+  const ModelBundle female = committed_bundle("female");
+  const ModelBundle male = committed_bundle("male");
   ASSERT_TRUE(female.curve && male.curve) << "the committed models carry no shape curve";
   std::vector<NhanesGroup> groups(2);
   groups[0] = {"female", read_nhanes_csv(dir + "/NHANES_2017_2020_FEMALE_dev.csv"), &female};
