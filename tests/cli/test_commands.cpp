@@ -534,6 +534,8 @@ TEST_F(Commands, ShapeCurveIsUsedSwitchedOffAndAMalformedOneRefused) {
   const CliRun from_curve = run(who), paper = run(with({"--no-shape-curve"}));
   ASSERT_EQ(from_curve.code, kExitOk) << from_curve.err;
   ASSERT_EQ(paper.code, kExitOk) << paper.err;
+  EXPECT_TRUE(parse_json(from_curve.out).at("shape_curve").as_bool());
+  EXPECT_FALSE(parse_json(paper.out).at("shape_curve").as_bool());
   const std::vector<double> bc = parse_json(from_curve.out).at("betas").as_numbers();
   const std::vector<double> bp = parse_json(paper.out).at("betas").as_numbers();
   ASSERT_EQ(bc.size(), bp.size());

@@ -355,6 +355,8 @@ Json create_report_json(const CreateResult& r, const std::string& regressor,
   model.set("betas", r.bundle->model.num_betas());
   j.set("model", model);
   j.set("regressor", regressor);
+  // Whether the plain regressor started from the model's shape curve (docs/regressors.md).
+  j.set("shape_curve", regressor != "noise-aware" && r.bundle->curve.has_value());
   if (population) j.set("population", *population);
   j.set("units",
         Json::object({{"length", Json("m")}, {"weight", Json("kg")}, {"volume", Json("m3")}}));
