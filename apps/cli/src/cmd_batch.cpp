@@ -116,12 +116,21 @@ void fast_avatar(const ModelBundle& b, const ShapeMeasurer& measurer, const std:
     k_betas = linear_betas(b.model, *r, mapped, b.curve ? &*b.curve : nullptr,
                            b.measure_info ? b.measure_info->landmarks : LandmarkTable{}, &measurer);
   }
-  const Eigen::VectorXd m = measurer.measure(k_betas);
-  for (size_t i = 0; i < measurer.definitions().size(); ++i)
-    achieved[measurer.definitions()[i].id] = m[static_cast<Eigen::Index>(i)];
-  const double volume = measurer.volume(k_betas);
-  achieved["volume"] = volume;
-  achieved["weight"] = weight_from_volume(volume, weight_formula_for(b.model.meta.gender));
+  if (k_betas.size() > measurer.num_betas()) {
+    // A shape curve over more betas than the exact maps take (kMaxTrainingBetas): the mesh.
+    MeasureOptions mo;
+    mo.circumferences = false;
+    const smpl::Vertices v = shaped_vertices(b.model, k_betas);
+    achieved =
+        b.measure_info ? measure_all(b.model, v, *b.measure_info, mo) : measure_all(b.model, v, mo);
+  } else {
+    const Eigen::VectorXd m = measurer.measure(k_betas);
+    for (size_t i = 0; i < measurer.definitions().size(); ++i)
+      achieved[measurer.definitions()[i].id] = m[static_cast<Eigen::Index>(i)];
+    const double volume = measurer.volume(k_betas);
+    achieved["volume"] = volume;
+    achieved["weight"] = weight_from_volume(volume, weight_formula_for(b.model.meta.gender));
+  }
   plaus = plausibility(k_betas);
   betas = Eigen::VectorXd::Zero(b.model.num_betas());
   betas.head(k_betas.size()) = k_betas;
