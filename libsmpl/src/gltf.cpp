@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 #include <filesystem>
 #include <limits>
 #include <sstream>
@@ -989,9 +990,17 @@ tinygltf::Model parse_gltf(const std::uint8_t* bytes, size_t size, const std::st
   std::string err;
   const auto n = static_cast<unsigned int>(size);
   const std::string base = folder.empty() ? std::string("/nonexistent") : folder;
-  const bool ok = binary ? loader.LoadBinaryFromMemory(&g, &err, &warn, bytes, n, base)
-                         : loader.LoadASCIIFromString(
-                               &g, &err, &warn, reinterpret_cast<const char*>(bytes), n, base);
+  bool ok = false;
+  try {
+    ok = binary ? loader.LoadBinaryFromMemory(&g, &err, &warn, bytes, n, base)
+                : loader.LoadASCIIFromString(&g, &err, &warn, reinterpret_cast<const char*>(bytes),
+                                             n, base);
+  } catch (const std::exception& e) {
+    // tinygltf itself throws on some malformed files (a GLB buffer of byteLength 0 beside a
+    // non-empty BIN chunk: std::out_of_range from vector::at); found by fuzz_gltf.
+    throw ModelError(path + ": not a readable glTF file: the glTF parser failed on it (" +
+                     e.what() + "); re-export the avatar from its original application");
+  }
   if (!policy.refused.empty()) throw ModelError(path + ": " + policy.refused);
   if (!ok) {
     throw ModelError(path + ": not a readable glTF file: " + (err.empty() ? "unknown error" : err) +

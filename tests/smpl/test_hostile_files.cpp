@@ -277,6 +277,33 @@ TEST(HostileGltf, DeeplyNestedJsonIsRefused) {
   EXPECT_HAS(read_error(make_gltf(p, bin)), "nests arrays and objects more than 128 levels");
 }
 
+// A GLB whose buffer says byteLength 0 beside a non-empty BIN chunk: tinygltf's own parser throws
+// std::out_of_range (vector::at on an empty vector; found by fuzz_gltf in CI). It must come out as
+// a ModelError naming the file, like every other malformed file.
+TEST(HostileGltf, EmptyBufferBesideABinChunkIsRefused) {
+  std::string json = R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":0}]})";
+  while (json.size() % 4 != 0) json += ' ';
+  const Bytes bin_chunk = {1, 2, 3, 4};
+  Bytes glb;
+  const auto put32 = [&glb](std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) glb.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
+  };
+  const auto total = static_cast<std::uint32_t>(12 + 8 + json.size() + 8 + bin_chunk.size());
+  glb = {'g', 'l', 'T', 'F'};
+  put32(2);
+  put32(total);
+  put32(static_cast<std::uint32_t>(json.size()));
+  put32(0x4E4F534Au);  // "JSON"
+  glb.insert(glb.end(), json.begin(), json.end());
+  put32(static_cast<std::uint32_t>(bin_chunk.size()));
+  put32(0x004E4942u);  // "BIN\0"
+  glb.insert(glb.end(), bin_chunk.begin(), bin_chunk.end());
+  const std::string e =
+      error_of([&] { smpl::read_gltf_from_memory(glb.data(), glb.size(), "empty-buffer.glb"); });
+  EXPECT_HAS(e, "empty-buffer.glb");
+  EXPECT_HAS(e, "not a readable glTF file");
+}
+
 // 20,000 morph targets sharing one 10,000-vertex accessor would make 4.8 GB of doubles from a
 // file of under 1 MB: the decoded-bytes budget refuses it before anything large is made.
 TEST(HostileGltf, MorphTargetsSharingAnAccessorHitTheBudget) {
