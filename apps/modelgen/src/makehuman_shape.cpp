@@ -893,6 +893,20 @@ Moments general_moments(const ShapeBasis& basis, const std::vector<Subject>& sub
   return g;
 }
 
+/// The general adult population of `sex` (general_moments()); "neutral": the mixture of the
+/// sexes, each half.
+Moments general_population(const ShapeBasis& basis, const std::vector<Subject>& subjects,
+                           const FitResult& fit, const std::string& sex) {
+  if (sex != "neutral") return general_moments(basis, subjects, fit, sex);
+  const Moments f = general_moments(basis, subjects, fit, "female");
+  const Moments m = general_moments(basis, subjects, fit, "male");
+  Moments out;
+  out.mean = 0.5 * (f.mean + m.mean);
+  const Eigen::VectorXd d = f.mean - m.mean;
+  out.cov = 0.5 * (f.cov + m.cov) + 0.25 * d * d.transpose();
+  return out;
+}
+
 /// The pooled population of `sex` (Population::general false; "neutral": both sexes, each
 /// half): every registered subject of the sex alike, or each survey weighted to its share.
 Moments pooled_moments(const std::vector<Subject>& subjects, const FitResult& fit,
@@ -932,11 +946,18 @@ Moments pooled_moments(const std::vector<Subject>& subjects, const FitResult& fi
 }
 
 /// Writes each survey's population in the model's betas (population.hpp; keys "ansur2",
-/// "nhanes"): the moments of the betas of the survey's subjects of `sex` (the neutral model:
-/// both sexes, each weighted to half, as its own population).
-void store_survey_populations(const std::vector<Subject>& subjects, const FitResult& fit,
-                              const std::string& sex, const Eigen::VectorXd& mean,
-                              const Eigen::MatrixXd& to_betas, smpl::BodyModel& model) {
+/// "nhanes"). ANSUR II: the moments of the betas of its registered subjects of `sex` (the
+/// neutral model: both sexes, each weighted to half, as its own population). NHANES: the general
+/// adult population (general_population(): the NHANES subjects' moments plus ANSUR II's spread
+/// given their measurements), not the NHANES subjects' own moments: registered from four
+/// measurements, those vary along only the few directions the four move the fit, so their
+/// covariance is singular and no prior for a person (`caliper create --population nhanes` was
+/// refused with it). On a model of the general population (Population::general) this is the
+/// model's own N(0, I), to rounding.
+void store_survey_populations(const ShapeBasis& basis, const std::vector<Subject>& subjects,
+                              const FitResult& fit, const std::string& sex,
+                              const Eigen::VectorXd& mean, const Eigen::MatrixXd& to_betas,
+                              smpl::BodyModel& model) {
   for (const auto& [key, survey] : {std::pair<const char*, const char*>{"ansur2", "ANSUR II"},
                                     std::pair<const char*, const char*>{"nhanes", "NHANES"}}) {
     std::map<std::string, int> per_sex;
@@ -956,12 +977,27 @@ void store_survey_populations(const std::vector<Subject>& subjects, const FitRes
       rows.emplace_back(to_betas * (coordinates(subjects, fit, i) - mean), weight);
     }
     if (rows.size() < 2) continue;
-    const Moments m = weighted_moments(rows);
     caliper::SurveyPopulation p;
     p.survey = survey;
     p.subjects = static_cast<int>(rows.size());
-    p.mean = m.mean;
-    p.cov = 0.5 * (m.cov + m.cov.transpose());  // symmetric to the bit
+    if (std::string(key) == "nhanes") {
+      // The general population needs ANSUR II subjects of each sex it covers too.
+      std::map<std::string, int> soldiers;
+      for (size_t i = 0; i < subjects.size(); ++i) {
+        if (subjects[i].source == "ANSUR II" && registered(fit, i)) ++soldiers[subjects[i].sex];
+      }
+      const bool both =
+          sex != "neutral" ? soldiers[sex] >= 2 : soldiers["female"] >= 2 && soldiers["male"] >= 2;
+      if (!both || (sex == "neutral" && (per_sex["female"] < 2 || per_sex["male"] < 2))) continue;
+      const Moments g = general_population(basis, subjects, fit, sex);
+      p.mean = to_betas * (g.mean - mean);
+      const Eigen::MatrixXd cov = to_betas * g.cov * to_betas.transpose();
+      p.cov = 0.5 * (cov + cov.transpose());  // symmetric to the bit
+    } else {
+      const Moments m = weighted_moments(rows);
+      p.mean = m.mean;
+      p.cov = 0.5 * (m.cov + m.cov.transpose());
+    }
     caliper::set_survey_population(model, key, p);
   }
 }
@@ -1011,17 +1047,9 @@ smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl
   Eigen::VectorXd mean;
   Eigen::MatrixXd cov;
   if (population.general) {
-    if (sex != "neutral") {
-      Moments m = general_moments(basis, subjects, fit, sex);
-      mean = std::move(m.mean);
-      cov = std::move(m.cov);
-    } else {  // the mixture of the sexes, each half
-      const Moments f = general_moments(basis, subjects, fit, "female");
-      const Moments m = general_moments(basis, subjects, fit, "male");
-      mean = 0.5 * (f.mean + m.mean);
-      const Eigen::VectorXd d = f.mean - m.mean;
-      cov = 0.5 * (f.cov + m.cov) + 0.25 * d * d.transpose();
-    }
+    Moments m = general_population(basis, subjects, fit, sex);
+    mean = std::move(m.mean);
+    cov = std::move(m.cov);
   } else {
     Moments m = pooled_moments(subjects, fit, sex, population.survey_share);
     mean = std::move(m.mean);
@@ -1058,7 +1086,7 @@ smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl
     model.shapedirs.col(b) = sign * dir;
     to_betas.row(b) = sign / std::sqrt(lambda) * eig.eigenvectors().col(e).transpose() * R;
   }
-  store_survey_populations(subjects, fit, sex, mean, to_betas, model);
+  store_survey_populations(basis, subjects, fit, sex, mean, to_betas, model);
   if (population.general) store_shape_curve(subjects, fit, sex, mean, to_betas, model);
   // The basis is symmetric, so the mean and the components are to rounding; made exact here
   // (mirrored landmarks then agree to the last bit).

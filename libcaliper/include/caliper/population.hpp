@@ -7,7 +7,9 @@
 /// cov), the validation samples from them (caliper-modelgen --validate, tests/modelgen
 /// Realism), and the noise-aware regressor takes one as its prior to make the avatar of a person
 /// of that population (population_prior(); `caliper create --population`, `caliper evaluate
-/// ansur`).
+/// ansur`). The open models' "nhanes" is the general adult population their betas stand for
+/// (N(0, I)), not the NHANES subjects' own moments, which are singular (registered from four
+/// measurements).
 #pragma once
 
 #include <optional>
