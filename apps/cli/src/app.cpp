@@ -40,7 +40,7 @@ const Command kCommands[] = {
     {"models", "list the open default models and describe model files", cmd_models},
     {"render", "PNG pictures of an avatar or a model (front, side, three-quarter, turntable)",
      cmd_render},
-    {"evaluate", "the evaluation studies of docs/evaluation.md (table1, simulation, ansur)",
+    {"evaluate", "the evaluation studies of docs/evaluation.md (table1, simulation, ansur, nhanes)",
      cmd_evaluate},
 };
 
