@@ -86,6 +86,23 @@ def test_shape_curve_starts_plain_regressors_and_can_be_switched_off(model, regr
         assert abs(a.achieved["height"] - 1.60) < 1e-3
 
 
+def test_population_is_the_noise_aware_prior(model, regressors):
+    # As `caliper create --population`: the open models carry ANSUR II's soldiers (a smaller
+    # waist than the general population's for the same height and weight) and NHANES's adults,
+    # which are the models' own N(0, I) (the same avatar as without a population).
+    own = caliper.create(model, regressors, height="165cm", weight="64kg", regressor="noise-aware")
+    adults = caliper.create(model, regressors, height="165cm", weight="64kg", population="nhanes")
+    soldier = caliper.create(model, regressors, height="165cm", weight="64kg", population="ansur2")
+    assert adults.regressor == soldier.regressor == "noise-aware"
+    assert np.abs(adults.betas - own.betas).max() < 1e-9
+    assert soldier.achieved["waist_circumference"] < own.achieved["waist_circumference"] - 0.01
+    with pytest.raises(caliper.InvalidInputError, match="takes the noise-aware regressor"):
+        caliper.create(model, regressors, height="165cm", weight="64kg", regressor="R2",
+                       population="ansur2")
+    with pytest.raises(caliper.InvalidInputError, match="carries no population 'martians'"):
+        caliper.create(model, regressors, height="165cm", weight="64kg", population="martians")
+
+
 def test_batch_evaluation_equals_single_calls(model):
     rng = np.random.default_rng(7)
     n, k = 16, model.num_joints

@@ -52,7 +52,8 @@ def api_create(args, models, regs):
         if option(args, opt):
             kw[key] = option(args, opt)
     return caliper.create(models[sex], regs[sex], regressor=option(args, "--regressor"),
-                          exact_inputs="--exact-inputs" in args, **kw)
+                          exact_inputs="--exact-inputs" in args,
+                          population=option(args, "--population"), **kw)
 
 
 @pytest.fixture(scope="module")
@@ -92,6 +93,18 @@ def test_python_m_caliper_equals_cli(args):
         assert mine[key].keys() == report[key].keys(), key
 
 
+def test_population_equals_cli(models, regs):
+    # `--population ansur2`: the noise-aware regressor with the soldiers' shapes as its prior,
+    # the same avatar from the program, the module and `python3 -m caliper`.
+    args = ["--sex", "female", "--height", "165cm", "--weight", "64kg", "--population", "ansur2"]
+    report = run_json([CLI, "create", "--json", *args])
+    a = api_create(args, models, regs)
+    compare(report, a.betas, a.achieved, a.regressor)
+    mine = run_json([sys.executable, "-m", "caliper", "create", "--json", *args])
+    compare(report, np.array(mine["betas"]), mine["achieved"], mine["regressor"])
+    assert report["population"] == mine["population"] == "ansur2"
+
+
 def test_measure_equals_cli(models):
     betas = [0.5, -1.0, 0.25, 0.0, 1.5]
     report = run_json([CLI, "measure", "--sex", "male", "--json",
@@ -124,6 +137,11 @@ def test_python_m_caliper_exit_codes(work):
     assert r.returncode == 1 and "missing.npz" in r.stderr
     r = run("create", "--bogus")
     assert r.returncode == 2
+    r = run("create", "--height", "168cm", "--weight", "62kg", "--population", "martians")
+    assert r.returncode == 2 and "carries no population 'martians'" in r.stderr
+    r = run("create", "--height", "168cm", "--weight", "62kg", "--population", "ansur2",
+            "--regressor", "R2")
+    assert r.returncode == 2 and "--population takes the noise-aware regressor" in r.stderr
     # The C++ program agrees on the same three.
     assert subprocess.run([CLI, "create", "--height", "168", "--weight", "62kg"],
                           capture_output=True, check=False).returncode == 2

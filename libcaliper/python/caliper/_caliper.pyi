@@ -140,7 +140,8 @@ def create(model: BodyModel, regressors: Optional[Regressors] = None,
            arm_length: Optional[Value] = None, regressor: Optional[str] = None,
            exact_inputs: bool = False, force: bool = False, circumferences: bool = True,
            noise: Optional[_Map[str, Value]] = None,
-           mapping: Optional[Mapping] = None, shape_curve: bool = True) -> Avatar: ...
+           mapping: Optional[Mapping] = None, shape_curve: bool = True,
+           population: Optional[str] = None) -> Avatar: ...
 
 def measure(model: BodyModel, vertices: Optional[ArrayLike] = None, *,
             betas: Optional[ArrayLike] = None, circumferences: bool = True,

@@ -91,6 +91,9 @@ def _create(args, out, err):
     p.add_argument("--no-shape-curve", action="store_true", help="plain regressors (R2-R6) as "
                    "in the paper: from the mean body, not from the general population's body of "
                    "the height and weight")
+    p.add_argument("--population", metavar="NAME", help="the person is of this population the "
+                   "model carries (ansur2: US Army soldiers, nhanes: US adults): the noise-aware "
+                   "regressor with its shapes as the prior")
     p.add_argument("--force", action="store_true", help="create the avatar even when an input "
                    "is outside the hard limits")
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but warnings")
@@ -114,6 +117,11 @@ def _create(args, out, err):
                      _c.normalise_regressor(a.regressor))
     except _c.InvalidInputError as e:
         raise _Usage("--" + str(e))
+    if a.population is not None:
+        if a.regressor is not None and regressor != "noise-aware":
+            raise _Usage("--population takes the noise-aware regressor (the population is its "
+                         f"prior); leave out --regressor {regressor}")
+        regressor = "noise-aware"
     if not inputs:
         raise _Usage("no measurements given; give at least --height (and usually --weight)")
     if regressor != "noise-aware":
@@ -153,8 +161,14 @@ def _create(args, out, err):
         err.write(f"caliper: warning: the model's gender is {model.gender}\n")
     mapping = _c.load_mapping(a.mapping) if a.mapping else None
     t_create = time.perf_counter()
-    avatar = _c.create(model, regs, inputs, regressor=regressor, exact_inputs=a.exact_inputs,
-                       force=True, mapping=mapping, shape_curve=not a.no_shape_curve)
+    try:
+        avatar = _c.create(model, regs, inputs, regressor=regressor, exact_inputs=a.exact_inputs,
+                           force=True, mapping=mapping, shape_curve=not a.no_shape_curve,
+                           population=a.population)
+    except _c.InvalidInputError as e:
+        if a.population is None or "carries no population" not in str(e):
+            raise
+        raise _Usage(f"--population {a.population}: {e}")
     create_s = time.perf_counter() - t_create
     pl = avatar.plausibility
     if not pl.plausible:
@@ -178,6 +192,8 @@ def _create(args, out, err):
                        "vertices": model.num_vertices, "betas": model.num_betas},
              "regressor": regressor, "units": {"length": "m", "weight": "kg", "volume": "m3"},
              "input": avatar.input}
+        if a.population is not None:
+            j["population"] = a.population
         if mapping is not None:
             j["mapped_input"] = avatar.mapped
         achieved = avatar.achieved
@@ -195,8 +211,9 @@ def _create(args, out, err):
         return EXIT_OK
     if a.quiet:
         return EXIT_OK
+    prior = "" if a.population is None else f", prior: the model's population '{a.population}'"
     out.write(f"model: {model.name or '(unnamed)'} ({model.gender or '?'}, {model_path})\n"
-              f"regressor: {regressor}\n\n")
+              f"regressor: {regressor}{prior}\n\n")
     out.write(_table(avatar.mapped, avatar.achieved))
     out.write("\nbetas: " + " ".join(f"{b:.3f}" for b in avatar.betas) + "\n")
     if avatar.betas_sd is not None:

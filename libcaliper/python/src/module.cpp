@@ -27,6 +27,7 @@
 #include "caliper/mapping.hpp"
 #include "caliper/measurements.hpp"
 #include "caliper/plausibility.hpp"
+#include "caliper/population.hpp"
 #include "caliper/regressor.hpp"
 #include "evaluate_many.hpp"
 #include "smpl/body_model.hpp"
@@ -316,6 +317,7 @@ struct CreateRequest {
   bool circumferences = true;
   caliper::NoiseLevels noise;
   std::shared_ptr<caliper::MeasurementMapping> mapping;
+  std::optional<caliper::ShapePrior> prior;  ///< population=: the noise-aware regressor's prior
 };
 
 /// The C++ work of create() (also timed alone by the benchmark baseline).
@@ -327,6 +329,7 @@ PyAvatar create_avatar(const ModelPtr& model, const caliper::RegressorSet& regre
   o.mapping = r.mapping.get();
   o.circumferences = r.circumferences;
   o.refuse_invalid = !r.force;
+  o.prior = r.prior ? &*r.prior : nullptr;
   PyAvatar out;
   out.model = model;
   out.regressor = r.regressor;
@@ -975,7 +978,7 @@ void bind_create(py::module_& m) {
          const py::object& inseam, const py::object& hip_width, const py::object& arm_length,
          const py::object& regressor, bool exact_inputs, bool force, bool circumferences,
          const py::object& noise, const std::shared_ptr<caliper::MeasurementMapping>& mapping,
-         bool shape_curve) {
+         bool shape_curve, const py::object& population) {
         if (!model) invalid("create: model is None; load one with load_model() or open_model()");
         py::dict named;
         named["height"] = height;
@@ -987,6 +990,18 @@ void bind_create(py::module_& m) {
         CreateRequest r = make_request(measurements, named, regressor, exact_inputs, force,
                                        circumferences, noise, mapping);
         r.shape_curve = shape_curve;
+        if (!population.is_none()) {
+          // As `caliper create --population`: the population is the noise-aware regressor's
+          // prior, so that regressor is taken (another one named is an error).
+          const std::string key = population.cast<std::string>();
+          if (!regressor.is_none() && r.regressor != "noise-aware")
+            invalid(
+                "population takes the noise-aware regressor (the population is its prior); "
+                "leave out regressor='" +
+                r.regressor + "'");
+          r.regressor = "noise-aware";
+          r.prior = caliper::population_prior(*model, key);
+        }
         RegressorsPtr regs = regressors;
         py::gil_scoped_release release;
         if (!regs)
@@ -999,7 +1014,7 @@ void bind_create(py::module_& m) {
       py::arg("hip_width") = py::none(), py::arg("arm_length") = py::none(),
       py::arg("regressor") = py::none(), py::arg("exact_inputs") = false, py::arg("force") = false,
       py::arg("circumferences") = true, py::arg("noise") = py::none(), py::arg("mapping") = nullptr,
-      py::arg("shape_curve") = true,
+      py::arg("shape_curve") = true, py::arg("population") = py::none(),
       "Creates an avatar from measurements, as `caliper create`. Values are numbers in metres "
       "and kilograms or texts with a unit ('168cm', '5ft6in', '62kg', '137lb'), given as "
       "keywords (height, weight, arm_span, inseam, hip_width, arm_length) and/or a dict of "
@@ -1010,6 +1025,9 @@ void bind_create(py::module_& m) {
       "shape_curve: R2-R6 start from the general population's body of the height and weight "
       "when the model carries a shape curve (the open models do); False: the paper's. "
       "noise: SD per input for the noise-aware regressor. mapping: a real-to-virtual Mapping. "
+      "population: a population the model carries (the open models: 'ansur2', US Army "
+      "soldiers; 'nhanes', US adults, their own prior): the noise-aware regressor with its "
+      "shapes as the prior (as `caliper create --population`). "
       "force: accept inputs outside the hard limits (else InvalidInputError).");
 }
 
