@@ -688,6 +688,9 @@ TEST_F(Commands, CreateWithoutOutSaysNothingWasWritten) {
       run({"create", "--model", model_, "--height", "172cm", "--weight", "70kg", "--force"});
   ASSERT_EQ(r.code, kExitOk) << r.err;
   EXPECT_TRUE(contains(r.err, "no avatar file written")) << r.err;
+  // Every format --out writes is named (.vrm and .fbx were missing).
+  for (const char* ext : {".glb", ".gltf", ".vrm", ".fbx", ".obj", ".ply"})
+    EXPECT_TRUE(contains(r.err, ext)) << ext << ": " << r.err;
   const CliRun w = run({"create", "--model", model_, "--height", "172cm", "--weight", "70kg",
                         "--force", "--out", path("a.obj")});
   EXPECT_FALSE(contains(w.err, "no avatar file written")) << w.err;

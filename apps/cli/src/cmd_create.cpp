@@ -417,8 +417,8 @@ void write_create_text(const CreateOptions& opt, const CreateResult& r, std::ost
 /// Writes the report: JSON, text, or (--quiet) nothing.
 int write_create_report(const CreateOptions& opt, const CreateResult& r, Io& io) {
   if (!opt.out) {
-    io.err << "caliper create: no avatar file written (add --out avatar.glb, or .gltf, .obj, "
-              ".ply, to write one)\n";
+    io.err << "caliper create: no avatar file written (add --out FILE, a "
+           << avatar_extensions_text() << " file, e.g. --out avatar.glb)\n";
   }
   if (opt.json) {
     io.out << create_report_json(r, opt.regressor, opt.population).dump(2) << "\n";
