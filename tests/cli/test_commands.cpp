@@ -424,6 +424,12 @@ TEST_F(Commands, CreateRefusesImplausibleInputWithExitCode3) {
   r = run({"create", "--model", model_, "--height", "170cm", "--weight", "-5kg"});
   EXPECT_EQ(r.code, kExitImplausible) << r.err;
   EXPECT_TRUE(contains(r.err, "weight")) << r.err;
+  // A value no body has: --force is neither suggested nor accepted (it used to be suggested,
+  // and then the regressor refused the value with a vaguer message).
+  EXPECT_FALSE(contains(r.err, "--force")) << r.err;
+  r = run({"create", "--model", model_, "--height", "170cm", "--weight", "-5kg", "--force"});
+  EXPECT_EQ(r.code, kExitImplausible) << r.err;
+  EXPECT_TRUE(contains(r.err, "weight = -5 kg must be positive")) << r.err;
   r = run({"create", "--model", model_, "--height", "170cm", "--weight", "65kg", "--arm-span",
            "85cm", "--inseam", "80cm"});
   EXPECT_EQ(r.code, kExitImplausible) << r.err;

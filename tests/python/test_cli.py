@@ -137,6 +137,11 @@ def test_python_m_caliper_exit_codes(work):
     assert r.returncode == 1 and "missing.npz" in r.stderr
     r = run("create", "--bogus")
     assert r.returncode == 2
+    # A value no body has is refused even with --force, by both.
+    r = run("create", "--height", "168cm", "--weight=-5kg", "--force")
+    assert r.returncode == 3 and "weight = -5 kg must be positive" in r.stderr
+    assert subprocess.run([CLI, "create", "--height", "168cm", "--weight=-5kg", "--force"],
+                          capture_output=True, check=False).returncode == 3
     r = run("create", "--height", "168cm", "--weight", "62kg", "--population", "martians")
     assert r.returncode == 2 and "carries no population 'martians'" in r.stderr
     r = run("create", "--height", "168cm", "--weight", "62kg", "--population", "ansur2",

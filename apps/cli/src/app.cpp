@@ -116,7 +116,7 @@ int main_guarded(const std::vector<std::string>& args, Io& io) {
     } catch (const ImplausibleInput& e) {
       code = kExitImplausible;
       message = e.what();
-      hint = " (use --force to create the avatar anyway)";
+      if (e.forceable()) hint = " (use --force to create the avatar anyway)";
     } catch (const InvalidInputError& e) {
       code = kExitImplausible;
       message = e.what();

@@ -37,10 +37,17 @@ class UsageError : public std::runtime_error {
 };
 
 /// Input measurements refused as implausible (exit code 3): the message names the value and the
-/// expected range.
+/// expected range. `forceable`: --force would make the avatar anyway (a value outside the
+/// plausible range); false for a value no body has (not a number, zero or negative), which
+/// --force does not accept either, so the error does not suggest it.
 class ImplausibleInput : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit ImplausibleInput(const std::string& message, bool forceable = true)
+      : std::runtime_error(message), forceable_(forceable) {}
+  bool forceable() const { return forceable_; }
+
+ private:
+  bool forceable_;
 };
 
 /// A runtime or input-file error (exit code 1).

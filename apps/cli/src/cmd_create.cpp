@@ -92,9 +92,15 @@ MeasurementMap read_measurement_options(const ParsedArgs& args) {
 std::vector<std::string> check_inputs(const MeasurementMap& inputs, bool force) {
   std::vector<std::string> warnings;
   std::vector<std::string> errors;
+  bool forceable = true;
   for (const auto& msg : validate_measurements(inputs)) {
-    if (msg.severity == Severity::Error && !force) {
+    // A value no body has (not a number, zero or negative) is refused even with --force.
+    const auto it = inputs.find(msg.id);
+    const bool impossible =
+        msg.severity == Severity::Error && it != inputs.end() && !(it->second > 0.0);
+    if (msg.severity == Severity::Error && (!force || impossible)) {
       errors.push_back(msg.message);
+      forceable = forceable && !impossible;
     } else {
       warnings.push_back(msg.message);
     }
@@ -102,7 +108,7 @@ std::vector<std::string> check_inputs(const MeasurementMap& inputs, bool force) 
   if (!errors.empty()) {
     std::string all = errors.size() == 1 ? "implausible input: " : "implausible inputs: ";
     for (size_t i = 0; i < errors.size(); ++i) all += (i ? "; " : "") + errors[i];
-    throw ImplausibleInput(all);
+    throw ImplausibleInput(all, forceable);
   }
   return warnings;
 }

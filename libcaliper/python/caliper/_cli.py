@@ -136,7 +136,11 @@ def _create(args, out, err):
     warnings = []
     errors = []
     for msg in _c.validate_measurements(inputs):
-        (errors if msg["severity"] == "error" and not a.force else warnings).append(msg["message"])
+        # A value no body has (not a number, zero or negative) is refused even with --force.
+        value = inputs.get(msg["id"])
+        impossible = msg["severity"] == "error" and value is not None and not value > 0.0
+        (errors if msg["severity"] == "error" and (not a.force or impossible)
+         else warnings).append(msg["message"])
     if errors:
         err.write("caliper: " + ("implausible input: " if len(errors) == 1 else
                                  "implausible inputs: ") + "; ".join(errors) + "\n")
