@@ -96,6 +96,11 @@ TEST(MakeHumanShape, ReadsBothSurveysWithTheirUnits) {
     EXPECT_GT(s.values[0], 1.3) << "height in metres";
     EXPECT_LT(s.values[0], 2.2) << "height in metres";
     EXPECT_GT(s.values[1], 30.0) << "weight in kg";
+    // The upper arm (acromion-radiale) of both surveys, NHANES's mapped onto ANSUR II's
+    // protocol: 0.26 to 0.40 m for adults.
+    EXPECT_EQ(mh::fit_measures()[20].id, "upper_arm_length");
+    EXPECT_GT(s.values[20], 0.24) << s.source;
+    EXPECT_LT(s.values[20], 0.42) << s.source;
     if (s.source == "NHANES") {
       EXPECT_TRUE(std::isnan(s.values[2])) << "NHANES has no arm span";
       max_bmi = std::max(max_bmi, bmi(s));
@@ -116,17 +121,19 @@ void check_residuals(const Registered& s) {
   // Bounds on |fitted - survey| and on the RMS over these subjects, fit_measures() order:
   // height, weight (kg), span, crotch height, biacromial, hip breadth, chest, waist (navel),
   // buttock circumference, iliac crest height, waist at the iliac crest, neck, thigh, calf,
-  // ankle and wrist circumferences, knee height, hanging arm, hand length, acromial height. About
+  // ankle and wrist circumferences, knee height, hanging arm, hand length, acromial height, upper
+  // arm (acromion-radiale; NHANES's mapped from its own protocol, 4.9 mm RMS, 24 mm worst). About
   // twice the worst and twice the RMS seen over the whole surveys (docs/models.md), so that a
   // change that makes the fits worse fails. Span and biacromial breadth are met less closely
   // since the hanging arm is fitted too (ANSUR II's span is shorter than its shoulders, arms and
   // hands laid end to end; the fit shares the difference: span +4.8 mm, biacromial -4.5 mm,
   // arm -9.7 mm on the men's mean).
-  const double bound[] = {0.005, 6.0,   0.027, 0.007, 0.024, 0.020, 0.125, 0.125, 0.050, 0.007,
-                          0.060, 0.090, 0.100, 0.023, 0.013, 0.009, 0.004, 0.055, 0.015, 0.015};
-  const double rms_bound[] = {0.001,  1.2,   0.011,  0.0025, 0.0097, 0.010, 0.019,
-                              0.017,  0.008, 0.002,  0.007,  0.004,  0.024, 0.003,
-                              0.0025, 0.002, 0.0015, 0.0215, 0.0055, 0.0035};
+  const double bound[] = {0.005, 6.0,   0.027, 0.007, 0.024, 0.020, 0.125,
+                          0.125, 0.050, 0.007, 0.060, 0.090, 0.100, 0.023,
+                          0.013, 0.009, 0.004, 0.055, 0.015, 0.015, 0.048};
+  const double rms_bound[] = {0.001,  1.2,   0.011,  0.0025, 0.0097, 0.010,  0.019,
+                              0.017,  0.008, 0.002,  0.007,  0.004,  0.024,  0.003,
+                              0.0025, 0.002, 0.0015, 0.0215, 0.0055, 0.0035, 0.006};
   ASSERT_EQ(std::size(bound), mh::fit_measures().size());
   std::vector<double> sq(mh::fit_measures().size(), 0.0);
   std::vector<int> n(mh::fit_measures().size(), 0);
@@ -419,16 +426,22 @@ TEST(MakeHumanShape, RegisteredBodiesAndTheirPrincipalComponents) {
 }
 
 // The men's hanging arm is fitted tighter than the women's (docs/models.md: 7.5 mm for both left
-// the men's sampled arm 1.10 % short; 5 mm for both cost the women's chest SD); every other
-// measure has one tolerance, and registered() keeps the larger.
-TEST(MakeHumanShape, TheMensHangingArmHasItsOwnTolerance) {
+// the men's sampled arm 1.10 % short; 5 mm for both cost the women's chest SD), and NHANES's upper
+// arm, mapped from another measuring protocol (protocol_mapping.hpp), looser than ANSUR II's;
+// every other measure has one tolerance, and registered() keeps the largest.
+TEST(MakeHumanShape, TolerancesDifferOnlyWhereDocumented) {
   for (const mh::FitMeasure& m : mh::fit_measures()) {
     EXPECT_GT(m.tolerance, 0.0) << m.id;
     if (m.id == "arm_length") {
-      EXPECT_EQ(m.tolerance_for("female"), 0.0075);
-      EXPECT_EQ(m.tolerance_for("male"), 0.005);
+      EXPECT_EQ(m.tolerance_for("female", "ANSUR II"), 0.0075);
+      EXPECT_EQ(m.tolerance_for("male", "ANSUR II"), 0.005);
+    } else if (m.id == "upper_arm_length") {
+      EXPECT_EQ(m.tolerance_for("male", "ANSUR II"), 0.005);
+      EXPECT_EQ(m.tolerance_for("female", "NHANES"), 0.01);
+      EXPECT_EQ(m.tolerance_for("male", "NHANES"), 0.01);
     } else {
-      EXPECT_EQ(m.tolerance_for("male"), m.tolerance_for("female")) << m.id;
+      EXPECT_EQ(m.tolerance_for("male", "ANSUR II"), m.tolerance_for("female", "ANSUR II")) << m.id;
+      EXPECT_EQ(m.tolerance_for("male", "NHANES"), m.tolerance_for("female", "ANSUR II")) << m.id;
     }
   }
 }

@@ -152,3 +152,19 @@ TEST(HangingArm, SwingsTheWristAboutTheShoulderJointAndKeepsTheAcromion) {
   EXPECT_THROW(modelgen::hanging_arm_length(few_joints, few_joints.v_template),
                std::invalid_argument);
 }
+
+// The acromion-radiale length swings the radiale as the arm length swings the wrist (the
+// fixture's radiale placed on its wrist vertices gives the same length), and is NaN, not an
+// error, for a model without radiale landmarks (SMPL files), which validation_measurements()
+// then leaves out.
+TEST(HangingArm, TheUpperArmSwingsTheRadialeAndIsMissingWithoutIt) {
+  smpl::BodyModel m = hanging_arm_fixture();
+  EXPECT_TRUE(std::isnan(modelgen::hanging_upper_arm_length(m, m.v_template)));
+  m.landmarks["left_radiale"] = {1};
+  m.landmarks["right_radiale"] = {4};
+  EXPECT_NEAR(modelgen::hanging_upper_arm_length(m, m.v_template),
+              modelgen::hanging_arm_length(m, m.v_template), 1e-15);
+  const modelgen::HangingArms h = modelgen::hanging_arms(m, m.v_template);
+  EXPECT_NEAR(h.radiale[0].x(), 0.22, 1e-12);
+  EXPECT_NEAR(h.radiale[0].y(), 0.92, 1e-12);
+}

@@ -124,7 +124,7 @@ void print_fit_residuals(const std::vector<modelgen::mh::Subject>& subjects,
           const double r =
               fit.residuals(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
           if (subjects[i].source == source && subjects[i].sex == sex && std::isfinite(r) &&
-              std::abs(r) > 3 * mh::fit_measures()[j].tolerance_for(sex)) {
+              std::abs(r) > 3 * mh::fit_measures()[j].tolerance_for(sex, source)) {
             ++far;
           }
         }
@@ -336,6 +336,7 @@ void print_validation(const std::string& validate, const std::string& stats_path
       "|\n");
   std::printf("|---|---|---|---|---|---|---|\n");
   for (const std::string& id : modelgen::validation_ids()) {
+    if (m.mean.count(id) == 0) continue;  // a measurement the model has no landmarks for
     const double scale = id == "weight" ? 1.0 : 1000.0;
     const char* unit = id == "weight" ? "kg" : "mm";
     std::printf("| %s (%s) | %.1f | %.1f | %+.2f %% | %.1f | %.1f | %.2f |\n", id.c_str(), unit,

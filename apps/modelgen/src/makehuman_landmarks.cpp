@@ -52,8 +52,11 @@ int best(const smpl::Vertices& v, const char* name, const std::function<bool(int
   return arg;
 }
 
-/// The front (+Z) vertex of the skin ring across the arm at joint `j` (arm along +X).
-int ring_front(const smpl::Vertices& v, const Joints24& joints, int j, const char* name) {
+/// The vertex of the skin ring across the arm at joint `j` (arm along +X) furthest along
+/// `axis`: 2 (+Z) the front, 1 (+Y) the top (at the elbow the radiale: the T-pose raises the arm
+/// sideways, so the lateral side of the elbow, the head of the radius, faces up).
+int ring_extreme(const smpl::Vertices& v, const Joints24& joints, int j, int axis,
+                 const char* name) {
   const Eigen::RowVector3d c = joints.row(j);
   return best(
       v, name,
@@ -62,7 +65,7 @@ int ring_front(const smpl::Vertices& v, const Joints24& joints, int j, const cha
         return std::abs(v(i, 0) - c(0)) < kRingHalfWidth &&
                dy * dy + dz * dz < kRingRadius * kRingRadius;
       },
-      [&](int i) { return v(i, 2); });
+      [&](int i) { return v(i, axis); });
 }
 
 /// Per skin vertex: how far the target `relative` moves it (decimetres; 0 for vertices it does
@@ -91,8 +94,9 @@ std::map<std::string, std::vector<int>> template_landmarks(const Assets& assets,
   L["head_top"] = {best(v, "head_top", on_midline, [&](int i) { return v(i, 1); })};
   L["left_fingertip"] = {best(
       v, "left_fingertip", [&](int i) { return v(i, 0) > mid; }, [&](int i) { return v(i, 0); })};
-  L["left_wrist"] = {ring_front(v, joints, kLeftWrist, "left_wrist")};
-  L["left_elbow"] = {ring_front(v, joints, kLeftElbow, "left_elbow")};
+  L["left_wrist"] = {ring_extreme(v, joints, kLeftWrist, 2, "left_wrist")};
+  L["left_elbow"] = {ring_extreme(v, joints, kLeftElbow, 2, "left_elbow")};
+  L["left_radiale"] = {ring_extreme(v, joints, kLeftElbow, 1, "left_radiale")};
   const Eigen::RowVector3d sh = joints.row(kLeftShoulder);
   L["left_shoulder"] = {best(
       v, "left_shoulder",
@@ -127,7 +131,7 @@ std::map<std::string, std::vector<int>> template_landmarks(const Assets& assets,
       [&](int i) { return -v(i, 1); })};
 
   for (const char* name :
-       {"fingertip", "wrist", "elbow", "shoulder", "hip", "nipple", "heel", "sole"}) {
+       {"fingertip", "wrist", "elbow", "radiale", "shoulder", "hip", "nipple", "heel", "sole"}) {
     const std::string left = std::string("left_") + name;
     const int right = assets.skin.mirror[static_cast<std::size_t>(L.at(left).front())];
     L[std::string("right_") + name] = {right};

@@ -31,6 +31,9 @@ using Joints24 = Eigen::Matrix<double, 24, 3, Eigen::RowMajor>;
 /// - left_fingertip: most lateral vertex (tip of the middle finger, the longest in T-pose);
 /// - left_wrist: the front (thumb side, +Z) of the skin ring through the wrist joint;
 /// - left_elbow: the front (inner elbow, +Z) of the skin ring through the elbow joint;
+/// - left_radiale: the top (+Y) of the same ring: the lateral side of the elbow, where the
+///   head of the radius is (ANSUR II's radiale; not in caliper::landmark_names(): the generator
+///   fits the acromion-radiale length on it, and the model file carries it);
 /// - left_shoulder: acromion: the highest vertex of the ring 1.5 cm lateral of the shoulder
 ///   joint (the top of the humeral head; within 4 cm of the joint front to back);
 /// - crotch: the lowest midline vertex below the pelvis joint;

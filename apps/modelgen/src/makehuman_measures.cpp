@@ -294,6 +294,7 @@ Eigen::VectorXd Measurer::operator()(const smpl::Vertices& v) const {
   all["ankle_circumference"] = left_leg_girth(v, leg_faces, v(at.ankle_back, 1), mid);
   all["knee_height"] = v(at.knee_lateral, 1) - floor;
   all["arm_length"] = hanging_arm_length(model, v);
+  all["upper_arm_length"] = hanging_upper_arm_length(model, v);
   all["acromial_height"] = shoulder.y() - floor;
   all["hand_length"] = (caliper::landmark_point(v, landmarks.at("left_fingertip")) - wrist).norm();
   Eigen::VectorXd out(static_cast<Eigen::Index>(fit_measures().size()));

@@ -16,6 +16,7 @@
 #include <map>
 #include <stdexcept>
 #include <thread>
+#include <tuple>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -31,6 +32,7 @@
 #include "caliper/weight.hpp"
 #include "makehuman_landmarks.hpp"
 #include "makehuman_measures.hpp"
+#include "protocol_mapping.hpp"
 #include "smpl/atomic_file.hpp"
 #include "validation.hpp"
 
@@ -62,13 +64,19 @@ const std::vector<FitMeasure>& fit_measures() {
                                             {"knee_height", 0.01},
                                             {"arm_length", 0.0075, 0.005},
                                             {"hand_length", 0.005},
-                                            {"acromial_height", 0.01}};
+                                            {"acromial_height", 0.01},
+                                            // NHANES: mapped (protocol_mapping.hpp); the
+                                            // mapping's residual SD is 5-6 mm, plus NHANES's
+                                            // own measuring error.
+                                            {"upper_arm_length", 0.005, 0.0, 0.01}};
   return m;
 }
 
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+/// fit_measures() index of "upper_arm_length".
+constexpr int kUpperArmLength = 20;
 
 void add_survey(const std::string& path, const std::string& sex, const std::string& source,
                 const std::vector<std::string>& columns, const std::vector<int>& measure,
@@ -90,6 +98,21 @@ void add_survey(const std::string& path, const std::string& sex, const std::stri
     }
     out.push_back(s);
   }
+}
+
+/// The upper arm mapping of one sex from its ANSUR II and NHANES files (protocol_mapping.hpp).
+UpperArmMapping upper_arm_mapping_of(const std::string& ansur_path,
+                                     const std::string& nhanes_path) {
+  Eigen::MatrixXd a = read_survey_columns(
+      ansur_path, {"stature", "weightkg", "shoulderelbowlength", "acromionradialelength"});
+  a.col(0) *= 1e-3;
+  a.col(1) *= 0.1;
+  a.col(2) *= 1e-3;
+  a.col(3) *= 1e-3;
+  Eigen::MatrixXd n = read_survey_columns(nhanes_path, {"BMXHT", "BMXWT", "BMXARML"});
+  n.col(0) *= 1e-2;
+  n.col(2) *= 1e-2;
+  return upper_arm_mapping(a, n);
 }
 
 }  // namespace
@@ -116,9 +139,10 @@ std::vector<Subject> read_subjects(const std::string& ansur_dir, const std::stri
                                           "acromionradialelength",
                                           "radialestylionlength",
                                           "handlength",
-                                          "acromialheight"};
-  const std::vector<int> ansur_measure = {0,  1,  2,  3,  4,  5,  6,  7,  8,  9,
-                                          11, 12, 13, 14, 15, 16, 17, 17, 18, 19};
+                                          "acromialheight",
+                                          "acromionradialelength"};
+  const std::vector<int> ansur_measure = {0,  1,  2,  3,  4,  5,  6,  7,  8,  9, 11,
+                                          12, 13, 14, 15, 16, 17, 17, 18, 19, 20};
   std::vector<double> ansur_scale(ansur.size(), 1e-3);
   ansur_scale[1] = 0.1;
   add_survey(ansur_dir + "/ANSUR_II_FEMALE_Public.csv", "female", "ANSUR II", ansur, ansur_measure,
@@ -128,10 +152,21 @@ std::vector<Subject> read_subjects(const std::string& ansur_dir, const std::stri
   const std::vector<std::string> nhanes = {"BMXHT", "BMXWT", "BMXHIP", "BMXWAIST"};
   const std::vector<int> nhanes_measure = {0, 1, 8, 10};
   const std::vector<double> nhanes_scale = {1e-2, 1.0, 1e-2, 1e-2};
-  add_survey(nhanes_dir + "/NHANES_2017_2020_FEMALE_dev.csv", "female", "NHANES", nhanes,
-             nhanes_measure, nhanes_scale, out);
-  add_survey(nhanes_dir + "/NHANES_2017_2020_MALE_dev.csv", "male", "NHANES", nhanes,
-             nhanes_measure, nhanes_scale, out);
+  for (const auto& [sex, ansur_file, nhanes_file] :
+       {std::tuple<std::string, std::string, std::string>{"female", "ANSUR_II_FEMALE_Public.csv",
+                                                          "NHANES_2017_2020_FEMALE_dev.csv"},
+        {"male", "ANSUR_II_MALE_Public.csv", "NHANES_2017_2020_MALE_dev.csv"}}) {
+    const size_t first = out.size();
+    add_survey(nhanes_dir + "/" + nhanes_file, sex, "NHANES", nhanes, nhanes_measure, nhanes_scale,
+               out);
+    const UpperArmMapping map =
+        upper_arm_mapping_of(ansur_dir + "/" + ansur_file, nhanes_dir + "/" + nhanes_file);
+    const Eigen::MatrixXd arm = read_survey_columns(nhanes_dir + "/" + nhanes_file, {"BMXARML"});
+    for (Eigen::Index r = 0; r < arm.rows(); ++r) {
+      out[first + static_cast<size_t>(r)].values[kUpperArmLength] =
+          map.acromion_radiale(arm(r, 0) * 1e-2);
+    }
+  }
   return out;
 }
 
@@ -451,7 +486,7 @@ void fit_one(const ShapeBasis& basis, const Measurer& measure, const Surrogate& 
   Eigen::VectorXd tol(nr);
   for (Eigen::Index q = 0; q < nr; ++q) {
     const int j = rows[q];
-    tol[q] = fit_measures()[j].tolerance_for(subj.sex);
+    tol[q] = fit_measures()[j].tolerance_for(subj.sex, subj.source);
     if (j == kWeight) {  // the tolerance in kg as a change of the feature at this weight
       tol[q] = caliper::weight_feature(subj.values[j] + tol[q], measure.formula) - target[j];
     }
@@ -706,14 +741,16 @@ std::uint64_t fit_fingerprint(const ShapeBasis& basis, const smpl::BodyModel& tm
   // The version of the survey measurements' definitions and of the rules that place their
   // levels (makehuman_measures.cpp, caliper::thigh_fold_level(); raise it when one changes), and
   // the thigh's floor under the crotch: a changed definition makes another fit.
-  // 2: the thigh at least 3 cm under the crotch; 3: the chest clipped between the acromia
-  constexpr std::int32_t kMeasuresVersion = 3;
+  // 2: the thigh at least 3 cm under the crotch; 3: the chest clipped between the acromia;
+  // 4: the radiale landmark (the upper arm's acromion-radiale length)
+  constexpr std::int32_t kMeasuresVersion = 4;
   f.bytes(&kMeasuresVersion, sizeof kMeasuresVersion);
   f.bytes(&caliper::kThighBelowCrotch, sizeof caliper::kThighBelowCrotch);
   for (const FitMeasure& m : fit_measures()) {
     f.text(m.id);
     f.bytes(&m.tolerance, sizeof m.tolerance);
     f.bytes(&m.male_tolerance, sizeof m.male_tolerance);
+    f.bytes(&m.nhanes_tolerance, sizeof m.nhanes_tolerance);
   }
   for (const Subject& s : subjects) {
     f.text(s.sex);
@@ -797,7 +834,8 @@ bool registered(const FitResult& fit, size_t i) {
   for (size_t j = 0; j < fit_measures().size(); ++j) {
     const double r = fit.residuals(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
     const FitMeasure& m = fit_measures()[j];
-    if (std::isfinite(r) && std::abs(r) > kRefineBeyond * std::max(m.tolerance, m.male_tolerance)) {
+    if (std::isfinite(r) && std::abs(r) > kRefineBeyond * std::max({m.tolerance, m.male_tolerance,
+                                                                    m.nhanes_tolerance})) {
       return false;
     }
   }

@@ -44,11 +44,16 @@ struct FitMeasure {
   std::string id;    ///< e.g. "height", "weight", "hip_circumference"
   double tolerance;  ///< metres (kg for weight): a residual of this size costs 1
   /// The men's tolerance where it differs (0: the same as the women's); registered() keeps
-  /// the larger of the two.
+  /// the largest tolerance.
   double male_tolerance = 0.0;
+  /// NHANES's tolerance where it differs (0: as above): a value mapped from another measuring
+  /// protocol (the upper arm, protocol_mapping.hpp) is held more loosely.
+  double nhanes_tolerance = 0.0;
 
-  /// The tolerance for a subject of `sex` ("female" or "male").
-  [[nodiscard]] double tolerance_for(const std::string& sex) const {
+  /// The tolerance for a subject of `sex` ("female" or "male") from `source` ("ANSUR II",
+  /// "NHANES").
+  [[nodiscard]] double tolerance_for(const std::string& sex, const std::string& source) const {
+    if (source == "NHANES" && nhanes_tolerance > 0.0) return nhanes_tolerance;
     return sex == "male" && male_tolerance > 0.0 ? male_tolerance : tolerance;
   }
 };
@@ -64,16 +69,19 @@ struct Subject {
 /// shoulder (biacromial) width, hip width, chest, waist (navel level) and hip (buttock)
 /// circumferences, iliac crest height, the waist at the iliac crest (the NHANES and WHO waist),
 /// neck, thigh (gluteal furrow), calf, ankle and wrist circumferences, knee height, the hanging
-/// arm's length, the hand's and the acromion's height (from the iliac crest height on defined in
-/// makehuman_measures.hpp, the others are libcaliper's).
+/// arm's length, the hand's and the acromion's height, the hanging arm's acromion-radiale length
+/// (from the iliac crest height on defined in makehuman_measures.hpp and validation.hpp, the
+/// others are libcaliper's).
 const std::vector<FitMeasure>& fit_measures();
 
 /// ANSUR II subjects of both files under `ansur_dir` (stature, weightkg, span, crotchheight,
 /// biacromialbreadth, hipbreadth, chest-, waist- and buttockcircumference, iliocristaleheight,
 /// neck-, thigh-, calf-, ankle- and wristcircumference, lateralfemoralepicondyleheight,
-/// acromionradialelength + radialestylionlength, handlength, acromialheight)
-/// and NHANES subjects of both development files under `nhanes_dir` (BMXHT, BMXWT, BMXHIP,
-/// BMXWAIST). Throws std::runtime_error naming the file for a missing or malformed one.
+/// acromionradialelength + radialestylionlength, handlength, acromialheight,
+/// acromionradialelength) and NHANES subjects of both development files under `nhanes_dir`
+/// (BMXHT, BMXWT, BMXHIP, BMXWAIST, and BMXARML as an acromion-radiale length through
+/// upper_arm_mapping() of the sex, from ANSUR II's shoulderelbowlength). Throws std::runtime_error
+/// naming the file for a missing or malformed one.
 std::vector<Subject> read_subjects(const std::string& ansur_dir, const std::string& nhanes_dir);
 
 /// The target basis (see the file comment).

@@ -57,6 +57,7 @@ constexpr ValidationMeasure kValidationMeasures[] = {{"stature", kStature},
                                                      {"crotch_height", kCrotchHeight},
                                                      {"hip_breadth", kHipBreadth},
                                                      {"arm_length", -1},
+                                                     {"upper_arm_length", kAcromionRadiale},
                                                      {"biacromial", kBiacromial},
                                                      {"chest_circ", kChestCirc},
                                                      {"waist_circ", kWaistCirc},
@@ -87,6 +88,7 @@ HangingArms hanging_arms(const smpl::BodyModel& model, const smpl::Vertices& ver
   const int kShoulder[2] = {16, 17};  // SMPL left_shoulder, right_shoulder
   const char* kAcromion[2] = {"left_shoulder", "right_shoulder"};
   const char* kWrist[2] = {"left_wrist", "right_wrist"};
+  const char* kRadiale[2] = {"left_radiale", "right_radiale"};
   if (model.parents.size() <= 17 || model.j_regressor.rows() <= 17 ||
       model.weights.cols() != static_cast<Eigen::Index>(model.parents.size()) ||
       model.weights.rows() != vertices.rows() || model.j_regressor.cols() != vertices.rows()) {
@@ -130,20 +132,27 @@ HangingArms hanging_arms(const smpl::BodyModel& model, const smpl::Vertices& ver
     for (int v : a) {
       acromion += vertices.row(v).transpose() / static_cast<double>(a.size());
     }
-    Eigen::Vector3d wrist = Eigen::Vector3d::Zero();
-    const std::vector<int> w = landmark(kWrist[s]);
-    for (int v : w) {
-      // Linear blend skinning restricted to the shoulder rotation: the share of the vertex's
-      // weight on joints that follow the shoulder moves with it.
-      double moving = 0;
-      for (smpl::SparseMatrix::InnerIterator it(model.weights, v); it; ++it) {
-        if (follows[s][static_cast<std::size_t>(it.col())]) {
-          moving += it.value();
+    // Linear blend skinning restricted to the shoulder rotation: the share of a vertex's
+    // weight on joints that follow the shoulder moves with it.
+    auto hanging = [&](const std::vector<int>& ids) {
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      for (int v : ids) {
+        double moving = 0;
+        for (smpl::SparseMatrix::InnerIterator it(model.weights, v); it; ++it) {
+          if (follows[s][static_cast<std::size_t>(it.col())]) {
+            moving += it.value();
+          }
         }
+        const Eigen::Vector3d p = vertices.row(v).transpose();
+        sum += (p + moving * (r * (p - joint) + joint - p)) / static_cast<double>(ids.size());
       }
-      const Eigen::Vector3d p = vertices.row(v).transpose();
-      wrist += (p + moving * (r * (p - joint) + joint - p)) / static_cast<double>(w.size());
-    }
+      return sum;
+    };
+    const Eigen::Vector3d wrist = hanging(landmark(kWrist[s]));
+    const auto radiale = lm.find(kRadiale[s]);
+    out.radiale[s] = radiale == lm.end() || radiale->second.empty()
+                         ? Eigen::Vector3d::Constant(std::nan(""))
+                         : hanging(radiale->second);
     out.acromion[s] = acromion;
     out.wrist[s] = wrist;
   }
@@ -153,6 +162,11 @@ HangingArms hanging_arms(const smpl::BodyModel& model, const smpl::Vertices& ver
 double hanging_arm_length(const smpl::BodyModel& model, const smpl::Vertices& vertices) {
   const HangingArms h = hanging_arms(model, vertices);
   return 0.5 * ((h.wrist[0] - h.acromion[0]).norm() + (h.wrist[1] - h.acromion[1]).norm());
+}
+
+double hanging_upper_arm_length(const smpl::BodyModel& model, const smpl::Vertices& vertices) {
+  const HangingArms h = hanging_arms(model, vertices);
+  return 0.5 * ((h.radiale[0] - h.acromion[0]).norm() + (h.radiale[1] - h.acromion[1]).norm());
 }
 
 std::map<std::string, double> validation_measurements(const smpl::BodyModel& model,
@@ -173,6 +187,9 @@ std::map<std::string, double> validation_measurements(const smpl::BodyModel& mod
   out["crotch_height"] = get(m, "inseam_height");
   out["hip_breadth"] = get(m, "hip_width");
   out["arm_length"] = hanging_arm_length(model, vertices);
+  if (const double upper = hanging_upper_arm_length(model, vertices); std::isfinite(upper)) {
+    out["upper_arm_length"] = upper;
+  }
   out["arm_length_tpose"] = get(m, "arm_length");
   out["biacromial"] = get(m, "shoulder_width");
   out["chest_circ"] = get(c, "chest_circumference");

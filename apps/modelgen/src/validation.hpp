@@ -43,16 +43,25 @@ class Rng {
 /// Needs the model's j_regressor, weights, parents and the shoulder and wrist landmarks.
 double hanging_arm_length(const smpl::BodyModel& model, const smpl::Vertices& vertices);
 
+/// Acromion-radiale length as ANSUR II measures it: the acromion (shoulder landmark, at rest)
+/// to the radiale (the lateral elbow; landmark left_radiale/right_radiale) with the arm hanging
+/// as in hanging_arm_length(). Mean of left and right, metres; NaN when the model has no radiale
+/// landmarks (SMPL files).
+double hanging_upper_arm_length(const smpl::BodyModel& model, const smpl::Vertices& vertices);
+
 /// The landmarks behind hanging_arm_length(): per side (0 left, 1 right) the acromion at rest
-/// and the wrist with the arm hanging. Throws std::invalid_argument naming a missing landmark.
+/// and the wrist and radiale with the arm hanging (radiale NaN when the model has no such
+/// landmark). Throws std::invalid_argument naming a missing shoulder or wrist landmark.
 struct HangingArms {
   Eigen::Vector3d acromion[2];
   Eigen::Vector3d wrist[2];
+  Eigen::Vector3d radiale[2];
 };
 HangingArms hanging_arms(const smpl::BodyModel& model, const smpl::Vertices& vertices);
 
 /// The measurements the model is validated on (ids below), for one body.
 /// Ids: stature, weight, span, crotch_height, hip_breadth, arm_length (hanging_arm_length),
+/// upper_arm_length (hanging_upper_arm_length; only for a model with radiale landmarks),
 /// biacromial, chest_circ, waist_circ, buttock_circ; plus arm_length_tpose, the caliper's
 /// virtual arm length (shoulder to wrist landmark in the T-pose), which has no survey
 /// counterpart and is reported for information.
