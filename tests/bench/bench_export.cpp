@@ -1,6 +1,6 @@
 // Avatar export per format: the time from (model, betas) to the file on disk through
 // smpl::export_avatar (shape, normals, skin, serialisation, atomic write), and for the rigged
-// formats the in-memory bytes as well. Models: the open female model (13,380 vertices, 20 betas)
+// formats the in-memory bytes as well. Models: the open female model (13,380 vertices, 21 betas)
 // and the SMPL-sized test model (6,890 vertices, 10 betas, 207 pose features, posedirs unused).
 #include <benchmark/benchmark.h>
 
@@ -30,7 +30,7 @@ const smpl::BodyModel& model_of(int which) {
   return which == 0 ? open_female() : smpl_sized();
 }
 
-// The extras `caliper create` writes (a realistic size: 20 betas and 19 measurements as JSON).
+// The extras `caliper create` writes (a realistic size: 21 betas and 19 measurements as JSON).
 smpl::ExportOptions create_like_options() {
   smpl::ExportOptions o;
   o.extras = {{"generator", "caliper 0.1.0"},       {"regressor", "R5"},

@@ -106,7 +106,7 @@ def open_model(sex: str = "neutral", num_betas: int = -1,
                pose_blend_shapes: bool = True) -> BodyModel:
     """Loads the project's open default body model for sex ('female', 'male', 'neutral').
 
-    MIT-licensed, SMPL-structured (24 joints, 20 shape components), see docs/models.md.
+    MIT-licensed, SMPL-structured (24 joints, 21 shape components), see docs/models.md.
     Same options as load_model().
     """
     return load_model(open_model_path(sex), num_betas=num_betas,
