@@ -2,15 +2,20 @@
 #include "caliper/mapping.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <string>
 
 #include "caliper/csv.hpp"
 #include "caliper/errors.hpp"
+#include "caliper/training.hpp"
 
 namespace caliper {
 
 namespace {
+
+/// The seed of hanging_arm_map()'s bodies.
+constexpr std::uint64_t kHangingArmSeed = 20261130;
 
 std::string trim(const std::string& s) {
   const auto b = s.find_first_not_of(" \t\r\n");
@@ -194,6 +199,24 @@ void MeasurementMapping::save(const std::string& path) const {
 
 MeasurementMapping MeasurementMapping::load(const std::string& path) {
   return read_json_file_as<InvalidInputError, CaliperError>(path, from_json);
+}
+
+LinearMap hanging_arm_map(const smpl::BodyModel& model, int bodies) {
+  if (bodies < 3) {
+    throw InvalidInputError("hanging_arm_map: at least 3 bodies are needed, got " +
+                            std::to_string(bodies));
+  }
+  const LandmarkTable landmarks = landmarks_for(model);
+  const MeasurementDef& arm = measurement_def("arm_length");
+  const Eigen::MatrixXd betas = gaussian_betas(bodies, model.num_betas(), kHangingArmSeed);
+  std::vector<PairedValue> pairs;
+  pairs.reserve(static_cast<std::size_t>(bodies));
+  for (int i = 0; i < bodies; ++i) {
+    const smpl::Vertices v = shaped_vertices(model, betas.row(i).transpose());
+    pairs.push_back(
+        {"arm_length", hanging_arm_length(model, v, landmarks), measure(v, landmarks, arm)});
+  }
+  return MeasurementMapping::fit(pairs).maps().at("arm_length");
 }
 
 }  // namespace caliper

@@ -1,5 +1,6 @@
 // Body measurements as data: Pujades et al., The Virtual Caliper, TVCG 2019, Sec. 3.1.2.
-// Sections: definitions and landmark tables; derived torso landmarks; measuring; validation.
+// Sections: definitions and landmark tables; derived torso landmarks; measuring; validation;
+// the hanging arm.
 #include "caliper/measurements.hpp"
 
 #include <algorithm>
@@ -9,10 +10,13 @@
 #include <string>
 #include <utility>
 
+#include <Eigen/Geometry>
+
 #include "caliper/circumference.hpp"
 #include "caliper/errors.hpp"
 #include "caliper/volume.hpp"
 #include "caliper/weight.hpp"
+#include "smpl/constants.hpp"
 #include "smpl/evaluate.hpp"
 #include "smpl/text.hpp"
 
@@ -423,6 +427,105 @@ std::vector<ValidationMessage> validate_measurements(const MeasurementMap& value
 bool has_errors(const std::vector<ValidationMessage>& messages) {
   return std::any_of(messages.begin(), messages.end(),
                      [](const ValidationMessage& m) { return m.severity == Severity::Error; });
+}
+
+// ---------------------------------------------------------------------------------------------
+// The hanging arm (moved from apps/modelgen on 2026-11-30 so that the CLI's survey studies can
+// map ANSUR II's arm onto the virtual one; the arithmetic is unchanged, the open models' bytes
+// depend on it).
+
+HangingArms hanging_arms(const smpl::BodyModel& model, const smpl::Vertices& vertices) {
+  return hanging_arms(model, vertices, model.landmarks);
+}
+
+HangingArms hanging_arms(const smpl::BodyModel& model, const smpl::Vertices& vertices,
+                         const LandmarkTable& lm) {
+  const int kShoulder[2] = {16, 17};  // SMPL left_shoulder, right_shoulder
+  const char* kAcromion[2] = {"left_shoulder", "right_shoulder"};
+  const char* kWrist[2] = {"left_wrist", "right_wrist"};
+  const char* kRadiale[2] = {"left_radiale", "right_radiale"};
+  if (model.parents.size() <= 17 || model.j_regressor.rows() <= 17 ||
+      model.weights.cols() != static_cast<Eigen::Index>(model.parents.size()) ||
+      model.weights.rows() != vertices.rows() || model.j_regressor.cols() != vertices.rows()) {
+    throw ModelMismatchError(
+        "hanging arms: the model needs SMPL's joints (left and right shoulder are joints 16 and "
+        "17) with a joint regressor and skinning weights for its " +
+        std::to_string(vertices.rows()) + " vertices");
+  }
+  // Joints whose motion follows a shoulder rotation: the shoulder and its descendants.
+  std::vector<char> follows[2];
+  for (int s = 0; s < 2; ++s) {
+    follows[s].assign(model.parents.size(), 0);
+    follows[s][static_cast<std::size_t>(kShoulder[s])] = 1;
+    for (std::size_t j = 0; j < model.parents.size(); ++j) {
+      const int p = model.parents[j];
+      if (p >= 0 && follows[s][static_cast<std::size_t>(p)]) {
+        follows[s][j] = 1;
+      }
+    }
+  }
+  auto landmark = [&](const char* name) -> std::vector<int> {
+    const auto it = lm.find(name);
+    if (it == lm.end() || it->second.empty()) {
+      throw LandmarkError(std::string("hanging arms: the model has no landmark '") + name + "'");
+    }
+    return it->second;
+  };
+  HangingArms out;
+  for (int s = 0; s < 2; ++s) {
+    Eigen::Vector3d joint = Eigen::Vector3d::Zero();
+    for (smpl::SparseMatrix::InnerIterator it(model.j_regressor, kShoulder[s]); it; ++it) {
+      joint += it.value() * vertices.row(it.col()).transpose();
+    }
+    // T-pose arm along +x (left) or -x (right); hanging: rotated 90 degrees down about z.
+    const double sign = s == 0 ? -1.0 : 1.0;
+    const Eigen::Matrix3d r =
+        Eigen::AngleAxisd(sign * 0.5 * smpl::kPi, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    Eigen::Vector3d acromion = Eigen::Vector3d::Zero();
+    const std::vector<int> a = landmark(kAcromion[s]);
+    for (int v : a) {
+      acromion += vertices.row(v).transpose() / static_cast<double>(a.size());
+    }
+    // Linear blend skinning restricted to the shoulder rotation: the share of a vertex's
+    // weight on joints that follow the shoulder moves with it.
+    auto hanging = [&](const std::vector<int>& ids) {
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      for (int v : ids) {
+        double moving = 0;
+        for (smpl::SparseMatrix::InnerIterator it(model.weights, v); it; ++it) {
+          if (follows[s][static_cast<std::size_t>(it.col())]) {
+            moving += it.value();
+          }
+        }
+        const Eigen::Vector3d p = vertices.row(v).transpose();
+        sum += (p + moving * (r * (p - joint) + joint - p)) / static_cast<double>(ids.size());
+      }
+      return sum;
+    };
+    const Eigen::Vector3d wrist = hanging(landmark(kWrist[s]));
+    const auto radiale = lm.find(kRadiale[s]);
+    out.radiale[s] = radiale == lm.end() || radiale->second.empty()
+                         ? Eigen::Vector3d::Constant(std::nan(""))
+                         : hanging(radiale->second);
+    out.acromion[s] = acromion;
+    out.wrist[s] = wrist;
+  }
+  return out;
+}
+
+double hanging_arm_length(const smpl::BodyModel& model, const smpl::Vertices& vertices) {
+  return hanging_arm_length(model, vertices, model.landmarks);
+}
+
+double hanging_arm_length(const smpl::BodyModel& model, const smpl::Vertices& vertices,
+                          const LandmarkTable& landmarks) {
+  const HangingArms h = hanging_arms(model, vertices, landmarks);
+  return 0.5 * ((h.wrist[0] - h.acromion[0]).norm() + (h.wrist[1] - h.acromion[1]).norm());
+}
+
+double hanging_upper_arm_length(const smpl::BodyModel& model, const smpl::Vertices& vertices) {
+  const HangingArms h = hanging_arms(model, vertices);
+  return 0.5 * ((h.radiale[0] - h.acromion[0]).norm() + (h.radiale[1] - h.acromion[1]).norm());
 }
 
 }  // namespace caliper

@@ -12,6 +12,8 @@
 #include "caliper/weight.hpp"
 #include "caliper_test/random_model.hpp"
 #include "core_test_meshes.hpp"
+#include "smpl/body_model.hpp"
+#include "smpl/constants.hpp"
 
 namespace caliper {
 namespace {
@@ -543,6 +545,89 @@ TEST(Validate, UnusualButPossibleIsAWarning) {
   ASSERT_NE(find_message(msgs, "height"), nullptr);
   EXPECT_EQ(find_message(msgs, "height")->severity, Severity::Warning);
   EXPECT_THROW(measurement_range("shoe_size"), InvalidInputError);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The hanging arm (ANSUR II's protocol; moved here from tests/modelgen with the code).
+
+// A three-vertex-per-side stand-in for a model: acromion (on the collar), wrist (on the
+// elbow, which follows the shoulder) and a vertex that is the shoulder joint.
+smpl::BodyModel hanging_arm_fixture() {
+  smpl::BodyModel m;
+  m.parents = smpl::smpl_parents();
+  m.v_template.resize(6, 3);
+  m.v_template << 0.20, 1.50, 0.0,  // 0 left acromion
+      0.70, 1.50, 0.0,              // 1 left wrist
+      0.17, 1.45, 0.0,              // 2 left shoulder joint
+      -0.20, 1.50, 0.0,             // 3 right acromion
+      -0.70, 1.50, 0.0,             // 4 right wrist
+      -0.17, 1.45, 0.0;             // 5 right shoulder joint
+  std::vector<Eigen::Triplet<double>> jr, w;
+  for (int j = 0; j < 24; ++j) {
+    jr.emplace_back(j, j == 17 ? 5 : 2, 1.0);
+  }
+  m.j_regressor.resize(24, 6);
+  m.j_regressor.setFromTriplets(jr.begin(), jr.end());
+  w.emplace_back(0, 13, 1.0);  // left_collar
+  w.emplace_back(1, 18, 1.0);  // left_elbow
+  w.emplace_back(2, 16, 1.0);
+  w.emplace_back(3, 14, 1.0);  // right_collar
+  w.emplace_back(4, 19, 0.5);  // right_elbow and right_wrist
+  w.emplace_back(4, 21, 0.5);
+  w.emplace_back(5, 17, 1.0);
+  m.weights.resize(6, 24);
+  m.weights.setFromTriplets(w.begin(), w.end());
+  m.landmarks = {
+      {"left_shoulder", {0}}, {"left_wrist", {1}}, {"right_shoulder", {3}}, {"right_wrist", {4}}};
+  return m;
+}
+
+// The hanging-arm length (ANSUR's protocol): the wrist swings down about the shoulder joint,
+// the acromion stays. Joint (0.17, 1.45), wrist (0.70, 1.50): hanging wrist at (0.22, 0.92),
+// 0.5803 m from the acromion (0.20, 1.50), against 0.50 m in the T-pose.
+TEST(HangingArm, SwingsTheWristAboutTheShoulderJointAndKeepsTheAcromion) {
+  const smpl::BodyModel m = hanging_arm_fixture();
+  EXPECT_NEAR(hanging_arm_length(m, m.v_template), std::hypot(0.02, 0.58), 1e-12);
+  // A wrist weighted half on a joint that does not follow the shoulder moves half way.
+  smpl::BodyModel half = m;
+  std::vector<Eigen::Triplet<double>> w;
+  for (int v = 0; v < 6; ++v) {
+    for (smpl::SparseMatrix::InnerIterator it(m.weights, v); it; ++it) {
+      if (v != 1) {
+        w.emplace_back(v, static_cast<int>(it.col()), it.value());
+      }
+    }
+  }
+  w.emplace_back(1, 18, 0.5);
+  w.emplace_back(1, 9, 0.5);  // spine3
+  half.weights.setFromTriplets(w.begin(), w.end());
+  const Eigen::Vector2d left =
+      0.5 * Eigen::Vector2d(0.70, 1.50) + 0.5 * Eigen::Vector2d(0.22, 0.92);
+  const double expected =
+      0.5 * ((left - Eigen::Vector2d(0.20, 1.50)).norm() + std::hypot(0.02, 0.58));
+  EXPECT_NEAR(hanging_arm_length(half, half.v_template), expected, 1e-12);
+  smpl::BodyModel missing = m;
+  missing.landmarks.erase("right_wrist");
+  EXPECT_THROW(hanging_arm_length(missing, missing.v_template), LandmarkError);
+  smpl::BodyModel few_joints = m;
+  few_joints.parents.resize(16);
+  EXPECT_THROW(hanging_arm_length(few_joints, few_joints.v_template), ModelMismatchError);
+}
+
+// The acromion-radiale length swings the radiale as the arm length swings the wrist (the
+// fixture's radiale placed on its wrist vertices gives the same length), and is NaN, not an
+// error, for a model without radiale landmarks (SMPL files), which validation_measurements()
+// then leaves out.
+TEST(HangingArm, TheUpperArmSwingsTheRadialeAndIsMissingWithoutIt) {
+  smpl::BodyModel m = hanging_arm_fixture();
+  EXPECT_TRUE(std::isnan(hanging_upper_arm_length(m, m.v_template)));
+  m.landmarks["left_radiale"] = {1};
+  m.landmarks["right_radiale"] = {4};
+  EXPECT_NEAR(hanging_upper_arm_length(m, m.v_template), hanging_arm_length(m, m.v_template),
+              1e-15);
+  const HangingArms h = hanging_arms(m, m.v_template);
+  EXPECT_NEAR(h.radiale[0].x(), 0.22, 1e-12);
+  EXPECT_NEAR(h.radiale[0].y(), 0.92, 1e-12);
 }
 
 }  // namespace

@@ -35,29 +35,12 @@ class Rng {
   double spare_ = 0.0;
 };
 
-/// Shoulder-to-wrist length measured as ANSUR II measures acromion-radiale plus
-/// radiale-stylion length: with the arm hanging straight at the side. Each shoulder joint is
-/// rotated 90 degrees down and the wrist landmark follows by the model's own skinning weights;
-/// the acromion (shoulder landmark) is a bony point of the scapula, which a rotation of the
-/// shoulder joint leaves in place, so it stays where it is. Mean of left and right, metres.
-/// Needs the model's j_regressor, weights, parents and the shoulder and wrist landmarks.
-double hanging_arm_length(const smpl::BodyModel& model, const smpl::Vertices& vertices);
-
-/// Acromion-radiale length as ANSUR II measures it: the acromion (shoulder landmark, at rest)
-/// to the radiale (the lateral elbow; landmark left_radiale/right_radiale) with the arm hanging
-/// as in hanging_arm_length(). Mean of left and right, metres; NaN when the model has no radiale
-/// landmarks (SMPL files).
-double hanging_upper_arm_length(const smpl::BodyModel& model, const smpl::Vertices& vertices);
-
-/// The landmarks behind hanging_arm_length(): per side (0 left, 1 right) the acromion at rest
-/// and the wrist and radiale with the arm hanging (radiale NaN when the model has no such
-/// landmark). Throws std::invalid_argument naming a missing shoulder or wrist landmark.
-struct HangingArms {
-  Eigen::Vector3d acromion[2];
-  Eigen::Vector3d wrist[2];
-  Eigen::Vector3d radiale[2];
-};
-HangingArms hanging_arms(const smpl::BodyModel& model, const smpl::Vertices& vertices);
+/// The hanging arm (caliper::hanging_arms(), caliper::hanging_arm_length(),
+/// caliper::hanging_upper_arm_length(): libcaliper's since 2026-11-30).
+using caliper::hanging_arm_length;
+using caliper::hanging_arms;
+using caliper::hanging_upper_arm_length;
+using caliper::HangingArms;
 
 /// The measurements the model is validated on (ids below), for one body.
 /// Ids: stature, weight, span, crotch_height, hip_breadth, arm_length (hanging_arm_length),

@@ -73,4 +73,15 @@ class MeasurementMapping {
   std::map<std::string, LinearMap> maps_;
 };
 
+/// The map from the arm length a survey or a tape takes on the hanging arm (acromion to wrist,
+/// hanging_arm_length(); ANSUR II's acromion-radiale plus radiale-stylion length) to the model's
+/// virtual `arm_length` (the paper's: shoulder to wrist landmark in the T-pose, some 7 cm
+/// shorter on the open models): virtual = a * hanging + b, least squares over `bodies` bodies of
+/// the model with betas ~ N(0, I) (gaussian_betas() with a fixed seed: the same map on every
+/// run; the landmarks of landmarks_for(model), so SMPL files work too), with its fit report
+/// (fit_rms, leave-one-out errors, identity_mae: the error of taking one for the other). Throws
+/// InvalidInputError for `bodies` < 3 and what hanging_arms() and measure() throw for a model
+/// without the joints or landmarks.
+LinearMap hanging_arm_map(const smpl::BodyModel& model, int bodies = 200);
+
 }  // namespace caliper

@@ -155,6 +155,42 @@ MeasurementMap measure_all(const smpl::BodyModel& model, const smpl::Vertices& v
 smpl::Vertices shaped_vertices(const smpl::BodyModel& model, const Eigen::VectorXd& betas);
 
 // ---------------------------------------------------------------------------------------------
+// The arm as surveys measure it (ANSUR II): hanging straight at the side.
+
+/// The landmarks behind hanging_arm_length(): per side (0 left, 1 right) the acromion at rest
+/// and the wrist and radiale with the arm hanging (radiale NaN when the model has no
+/// left/right_radiale landmark). Each shoulder joint (SMPL joints 16 and 17) is rotated 90
+/// degrees down about the body's front axis and a vertex follows by the share of its skinning
+/// weight on that shoulder and the joints below it; the acromion, a bony point of the scapula
+/// that a rotation of the shoulder joint leaves in place, stays where it is. Needs the model's
+/// joint regressor, parents, skinning weights and the shoulder and wrist landmarks of its own
+/// table (BodyModel::landmarks, or the table given): ModelMismatchError without SMPL's joints,
+/// regressor or weights for these vertices, LandmarkError naming a missing landmark.
+struct HangingArms {
+  Eigen::Vector3d acromion[2];
+  Eigen::Vector3d wrist[2];
+  Eigen::Vector3d radiale[2];
+};
+HangingArms hanging_arms(const smpl::BodyModel& model, const smpl::Vertices& vertices);
+/// The same with the landmarks of `landmarks` (e.g. landmarks_for(model), for an SMPL file
+/// that carries no table of its own) instead of the model's own table.
+HangingArms hanging_arms(const smpl::BodyModel& model, const smpl::Vertices& vertices,
+                         const LandmarkTable& landmarks);
+
+/// Shoulder-to-wrist length as ANSUR II measures acromion-radiale plus radiale-stylion length:
+/// acromion to wrist with the arm hanging (hanging_arms()). Mean of left and right, metres.
+/// Longer than the paper's virtual arm_length (shoulder to wrist landmark in the T-pose) by
+/// about 7 cm on the open models: the acromion sits above the shoulder joint.
+double hanging_arm_length(const smpl::BodyModel& model, const smpl::Vertices& vertices);
+/// The same with the landmarks of `landmarks` (hanging_arms()).
+double hanging_arm_length(const smpl::BodyModel& model, const smpl::Vertices& vertices,
+                          const LandmarkTable& landmarks);
+
+/// Acromion-radiale length as ANSUR II measures it: acromion to radiale with the arm hanging.
+/// Mean of left and right, metres; NaN when the model has no radiale landmarks (SMPL files).
+double hanging_upper_arm_length(const smpl::BodyModel& model, const smpl::Vertices& vertices);
+
+// ---------------------------------------------------------------------------------------------
 // Input validation (for apps: CLI, editor, VR session).
 
 /// Severity of a validation message.
