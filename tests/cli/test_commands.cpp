@@ -11,6 +11,7 @@
 
 #include "app/editor_core.hpp"
 #include "caliper/json.hpp"
+#include "caliper/mapping.hpp"
 #include "caliper/measurements.hpp"
 #include "caliper/population.hpp"
 #include "caliper/shape_curve.hpp"
@@ -711,6 +712,30 @@ TEST_F(Commands, DecimalCommaIsADecimalPoint) {
   // A comma that is not between digits is still refused.
   EXPECT_EQ(run({"create", "--model", model_, "--height", "172,cm", "--weight", "70kg"}).code,
             kExitUsage);
+}
+
+// `caliper batch --ansur`: the survey's arm (acromion-radiale plus radiale-stylion, taken on the
+// hanging arm) is mapped onto the model's virtual arm length (shoulder to wrist landmark in the
+// T-pose) before R6 gets it, so the avatar's arm is the mapped value, not the survey's 7 cm
+// longer one; the results' input column keeps what the survey measured.
+TEST_F(Commands, BatchMapsTheSurveysHangingArmOntoTheVirtualArm) {
+  std::ofstream(path("ansur.csv"))
+      << "subjectid,stature,weightkg,span,crotchheight,hipbreadth,acromionradialelength,"
+         "radialestylionlength,Gender\n"
+         "1,1630,650,1660,780,350,310,240,Female\n";
+  const std::string open = std::string(CALIPER_SOURCE_DIR) + "/assets/models/caliper-female.npz";
+  const CliRun r = run({"batch", "--ansur", path("ansur.csv"), "--model", open, "--regressor",
+                        "R6", "-j", "1", "--out", path("results.csv")});
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  const CsvTable t = read_csv(path("results.csv"));
+  ASSERT_EQ(t.rows.size(), 1u);
+  const int achieved = t.column("arm_length_cm"), input = t.column("input_arm_length_cm");
+  ASSERT_GE(achieved, 0);
+  ASSERT_GE(input, 0);
+  const double mapped = 100.0 * hanging_arm_map(smpl::load_model(open)).apply(0.550);
+  EXPECT_NEAR(std::stod(t.rows[0][static_cast<size_t>(input)]), 55.0, 0.01);
+  EXPECT_NEAR(std::stod(t.rows[0][static_cast<size_t>(achieved)]), mapped, 0.1);
+  EXPECT_LT(mapped, 50.0);  // the virtual arm is much shorter than the survey's
 }
 
 TEST_F(Commands, BatchCountsInWordsAndWarnsAboutMissingSex) {

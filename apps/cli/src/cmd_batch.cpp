@@ -269,6 +269,8 @@ struct BatchModels {
   /// The GLB skin attributes depend on the model only: computed once per model.
   std::map<const ModelBundle*, smpl::GltfSkinWeights> skins;
   std::optional<MeasurementMapping> mapping;
+  /// Per model, when some person's arm was taken hanging (--ansur): caliper::hanging_arm_map().
+  std::map<const ModelBundle*, LinearMap> arm_maps;
   double load_seconds = 0;
 };
 
@@ -312,8 +314,11 @@ BatchModels load_batch_models(const BatchOptions& opt, std::vector<Person>& peop
     if (!m.bundles.count(p.sex)) m.bundles[p.sex] = cache.get(p.sex);
   }
   const bool skins = opt.out_dir && (opt.format == "glb" || opt.format == "gltf");
+  const bool hanging_arms =
+      std::any_of(people.begin(), people.end(), [](const Person& p) { return p.hanging_arm; });
   for (const auto& [sex, b] : m.bundles) {
     (void)sex;
+    if (hanging_arms && !m.arm_maps.count(b.get())) m.arm_maps[b.get()] = hanging_arm_map(b->model);
     if (!opt.need_mesh() && !m.measurers.count(b.get())) m.measurers[b.get()] = fast_measurer(*b);
     if (opt.need_mesh()) check_regressors_once(*b, m);
     if (skins && !m.skins.count(b.get())) m.skins[b.get()] = smpl::gltf_skin_weights(b->model);
@@ -330,28 +335,31 @@ Outcome batch_one(const BatchOptions& opt, const BatchModels& m, const Person& p
   o.sex = p.sex;
   try {
     if (!p.error.empty()) throw RuntimeError(p.error);
-    o.regressor = opt.regressor ? *opt.regressor : default_regressor(p.inputs);
-    require_inputs(o.regressor, p.inputs);
+    const ModelBundle& b = *m.bundles.at(p.sex);
+    const auto arm_map = m.arm_maps.find(&b);
+    const MeasurementValues in =
+        model_inputs(p, arm_map == m.arm_maps.end() ? nullptr : &arm_map->second);
+    o.regressor = opt.regressor ? *opt.regressor : default_regressor(in);
+    require_inputs(o.regressor, in);
     std::vector<std::string> warnings;
     try {
-      warnings = check_inputs(p.inputs, opt.force);
+      warnings = check_inputs(in, opt.force);
     } catch (const ImplausibleInput& e) {
       o.status = "refused";
       o.message = e.what();
       return o;
     }
-    const ModelBundle& b = *m.bundles.at(p.sex);
     const MeasurementMapping* mapping = m.mapping ? &*m.mapping : nullptr;
     for (size_t w = 0; w < warnings.size(); ++w) o.message += (w ? "; " : "") + warnings[w];
     if (!opt.need_mesh()) {
-      fast_avatar(b, *m.measurers.at(&b), o.regressor, p.inputs, mapping, o.betas, o.achieved,
+      fast_avatar(b, *m.measurers.at(&b), o.regressor, in, mapping, o.betas, o.achieved,
                   o.plausibility);
       if (!o.plausibility.plausible) add_implausible_note(o);
       return o;
     }
     const auto c = m.checked.find({&b, o.regressor});
     if (c != m.checked.end() && c->second) std::rethrow_exception(c->second);
-    Avatar av = make_avatar(b, o.regressor, p.inputs, mapping, opt.circumferences, opt.exact_inputs,
+    Avatar av = make_avatar(b, o.regressor, in, mapping, opt.circumferences, opt.exact_inputs,
                             /*check_model=*/c == m.checked.end());
     if (opt.out_dir) {
       const std::string path = (std::filesystem::path(*opt.out_dir) / file_name).string();

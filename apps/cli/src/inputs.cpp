@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
+#include <stdexcept>
 
 namespace caliper::cli {
 
@@ -166,6 +167,7 @@ std::vector<Person> read_ansur_csv(const std::string& path) {
                 {"inseam_height", cr / 1000.0},
                 {"hip_width", hb / 1000.0},
                 {"arm_length", (a + b) / 1000.0}};
+    p.hanging_arm = true;
     for (const char* e : extras) {
       const int c = t.column(e);
       double v = 0.0;
@@ -174,6 +176,18 @@ std::vector<Person> read_ansur_csv(const std::string& path) {
     people.push_back(std::move(p));
   }
   return people;
+}
+
+MeasurementValues model_inputs(const Person& p, const LinearMap* arm_map) {
+  MeasurementValues in = p.inputs;
+  const auto arm = in.find("arm_length");
+  if (!p.hanging_arm || arm == in.end()) return in;
+  if (arm_map == nullptr) {
+    throw std::logic_error("model_inputs: person " + p.id +
+                           "'s arm length was taken hanging and needs the model's arm map");
+  }
+  arm->second = arm_map->apply(arm->second);
+  return in;
 }
 
 }  // namespace caliper::cli

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "caliper/mapping.hpp"
 #include "cli_support.hpp"
 
 namespace caliper::cli {
@@ -23,6 +24,9 @@ struct Person {
   MeasurementValues inputs;
   /// Extra numeric columns kept for studies (ANSUR: survey girths in metres), by column name.
   std::map<std::string, double> extra;
+  /// inputs' arm_length was taken on the hanging arm, as a survey takes it (ANSUR II), not as
+  /// the paper's virtual arm length: map it onto the model's (model_inputs()).
+  bool hanging_arm = false;
   int line = 0;       ///< source line, for messages
   std::string error;  ///< a problem reading this row ("" when fine)
 };
@@ -45,9 +49,16 @@ std::vector<Person> read_people_csv(const std::string& path);
 /// Reads an ANSUR II public CSV (male file Latin-1, female ASCII; ids `subjectid`/`SubjectId`):
 /// height = stature, weight = weightkg / 10, arm_span_fingertips = span, inseam_height =
 /// crotchheight, hip_width = hipbreadth, arm_length = acromionradialelength +
-/// radialestylionlength (millimetres to metres). `extra` holds chestcircumference,
-/// waistcircumference, buttockcircumference, thighcircumference, biacromialbreadth, in metres.
-/// The sex comes from the Gender column. Throws RuntimeError naming the file and missing column.
+/// radialestylionlength (millimetres to metres; the hanging arm: `hanging_arm` is set). `extra`
+/// holds chestcircumference, waistcircumference, buttockcircumference, thighcircumference,
+/// biacromialbreadth, in metres. The sex comes from the Gender column. Throws RuntimeError naming
+/// the file and missing column.
 std::vector<Person> read_ansur_csv(const std::string& path);
+
+/// The inputs of `p` for a model: an arm length taken on the hanging arm (Person::hanging_arm)
+/// mapped onto the model's virtual arm length by `arm_map` (caliper::hanging_arm_map() of that
+/// model); everything else as it is. Throws std::logic_error when the person's arm needs a map
+/// and `arm_map` is null.
+MeasurementValues model_inputs(const Person& p, const LinearMap* arm_map);
 
 }  // namespace caliper::cli

@@ -348,6 +348,9 @@ std::vector<AnsurRow> ansur_study(
           .push_back(&people[i]);
     }
     const std::string sex = people.empty() ? "" : people.front().sex;
+    // ANSUR II's arm is taken hanging; the regressors' arm_length is the paper's virtual one
+    // (shoulder to wrist landmark in the T-pose), some 7 cm shorter on the open models.
+    const LinearMap arm_map = hanging_arm_map(bundle->model);
     // The paper's regressors and the noise-aware one (the model's own population, N(0, I)), then
     // the noise-aware regressor with the model's ANSUR II population as its prior and the other
     // measurer's noise (ANSUR's measurers are trained), from height and weight and from all six.
@@ -382,8 +385,9 @@ std::vector<AnsurRow> ansur_study(
       row.bias_mm.assign(T, 0.0);
       std::vector<int> counts(T, 0);
       for (const Person* q : test) {
+        const MeasurementValues all = model_inputs(*q, &arm_map);
         MeasurementMap in;
-        for (const auto& id : method.inputs) in[id] = q->inputs.at(id);
+        for (const auto& id : method.inputs) in[id] = all.at(id);
         Avatar av;
         try {
           av = method.make(in);
