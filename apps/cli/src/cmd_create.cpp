@@ -53,7 +53,8 @@ constexpr InputOption kInputOptions[] = {
     {"arm-span", "arm_span_fingertips", false, "arm span, fingertip to fingertip"},
     {"inseam", "inseam_height", false, "inseam height (crotch above the floor)"},
     {"hip-width", "hip_width", false, "hip width (widest, at the trochanters)"},
-    {"arm-length", "arm_length", false, "arm length, shoulder (acromion) to wrist"},
+    {"arm-length", "arm_length", false,
+     "arm length, acromion to wrist, arm out sideways (hanging: ~7 cm more)"},
 };
 
 double seconds_since(std::chrono::steady_clock::time_point t) {

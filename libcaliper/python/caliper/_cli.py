@@ -74,7 +74,8 @@ def _create(args, out, err):
     p.add_argument("--arm-span", metavar="LENGTH", help="arm span, fingertip to fingertip")
     p.add_argument("--inseam", metavar="LENGTH", help="inseam height (crotch above the floor)")
     p.add_argument("--hip-width", metavar="LENGTH", help="hip width (at the trochanters)")
-    p.add_argument("--arm-length", metavar="LENGTH", help="arm length, acromion to wrist")
+    p.add_argument("--arm-length", metavar="LENGTH",
+                   help="arm length, acromion to wrist, arm out sideways (hanging: ~7 cm more)")
     p.add_argument("-s", "--sex", help="female, male or neutral (default neutral): the open model")
     p.add_argument("-r", "--regressor", help="R2, R4, R5, R6 or noise-aware (default: R2/R4/R5 "
                    "for exactly their inputs, else noise-aware)")
