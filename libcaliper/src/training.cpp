@@ -132,10 +132,10 @@ ShapeMeasurer::ShapeMeasurer(const smpl::BodyModel& model, const LandmarkTable& 
   const int B = model.num_betas();
   const int V = model.num_vertices();
   num_betas_ = num_betas <= 0 ? std::min(10, B) : num_betas;
-  if (num_betas_ > B || num_betas_ > kMaxTrainingBetas || num_betas_ < 1) {
+  if (num_betas_ > B || num_betas_ > kMaxMeasurerBetas || num_betas_ < 1) {
     throw InvalidInputError("ShapeMeasurer: " + std::to_string(num_betas_) +
                             " betas asked, the model '" + model.meta.name + "' has " +
-                            std::to_string(B) + " (at most " + std::to_string(kMaxTrainingBetas) +
+                            std::to_string(B) + " (at most " + std::to_string(kMaxMeasurerBetas) +
                             " are supported, at least 1)");
   }
   if (V == 0 || model.faces.rows() == 0) {

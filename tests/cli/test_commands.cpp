@@ -589,13 +589,13 @@ TEST_F(Commands, ShapeCurveIsUsedSwitchedOffAndAMalformedOneRefused) {
   const auto tables = expect_fast_batch_equals_mesh(
       curved, "people.csv", "R2", {"height_cm", "weight_kg", "volume_L", "beta0", "mahalanobis"});
   EXPECT_EQ(tables.first.rows.size(), 2u);
-  // A curve over more betas than the batch's exact maps take (kMaxTrainingBetas = 20): the fast
+  // A curve over more betas than the batch's exact maps take (kMaxMeasurerBetas = 32): the fast
   // path measures the mesh instead, with the same figures.
   smpl::BodyModel wide = test::cli_test_model("female");
   const Eigen::MatrixXd d = wide.shapedirs;
-  wide.shapedirs.resize(d.rows(), 24);
-  for (int k = 0; k < 24; ++k) wide.shapedirs.col(k) = d.col(k % 10) * (k < 10 ? 1.0 : 0.1);
-  set_shape_curve(wide, test::example_shape_curve(Eigen::MatrixXd::Constant(24, 6, 0.05)));
+  wide.shapedirs.resize(d.rows(), 36);
+  for (int k = 0; k < 36; ++k) wide.shapedirs.col(k) = d.col(k % 10) * (k < 10 ? 1.0 : 0.1);
+  set_shape_curve(wide, test::example_shape_curve(Eigen::MatrixXd::Constant(36, 6, 0.05)));
   smpl::save_model(wide, path("wide.npz"));
   const auto wide_tables = expect_fast_batch_equals_mesh(
       path("wide.npz"), "people.csv", "R2", {"height_cm", "weight_kg", "volume_L", "beta20"});

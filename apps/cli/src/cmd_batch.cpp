@@ -117,7 +117,7 @@ void fast_avatar(const ModelBundle& b, const ShapeMeasurer& measurer, const std:
                            b.measure_info ? b.measure_info->landmarks : LandmarkTable{}, &measurer);
   }
   if (k_betas.size() > measurer.num_betas()) {
-    // A shape curve over more betas than the exact maps take (kMaxTrainingBetas): the mesh.
+    // A shape curve over more betas than the exact maps take (kMaxMeasurerBetas): the mesh.
     MeasureOptions mo;
     mo.circumferences = false;
     const smpl::Vertices v = shaped_vertices(b.model, k_betas);
@@ -277,7 +277,7 @@ struct BatchModels {
 std::unique_ptr<ShapeMeasurer> fast_measurer(const ModelBundle& b) {
   const LandmarkTable lm = landmarks_for(b.model);
   // With a shape curve the avatars' betas are all the model's (linear_betas()).
-  const int k = b.curve ? std::min(b.model.num_betas(), kMaxTrainingBetas)
+  const int k = b.curve ? std::min(b.model.num_betas(), kMaxMeasurerBetas)
                 : b.regressors.linear.empty()
                     ? std::min(10, b.model.num_betas())
                     : static_cast<int>(b.regressors.linear.front().coefficients().rows());

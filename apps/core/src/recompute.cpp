@@ -23,7 +23,7 @@ ModelEntry make_model_entry(std::shared_ptr<const smpl::BodyModel> model, const 
   if (e.curve) {
     e.curve_measurer = std::make_shared<const ShapeMeasurer>(
         *model, e.landmarks, available_measurements(e.landmarks),
-        std::min(model->num_betas(), kMaxTrainingBetas));
+        std::min(model->num_betas(), kMaxMeasurerBetas));
   }
   e.model = std::move(model);
   return e;

@@ -21,9 +21,13 @@
 
 namespace caliper {
 
-/// Largest number of betas a ShapeMeasurer handles (the volume cubic has
-/// (B + 1) (B + 1) (B + 2) / 2 coefficients).
+/// Largest number of betas the regressors are trained over (2^n training corners).
 constexpr int kMaxTrainingBetas = 20;
+
+/// Largest number of betas a ShapeMeasurer handles (the volume cubic has
+/// (B + 1) (B + 1) (B + 2) / 2 coefficients: 18,513 for 32). More than kMaxTrainingBetas, so that
+/// the measurer of a model's shape curve covers every component of the open models (21).
+constexpr int kMaxMeasurerBetas = 32;
 
 /// The 2^n corners of the cube [-sd, sd]^n, one per row (2^n x n), row r having beta_i = +sd
 /// when bit i of r is set. 1 <= n <= 20, else InvalidInputError.
@@ -40,7 +44,7 @@ class ShapeMeasurer {
  public:
   /// `defs`: measurements to evaluate (those whose landmarks are missing throw LandmarkError
   /// here). `num_betas` <= 0 means min(10, model.num_betas()); more than model.num_betas() or
-  /// kMaxTrainingBetas throws InvalidInputError; all-zero shapedirs (a broken model) throw
+  /// kMaxMeasurerBetas throws InvalidInputError; all-zero shapedirs (a broken model) throw
   /// smpl::ModelError. Cost: one pass over the faces, about
   /// 10 M multiply-adds for SMPL with 10 betas.
   ShapeMeasurer(const smpl::BodyModel& model, const LandmarkTable& landmarks,

@@ -34,7 +34,7 @@ struct ModelEntry {
   /// The model's shape curve (caliper/shape_curve.hpp), if it carries one: R2-R6 start from the
   /// general population's body of the height and weight (linear_betas()).
   std::optional<ShapeCurve> curve;
-  /// With a curve: the exact measurer over all the model's betas (up to kMaxTrainingBetas), so
+  /// With a curve: the exact measurer over all the model's betas (up to kMaxMeasurerBetas), so
   /// that a slider event measures the curve's body from precomputed maps instead of shaping and
   /// measuring the mesh (docs/performance.md, the drag frame).
   std::shared_ptr<const ShapeMeasurer> curve_measurer;
