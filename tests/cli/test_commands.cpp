@@ -724,8 +724,8 @@ TEST_F(Commands, BatchMapsTheSurveysHangingArmOntoTheVirtualArm) {
          "radialestylionlength,Gender\n"
          "1,1630,650,1660,780,350,310,240,Female\n";
   const std::string open = std::string(CALIPER_SOURCE_DIR) + "/assets/models/caliper-female.npz";
-  const CliRun r = run({"batch", "--ansur", path("ansur.csv"), "--model", open, "--regressor",
-                        "R6", "-j", "1", "--out", path("results.csv")});
+  const CliRun r = run({"batch", "--ansur", path("ansur.csv"), "--model", open, "--regressor", "R6",
+                        "-j", "1", "--out", path("results.csv")});
   ASSERT_EQ(r.code, kExitOk) << r.err;
   const CsvTable t = read_csv(path("results.csv"));
   ASSERT_EQ(t.rows.size(), 1u);
