@@ -162,6 +162,11 @@ std::vector<Subject> read_subjects(const std::string& ansur_dir, const std::stri
     const UpperArmMapping map =
         upper_arm_mapping_of(ansur_dir + "/" + ansur_file, nhanes_dir + "/" + nhanes_file);
     const Eigen::MatrixXd arm = read_survey_columns(nhanes_dir + "/" + nhanes_file, {"BMXARML"});
+    if (static_cast<size_t>(arm.rows()) != out.size() - first) {
+      throw std::runtime_error(nhanes_dir + "/" + nhanes_file + ": " + std::to_string(arm.rows()) +
+                               " upper arm lengths for " + std::to_string(out.size() - first) +
+                               " people");
+    }
     for (Eigen::Index r = 0; r < arm.rows(); ++r) {
       out[first + static_cast<size_t>(r)].values[kUpperArmLength] =
           map.acromion_radiale(arm(r, 0) * 1e-2);
