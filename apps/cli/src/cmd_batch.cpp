@@ -343,7 +343,8 @@ Outcome batch_one(const BatchOptions& opt, const BatchModels& m, const Person& p
     require_inputs(o.regressor, in);
     std::vector<std::string> warnings;
     try {
-      warnings = check_inputs(in, opt.force);
+      // What the person measured is judged, not its mapping onto the model's virtual arm.
+      warnings = check_inputs(p.inputs, opt.force);
     } catch (const ImplausibleInput& e) {
       o.status = "refused";
       o.message = e.what();
