@@ -450,7 +450,8 @@ HangingArms hanging_arms(const smpl::BodyModel& model, const smpl::Vertices& ver
     throw ModelMismatchError(
         "hanging arms: the model needs SMPL's joints (left and right shoulder are joints 16 and "
         "17) with a joint regressor and skinning weights for its " +
-        std::to_string(vertices.rows()) + " vertices");
+        std::to_string(vertices.rows()) +
+        " vertices; use an SMPL-family model with its skeleton (the open models, SMPL files)");
   }
   // Joints whose motion follows a shoulder rotation: the shoulder and its descendants.
   std::vector<char> follows[2];
@@ -467,7 +468,8 @@ HangingArms hanging_arms(const smpl::BodyModel& model, const smpl::Vertices& ver
   auto landmark = [&](const char* name) -> std::vector<int> {
     const auto it = lm.find(name);
     if (it == lm.end() || it->second.empty()) {
-      throw LandmarkError(std::string("hanging arms: the model has no landmark '") + name + "'");
+      throw LandmarkError(std::string("hanging arms: the model has no landmark '") + name +
+                          "'; give it a landmark table that names it (docs/measurements.md)");
     }
     return it->second;
   };
