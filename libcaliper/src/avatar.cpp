@@ -45,6 +45,11 @@ void finish(const smpl::BodyModel& model, const Eigen::VectorXd& betas,
                                   : measure_all(model, a.vertices, mo);
 }
 
+// linear_betas(): at most this many further steps on the lengths, until every length input is
+// within kLengthTolerance (m) of its value.
+constexpr int kLengthSteps = 3;
+constexpr double kLengthTolerance = 1e-5;
+
 }  // namespace
 
 Avatar create_avatar(const smpl::BodyModel& model, const LinearRegressor& regressor,
@@ -110,40 +115,59 @@ Eigen::VectorXd linear_betas(const smpl::BodyModel& model, const LinearRegressor
     return std::find(ids.begin(), ids.end(), id) != ids.end();
   };
   Eigen::VectorXd paper = regressor.predict(inputs);  // also names a missing or bad input
-  const Eigen::MatrixXd& A = regressor.coefficients();
-  const Eigen::Index k = A.rows();
+  const Eigen::Index k = regressor.coefficients().rows();
   if (!curve || !has("height") || !has("weight") || curve->coefficients.rows() < k) return paper;
+  const auto m = static_cast<Eigen::Index>(ids.size());
+  const auto A = regressor.coefficients().leftCols(m);  // the slopes, not the intercept
+  Eigen::VectorXd want(m);
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const std::string& id = ids[static_cast<size_t>(i)];
+    want[i] = input_feature(id, inputs.at(id), regressor.weight_formula());
+  }
   // beta = c + A (f - f(c)): c the curve's betas, A the regressor's slopes, f the inputs'
   // features and f(c) the same features measured on the curve's body.
   Eigen::VectorXd c = curve->betas(inputs.at("height"), inputs.at("weight"));
   const bool fast = measurer != nullptr && measurer->num_betas() >= c.size();
-  Eigen::VectorXd lengths;  // the measurer's definitions, on the curve's body
-  smpl::Vertices v;
-  if (fast) {
-    lengths = measurer->measure(c);
-  } else {
-    v = shaped_vertices(model, c);
-  }
-  Eigen::VectorXd diff(static_cast<Eigen::Index>(ids.size()));
-  for (size_t i = 0; i < ids.size(); ++i) {
-    const double want = input_feature(ids[i], inputs.at(ids[i]), regressor.weight_formula());
-    double have = 0.0;
-    if (ids[i] == "weight") {
-      have = std::cbrt(fast ? measurer->volume(c) : mesh_volume(v, model.faces));
-    } else if (fast) {
-      const auto& defs = measurer->definitions();
-      const auto it = std::find_if(defs.begin(), defs.end(),
-                                   [&](const MeasurementDef& d) { return d.id == ids[i]; });
-      if (it == defs.end()) {
-        throw InvalidInputError("linear_betas: the measurer does not measure " + ids[i]);
-      }
-      have = lengths[it - defs.begin()];
+  const auto features = [&](const Eigen::VectorXd& betas, bool with_weight) {
+    Eigen::VectorXd f = Eigen::VectorXd::Zero(m);
+    Eigen::VectorXd lengths;  // the measurer's definitions
+    smpl::Vertices v;
+    if (fast) {
+      lengths = measurer->measure(betas);
     } else {
-      have = measure(v, landmarks, measurement_def(ids[i]));
+      v = shaped_vertices(model, betas);
     }
-    diff[static_cast<Eigen::Index>(i)] = want - have;
+    for (Eigen::Index i = 0; i < m; ++i) {
+      const std::string& id = ids[static_cast<size_t>(i)];
+      if (id == "weight") {
+        if (with_weight)
+          f[i] = std::cbrt(fast ? measurer->volume(betas) : mesh_volume(v, model.faces));
+      } else if (fast) {
+        const auto& defs = measurer->definitions();
+        const auto it = std::find_if(defs.begin(), defs.end(),
+                                     [&](const MeasurementDef& d) { return d.id == id; });
+        if (it == defs.end()) {
+          throw InvalidInputError("linear_betas: the measurer does not measure " + id);
+        }
+        f[i] = lengths[it - defs.begin()];
+      } else {
+        f[i] = measure(v, landmarks, measurement_def(id));
+      }
+    }
+    return f;
+  };
+  c.head(k) += A * (want - features(c, true));
+  // Where a length is not quite linear in the betas (the neutral model's arm length: up to
+  // 4.7 mm after the step above), the same step again from the body just made, on the lengths
+  // only: the weight keeps the first step's compromise, as the paper's prediction does.
+  for (int step = 0; step < kLengthSteps; ++step) {
+    Eigen::VectorXd miss = want - features(c, false);
+    for (Eigen::Index i = 0; i < m; ++i) {
+      if (ids[static_cast<size_t>(i)] == "weight") miss[i] = 0.0;
+    }
+    if (miss.cwiseAbs().maxCoeff() <= kLengthTolerance) break;
+    c.head(k) += A * miss;
   }
-  c.head(k) += A.leftCols(diff.size()) * diff;
   return c;
 }
 

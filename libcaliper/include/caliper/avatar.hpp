@@ -67,7 +67,10 @@ struct AvatarOptions {
 /// inputs' features and f(c) the same features measured on the curve's body. To first order the
 /// body reproduces the inputs as the paper's prediction does (A is the minimum-norm inverse of
 /// the linearised measurements), and where the inputs measure nothing it is the general
-/// population's body of that height and weight. `landmarks`: landmarks_for(model).
+/// population's body of that height and weight. Where a length is not linear in the betas (the
+/// neutral model's arm length), the step is repeated from the body it made on the lengths alone
+/// (the weight keeps the first step's compromise), at most 3 times, until every length input is
+/// within 0.01 mm. `landmarks`: landmarks_for(model).
 /// `measurer`: used for f(c) when it covers the model's betas (exact and faster; its
 /// definitions must hold the regressor's length inputs), else the mesh is shaped and measured.
 /// Throws what predict() throws for a missing or bad input.
