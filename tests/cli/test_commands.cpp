@@ -738,6 +738,50 @@ TEST_F(Commands, BatchMapsTheSurveysHangingArmOntoTheVirtualArm) {
   EXPECT_LT(mapped, 50.0);  // the virtual arm is much shorter than the survey's
 }
 
+// A tape on the hanging arm (`--arm-length-hanging`; an `arm_length_hanging_cm` column in
+// batch): the model's own map turns it into its arm length, which R6 then reproduces; the
+// report keeps the value as measured. Giving both arm lengths is refused.
+TEST_F(Commands, CreateAndBatchMapATapeOnTheHangingArmOntoTheModelsArm) {
+  const std::string open = std::string(CALIPER_SOURCE_DIR) + "/assets/models/caliper-female.npz";
+  const double mapped = hanging_arm_map(smpl::load_model(open)).apply(0.550);
+  EXPECT_LT(mapped, 0.50);  // the model's arm is much shorter than the hanging one
+  const std::vector<std::string> six = {
+      "--model", open,       "--height", "163cm",       "--weight", "65kg",        "--arm-span",
+      "166cm",   "--inseam", "78cm",     "--hip-width", "35cm",     "--regressor", "R6"};
+  std::vector<std::string> args = {"create", "--json", "--arm-length-hanging", "55cm"};
+  args.insert(args.end(), six.begin(), six.end());
+  const CliRun r = run(args);
+  ASSERT_EQ(r.code, kExitOk) << r.err;
+  const Json j = parse_json(r.out);
+  EXPECT_NEAR(j.at("hanging_arm").at("measured").as_number(), 0.550, 1e-12);
+  EXPECT_NEAR(j.at("hanging_arm").at("arm_length").as_number(), mapped, 1e-12);
+  EXPECT_NEAR(j.at("input").at("arm_length").as_number(), mapped, 1e-12);
+  EXPECT_NEAR(j.at("achieved").at("arm_length").as_number(), mapped, kInputTolM);
+  args.push_back("--arm-length");
+  args.push_back("50cm");
+  const CliRun both = run(args);
+  EXPECT_EQ(both.code, kExitUsage);
+  EXPECT_TRUE(contains(both.err, "not both")) << both.err;
+
+  std::ofstream(path("people.csv")) << "id,sex,height_cm,weight_kg,arm_span_cm,inseam_cm,"
+                                       "hip_width_cm,arm_length_hanging_cm\n"
+                                       "p1,F,163,65,166,78,35,55\n";
+  const CliRun b = run({"batch", path("people.csv"), "--model", open, "--regressor", "R6", "-j",
+                        "1", "--out", path("results.csv")});
+  ASSERT_EQ(b.code, kExitOk) << b.err;
+  const CsvTable t = read_csv(path("results.csv"));
+  ASSERT_EQ(t.rows.size(), 1u);
+  EXPECT_NEAR(std::stod(t.rows[0][static_cast<size_t>(t.column("input_arm_length_cm"))]), 55.0,
+              0.01);
+  EXPECT_NEAR(std::stod(t.rows[0][static_cast<size_t>(t.column("arm_length_cm"))]), 100.0 * mapped,
+              0.1);
+  std::ofstream(path("both.csv")) << "height_cm,weight_kg,arm_length_cm,arm_length_hanging_cm\n"
+                                     "163,65,48,55\n";
+  const CliRun bb = run({"batch", path("both.csv"), "--model", open, "--out", path("r2.csv")});
+  EXPECT_EQ(bb.code, kExitRuntime);
+  EXPECT_TRUE(contains(bb.err, "keep one of them")) << bb.err;
+}
+
 // The plausibility check judges what the survey measured (a 55 cm hanging arm for a 163 cm
 // woman), not its mapping onto the model's virtual arm: on the small test model, whose arms are
 // short, the mapped value is no human arm, and the person was refused with a value they never

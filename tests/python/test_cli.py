@@ -105,6 +105,30 @@ def test_population_equals_cli(models, regs):
     assert report["population"] == mine["population"] == "ansur2"
 
 
+def test_hanging_arm_equals_cli(models, regs):
+    # `--arm-length-hanging`: the program and `python3 -m caliper` map the tape on the hanging arm
+    # onto the model's arm length with the same map, and make the avatar of that arm length.
+    args = ["--sex", "female", "--height", "168cm", "--weight", "62kg", "--arm-span", "170cm",
+            "--inseam", "78cm", "--hip-width", "36cm", "--arm-length-hanging", "55cm"]
+    report = run_json([CLI, "create", "--json", *args])
+    mine = run_json([sys.executable, "-m", "caliper", "create", "--json", *args])
+    compare(report, np.array(mine["betas"]), mine["achieved"], mine["regressor"])
+    assert report["hanging_arm"].keys() == mine["hanging_arm"].keys()
+    for k, v in report["hanging_arm"].items():
+        assert abs(mine["hanging_arm"][k] - v) <= 1e-12, k
+    arm = caliper.hanging_arm_map(models["female"])
+    assert report["hanging_arm"]["measured"] == pytest.approx(0.55, abs=1e-12)
+    virtual = arm["a"] * 0.55 + arm["b"]
+    assert report["input"]["arm_length"] == pytest.approx(virtual, abs=1e-12)
+    assert 0.40 < virtual < 0.53  # shorter than the hanging arm (the acromion is above the joint)
+    a = caliper.create(models["female"], regs["female"], height="168cm", weight="62kg",
+                       arm_span="170cm", inseam="78cm", hip_width="36cm", arm_length=virtual)
+    compare(report, a.betas, a.achieved, a.regressor)
+    r = subprocess.run([sys.executable, "-m", "caliper", "create", *args, "--arm-length", "50cm"],
+                       capture_output=True, text=True, check=False)
+    assert r.returncode == 2 and "not both" in r.stderr
+
+
 def test_measure_equals_cli(models):
     betas = [0.5, -1.0, 0.25, 0.0, 1.5]
     report = run_json([CLI, "measure", "--sex", "male", "--json",

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "caliper/errors.hpp"
+#include "caliper/mapping.hpp"
 #include "caliper/population.hpp"
 #include "command_common.hpp"
 #include "commands.hpp"
@@ -29,6 +30,9 @@ const app::HelpText kCreateHelp{
     ".fbx (rigged, metres), .obj/.ply (mesh); every file records the model, sex, betas\n"
     "and measurements, which `caliper measure` reads back; all but .ply keep the model's\n"
     "texture coordinates when it has them.\n\n"
+    "arm length: --arm-length is the paper's, taken with the arm out sideways; a tape on the\n"
+    "relaxed hanging arm (shoulder tip over the elbow to the wrist) gives --arm-length-hanging,\n"
+    "which the model's own map turns into its arm length (the report shows both).\n\n"
     "examples:\n"
     "  caliper create --sex female --height 168cm --weight 62kg --out avatar.glb --png avatar.png\n"
     "  caliper create --sex male --height 181cm --weight 84kg --out me.glb --shape-keys 10\n"
@@ -173,6 +177,11 @@ namespace {
 std::vector<OptionSpec> create_options() {
   std::vector<OptionSpec> specs = measurement_options();
   const std::vector<OptionSpec> more = {
+      {"arm-length-hanging", "", "LENGTH",
+       "instead of --arm-length: a tape on the relaxed hanging arm, shoulder tip (acromion) over "
+       "the elbow to the wrist's bony point on the thumb side (ANSUR II's acromion-radiale + "
+       "radiale-stylion), mapped onto the model's arm length",
+       false},
       {"sex", "s", "SEX", "female, male or neutral (default neutral): picks the open model", false},
       {"regressor", "r", "NAME", "R2, R4, R5, R6 or noise-aware (default: see below)", false},
       {"model", "m", "FILE", "any SMPL-family model file (.npz/.pkl) instead of the open model",
@@ -212,6 +221,9 @@ struct CreateOptions {
   std::optional<std::string> model, regressors, mapping, out, png, population;
   bool json = false, exact_inputs = false, force = false, quiet = false;
   bool shape_curve = true;  ///< false: --no-shape-curve
+  /// inputs' arm_length was given by --arm-length-hanging: map it onto the model's (the value
+  /// is judged as measured, then caliper::hanging_arm_map() of the loaded model maps it).
+  bool hanging_arm = false;
 };
 
 CreateOptions create_options_from(const ParsedArgs& a) {
@@ -224,6 +236,16 @@ CreateOptions create_options_from(const ParsedArgs& a) {
   o.inputs = read_measurement_options(a);
   for (const auto& opt : kInputOptions) {
     if (auto v = a.get(opt.option)) o.imperial = o.imperial || is_imperial_text(*v);
+  }
+  if (auto v = a.get("arm-length-hanging")) {
+    if (o.inputs.count("arm_length")) {
+      throw UsageError(
+          "give --arm-length (arm out sideways) or --arm-length-hanging (arm hanging), not "
+          "both");
+    }
+    o.inputs["arm_length"] = parse_length(*v, "--arm-length-hanging");
+    o.imperial = o.imperial || is_imperial_text(*v);
+    o.hanging_arm = true;
   }
   if (a.get("sex")) o.sex = normalise_sex(*a.get("sex"));
   o.regressor = a.get("regressor") ? normalise_regressor_name(*a.get("regressor"))
@@ -265,6 +287,9 @@ CreateOptions create_options_from(const ParsedArgs& a) {
 struct CreateResult {
   std::shared_ptr<const ModelBundle> bundle;
   std::optional<MeasurementMapping> mapping;
+  /// --arm-length-hanging: the model's map from the hanging arm to its arm length.
+  std::optional<LinearMap> arm_map;
+  double hanging_arm = 0.0;  ///< the value given, metres
   Avatar avatar;
   std::vector<std::string> warnings;
   std::vector<std::string> written;  ///< files written, in order
@@ -321,8 +346,20 @@ CreateResult run_create(const CreateOptions& opt, std::ostream& warn) {
     }
   }
   const auto t_create = std::chrono::steady_clock::now();
-  r.avatar = make_avatar(*r.bundle, opt.regressor, opt.inputs, r.mapping ? &*r.mapping : nullptr,
-                         true, opt.exact_inputs, true, prior ? &*prior : nullptr);
+  MeasurementMap inputs = opt.inputs;
+  if (opt.hanging_arm) {
+    try {
+      r.arm_map = hanging_arm_map(model);
+    } catch (const CaliperError& e) {
+      throw RuntimeError(std::string("--arm-length-hanging: this model cannot swing its arms "
+                                     "down to map the value (") +
+                         e.what() + "); give --arm-length, taken with the arm out sideways");
+    }
+    r.hanging_arm = inputs.at("arm_length");
+    inputs["arm_length"] = r.arm_map->apply(r.hanging_arm);
+  }
+  r.avatar = make_avatar(*r.bundle, opt.regressor, inputs, r.mapping ? &*r.mapping : nullptr, true,
+                         opt.exact_inputs, true, prior ? &*prior : nullptr);
   r.create_s = seconds_since(t_create);
   if (!r.avatar.plausibility.plausible) {
     const std::string w =
@@ -365,6 +402,15 @@ Json create_report_json(const CreateResult& r, const std::string& regressor,
   // Whether the plain regressor started from the model's shape curve (docs/regressors.md).
   j.set("shape_curve", regressor != "noise-aware" && r.bundle->curve.has_value());
   if (population) j.set("population", *population);
+  if (r.arm_map) {
+    // --arm-length-hanging: the value given and the model's arm length it was mapped onto.
+    j.set("hanging_arm", Json::object({{"measured", Json(r.hanging_arm)},
+                                       {"arm_length", Json(r.arm_map->apply(r.hanging_arm))},
+                                       {"slope", Json(r.arm_map->a)},
+                                       {"intercept", Json(r.arm_map->b)},
+                                       {"fit_rms", Json(r.arm_map->fit_rms)},
+                                       {"bodies", Json(r.arm_map->count)}}));
+  }
   j.set("units",
         Json::object({{"length", Json("m")}, {"weight", Json("kg")}, {"volume", Json("m3")}}));
   j.set("input", measurements_json(avatar.input));
@@ -404,6 +450,15 @@ void write_create_text(const CreateOptions& opt, const CreateResult& r, std::ost
       << "regressor: " << opt.regressor;
   if (opt.population) out << ", prior: the model's population '" << *opt.population << "'";
   if (r.mapping) out << " with mapping " << *opt.mapping << " (input column: mapped values)";
+  if (r.arm_map) {
+    out << "\narm length taken hanging: " << format_value("arm_length", r.hanging_arm)
+        << " -> the model's arm length (arm out sideways) "
+        << format_value("arm_length", r.arm_map->apply(r.hanging_arm)) << " ("
+        << format_number(r.arm_map->a, 3) << " x hanging " << (r.arm_map->b < 0 ? "- " : "+ ")
+        << format_value("arm_length", std::abs(r.arm_map->b)) << ", RMS "
+        << format_value("arm_length", r.arm_map->fit_rms) << " over " << r.arm_map->count
+        << " bodies of the model)";
+  }
   out << "\n\n"
       << measurement_table(r.mapping ? avatar.mapped : avatar.input, avatar.achieved, opt.imperial);
   out << "\nbetas: " << format_betas(avatar.betas) << "\n";

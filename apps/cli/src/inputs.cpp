@@ -2,6 +2,7 @@
 #include "caliper/inputs.hpp"
 #include "smpl/text.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -38,6 +39,7 @@ std::optional<std::pair<std::string, double>> measurement_column(const std::stri
                                "arm_span_fingertips",
                                "arm_span_wrists",
                                "arm_length",
+                               "arm_length_hanging",
                                "forearm_length",
                                "chest_circumference",
                                "waist_circumference",
@@ -83,6 +85,15 @@ std::vector<Person> read_people_csv(const std::string& path) {
   for (size_t c = 0; c < t.header.size(); ++c) {
     if (auto m = measurement_column(t.header[c])) cols.emplace_back(static_cast<int>(c), *m);
   }
+  const auto has_column = [&cols](const char* id) {
+    return std::any_of(cols.begin(), cols.end(),
+                       [id](const auto& c) { return c.second.first == id; });
+  };
+  if (has_column("arm_length") && has_column("arm_length_hanging")) {
+    throw RuntimeError(path +
+                       ": both an arm_length column (arm out sideways) and an arm_length_hanging "
+                       "column (arm hanging); keep one of them");
+  }
   if (cols.empty()) {
     throw RuntimeError(path +
                        ": no measurement column in the header; name columns by measurement id "
@@ -112,6 +123,12 @@ std::vector<Person> read_people_csv(const std::string& path) {
         continue;
       }
       p.inputs[m.first] = v * m.second;
+    }
+    // A tape on the hanging arm: the model's arm length is mapped from it (model_inputs()).
+    if (const auto h = p.inputs.find("arm_length_hanging"); h != p.inputs.end()) {
+      p.inputs["arm_length"] = h->second;
+      p.inputs.erase(h);
+      p.hanging_arm = true;
     }
     people.push_back(std::move(p));
   }

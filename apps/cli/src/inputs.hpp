@@ -41,8 +41,10 @@ std::optional<std::pair<std::string, double>> measurement_column(const std::stri
 std::string normalise_sex(const std::string& value);
 
 /// Reads people from a CSV with units in the header (see measurement_column), plus optional
-/// `id` and `sex`/`gender` columns. Throws RuntimeError naming the file when the header has no
-/// measurement column; bad cells and rows with a wrong number of cells give that person an
+/// `id` and `sex`/`gender` columns. An `arm_length_hanging_<unit>` column (a tape on the hanging
+/// arm) becomes the person's arm_length with `hanging_arm` set; a header with both it and an
+/// arm_length column is refused (RuntimeError). Throws RuntimeError naming the file when the header
+/// has no measurement column; bad cells and rows with a wrong number of cells give that person an
 /// `error` instead of stopping the batch.
 std::vector<Person> read_people_csv(const std::string& path);
 

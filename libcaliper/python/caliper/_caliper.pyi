@@ -98,6 +98,8 @@ class Mapping:
 
 def load_mapping(path: str) -> Mapping: ...
 
+def hanging_arm_map(model: BodyModel, bodies: int = 200) -> Dict[str, float]: ...
+
 class Plausibility:
     beyond_2sd: List[int]
     beyond_3sd: List[int]

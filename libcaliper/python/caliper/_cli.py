@@ -76,6 +76,10 @@ def _create(args, out, err):
     p.add_argument("--hip-width", metavar="LENGTH", help="hip width (at the trochanters)")
     p.add_argument("--arm-length", metavar="LENGTH",
                    help="arm length, acromion to wrist, arm out sideways (hanging: ~7 cm more)")
+    p.add_argument("--arm-length-hanging", metavar="LENGTH",
+                   help="instead of --arm-length: a tape on the relaxed hanging arm, shoulder tip "
+                   "(acromion) over the elbow to the wrist's bony point on the thumb side (ANSUR "
+                   "II's acromion-radiale + radiale-stylion), mapped onto the model's arm length")
     p.add_argument("-s", "--sex", help="female, male or neutral (default neutral): the open model")
     p.add_argument("-r", "--regressor", help="R2, R4, R5, R6 or noise-aware (default: R2/R4/R5 "
                    "for exactly their inputs, else noise-aware)")
@@ -112,6 +116,16 @@ def _create(args, out, err):
                 inputs[id_] = _c.parse_mass(text) if mass else _c.parse_length(text)
             except _c.InvalidInputError as e:
                 raise _Usage(str(e).replace(("mass" if mass else "length") + " '", what + " '", 1))
+    hanging = None
+    if a.arm_length_hanging is not None:
+        if "arm_length" in inputs:
+            raise _Usage("give --arm-length (arm out sideways) or --arm-length-hanging (arm "
+                         "hanging), not both")
+        try:
+            hanging = _c.parse_length(a.arm_length_hanging)
+        except _c.InvalidInputError as e:
+            raise _Usage(str(e).replace("length '", "--arm-length-hanging '", 1))
+        inputs["arm_length"] = hanging  # judged as measured, mapped once the model is loaded
     sex = _sex(a.sex) if a.sex else "neutral"
     try:
         regressor = (_c.default_regressor(inputs) if a.regressor is None else
@@ -166,6 +180,14 @@ def _create(args, out, err):
         err.write(f"caliper: warning: the model's gender is {model.gender}\n")
     mapping = _c.load_mapping(a.mapping) if a.mapping else None
     t_create = time.perf_counter()
+    arm_map = None
+    if hanging is not None:
+        try:
+            arm_map = _c.hanging_arm_map(model)
+        except _c.Error as e:
+            raise _c.Error("--arm-length-hanging: this model cannot swing its arms down to map "
+                           f"the value ({e}); give --arm-length, taken with the arm out sideways")
+        inputs["arm_length"] = arm_map["a"] * hanging + arm_map["b"]
     try:
         avatar = _c.create(model, regs, inputs, regressor=regressor, exact_inputs=a.exact_inputs,
                            force=True, mapping=mapping, shape_curve=not a.no_shape_curve,
@@ -199,6 +221,10 @@ def _create(args, out, err):
              "input": avatar.input}
         if a.population is not None:
             j["population"] = a.population
+        if arm_map is not None:
+            j["hanging_arm"] = {"measured": hanging, "arm_length": inputs["arm_length"],
+                                "slope": arm_map["a"], "intercept": arm_map["b"],
+                                "fit_rms": arm_map["fit_rms"], "bodies": arm_map["count"]}
         if mapping is not None:
             j["mapped_input"] = avatar.mapped
         achieved = avatar.achieved
@@ -218,7 +244,15 @@ def _create(args, out, err):
         return EXIT_OK
     prior = "" if a.population is None else f", prior: the model's population '{a.population}'"
     out.write(f"model: {model.name or '(unnamed)'} ({model.gender or '?'}, {model_path})\n"
-              f"regressor: {regressor}{prior}\n\n")
+              f"regressor: {regressor}{prior}\n")
+    if arm_map is not None:
+        b = arm_map["b"]
+        out.write(f"arm length taken hanging: {_display('arm_length', hanging)} -> the model's arm "
+                  f"length (arm out sideways) {_display('arm_length', inputs['arm_length'])} "
+                  f"({arm_map['a']:.3f} x hanging {'-' if b < 0 else '+'} "
+                  f"{_display('arm_length', abs(b))}, RMS {_display('arm_length', arm_map['fit_rms'])}"
+                  f" over {arm_map['count']} bodies of the model)\n")
+    out.write("\n")
     out.write(_table(avatar.mapped, avatar.achieved))
     out.write("\nbetas: " + " ".join(f"{b:.3f}" for b in avatar.betas) + "\n")
     if avatar.betas_sd is not None:

@@ -869,6 +869,23 @@ void bind_mapping(py::module_& m) {
   m.def("load_mapping", &load_mapping, py::arg("path"),
         "Loads a mapping: .json (from training) or a paired .csv (fitted now), as `caliper "
         "create --mapping`.");
+  m.def(
+      "hanging_arm_map",
+      [](const ModelPtr& model, int bodies) {
+        if (!model) throw caliper::InvalidInputError("hanging_arm_map: model is None");
+        const caliper::LinearMap map = caliper::hanging_arm_map(*model, bodies);
+        py::dict d;
+        d["a"] = map.a;
+        d["b"] = map.b;
+        d["fit_rms"] = map.fit_rms;
+        d["count"] = map.count;
+        return d;
+      },
+      py::arg("model"), py::arg("bodies") = 200,
+      "The model's map from an arm length taken on the hanging arm (acromion to wrist, as ANSUR "
+      "II and a tape take it) to its arm_length (arm out sideways): arm_length = a * hanging + "
+      "b, least squares over `bodies` of its bodies (caliper::hanging_arm_map). Returns a dict: "
+      "a, b, fit_rms (metres), count.");
 }
 
 // Plausibility and Avatar.
