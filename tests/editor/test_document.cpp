@@ -113,6 +113,12 @@ TEST(Document, LabelsAndDescriptions) {
   EXPECT_EQ(ca::measurement_label("weight"), "Weight");
   EXPECT_EQ(ca::measurement_label("height"), "Overall height");
   EXPECT_EQ(ca::measurement_label("not_an_id"), "not_an_id");
+  // Every input a regressor takes says how to measure it; the arm length which way.
+  for (const std::string& id : ca::choice_inputs(ca::RegressorChoice::R6)) {
+    EXPECT_FALSE(ca::measurement_hint(id).empty()) << id;
+  }
+  EXPECT_NE(ca::measurement_hint("arm_length").find("hanging"), std::string::npos);
+  EXPECT_EQ(ca::measurement_hint("not_an_id"), "");
   EXPECT_EQ(ca::describe_regressor(ca::RegressorChoice::R2), "R2: Overall height, Weight");
   EXPECT_NE(ca::describe_regressor(ca::RegressorChoice::NoiseAware).find("uncertainty"),
             std::string::npos);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <map>
 
 #include "caliper/regressor.hpp"
 #include "smpl/text.hpp"
@@ -84,6 +85,23 @@ void start_from_avatar(Document& doc, const std::vector<std::string>& ids,
 
 std::string measurement_label(const std::string& id) {
   return measurement_name(id);
+}
+
+std::string measurement_hint(const std::string& id) {
+  static const std::map<std::string, std::string> kHints = {
+      {"height", "Standing straight, barefoot: floor to the top of the head."},
+      {"weight", "Body weight, lightly dressed."},
+      {"arm_span_fingertips",
+       "Arms stretched out sideways at shoulder height: fingertip to fingertip."},
+      {"inseam_height", "Standing: floor to the crotch."},
+      {"hip_width", "The hips' widest breadth, at the greater trochanters, seen from the front."},
+      {"arm_length",
+       "Shoulder tip (acromion) to the wrist with the arm stretched out sideways, as the\n"
+       "VR protocol takes it. A tape on the relaxed hanging arm reads about 7 cm more:\n"
+       "`caliper create --arm-length-hanging` maps such a value onto this one."},
+  };
+  const auto it = kHints.find(id);
+  return it == kHints.end() ? std::string() : it->second;
 }
 
 std::string describe_regressor(RegressorChoice choice) {

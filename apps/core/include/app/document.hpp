@@ -56,6 +56,10 @@ void start_from_avatar(Document& doc, const std::vector<std::string>& ids,
 /// The human name of a measurement for the UI ("Arm span (fingertips)"; "Weight", "Volume"):
 /// measurement_name (app/units.hpp), under the name the editor uses.
 std::string measurement_label(const std::string& id);
+/// How to take measurement `id` (a tooltip for the editor's input rows), e.g. for the arm
+/// length that it is taken with the arm out sideways and what a tape on the hanging arm reads;
+/// "" for an id without a hint.
+std::string measurement_hint(const std::string& id);
 /// One line describing a regressor choice, e.g. "R4: height, weight, inseam, arm span".
 std::string describe_regressor(RegressorChoice choice);
 /// A short account of what differs between two documents, values shown in `units`, for
