@@ -34,11 +34,13 @@ MeasurementMap prepare(const MeasurementMap& input, const AvatarOptions& options
 // `betas` (at most the model's), the first `judged` of them the regressor's, whose plausibility
 // is reported (all of them when `judged` < 0).
 void finish(const smpl::BodyModel& model, const Eigen::VectorXd& betas,
-            const AvatarOptions& options, Avatar& a, Eigen::Index judged = -1) {
+            const AvatarOptions& options, Avatar& a, Eigen::Index judged = -1,
+            smpl::Vertices shaped = {}) {
   a.betas = Eigen::VectorXd::Zero(model.num_betas());
   a.betas.head(betas.size()) = betas;
   a.plausibility = plausibility(judged < 0 ? betas : betas.head(judged).eval());
-  a.vertices = shaped_vertices(model, a.betas);
+  // `shaped`: the body of these betas when the caller has made it already (the same values).
+  a.vertices = shaped.rows() > 0 ? std::move(shaped) : shaped_vertices(model, a.betas);
   MeasureOptions mo;
   mo.circumferences = options.circumferences;
   a.achieved = options.model_info ? measure_all(model, a.vertices, *options.model_info, mo)
@@ -49,6 +51,13 @@ void finish(const smpl::BodyModel& model, const Eigen::VectorXd& betas,
 // within kLengthTolerance (m) of its value.
 constexpr int kLengthSteps = 3;
 constexpr double kLengthTolerance = 1e-5;
+
+// linear_betas(), and in `shaped` the body of the betas returned when it was made on the way
+// (the mesh path, whose last check found every length in place), else left empty.
+Eigen::VectorXd linear_betas_shaped(const smpl::BodyModel& model, const LinearRegressor& regressor,
+                                    const MeasurementMap& inputs, const ShapeCurve* curve,
+                                    const LandmarkTable& landmarks, const ShapeMeasurer* measurer,
+                                    smpl::Vertices* shaped);
 
 }  // namespace
 
@@ -64,16 +73,20 @@ Avatar create_avatar(const smpl::BodyModel& model, const LinearRegressor& regres
   a.mapped = prepare(measurements, options, a.messages);
   const std::optional<ShapeCurve> curve =
       options.shape_curve ? caliper::shape_curve(model) : std::nullopt;
-  Eigen::VectorXd betas = curve ? linear_betas(model, regressor, a.mapped, &*curve,
-                                               options.model_info ? options.model_info->landmarks
-                                                                  : landmarks_for(model))
-                                : regressor.predict(a.mapped);
+  smpl::Vertices shaped;  // the avatar's body, when linear_betas made it on the way
+  Eigen::VectorXd betas =
+      curve ? linear_betas_shaped(
+                  model, regressor, a.mapped, &*curve,
+                  options.model_info ? options.model_info->landmarks : landmarks_for(model),
+                  nullptr, &shaped)
+            : regressor.predict(a.mapped);
   if (options.exact_inputs) {
     MeasurementMap targets;
     for (const auto& id : regressor.inputs()) targets[id] = a.mapped.at(id);
     betas = refine_to_inputs(model, betas, targets, regressor.weight_formula());
+    shaped = smpl::Vertices();
   }
-  finish(model, betas, options, a);
+  finish(model, betas, options, a, -1, std::move(shaped));
   return a;
 }
 
@@ -110,6 +123,15 @@ Avatar create_avatar(const smpl::BodyModel& model, const NoiseAwareRegressor& re
 Eigen::VectorXd linear_betas(const smpl::BodyModel& model, const LinearRegressor& regressor,
                              const MeasurementMap& inputs, const ShapeCurve* curve,
                              const LandmarkTable& landmarks, const ShapeMeasurer* measurer) {
+  return linear_betas_shaped(model, regressor, inputs, curve, landmarks, measurer, nullptr);
+}
+
+namespace {
+
+Eigen::VectorXd linear_betas_shaped(const smpl::BodyModel& model, const LinearRegressor& regressor,
+                                    const MeasurementMap& inputs, const ShapeCurve* curve,
+                                    const LandmarkTable& landmarks, const ShapeMeasurer* measurer,
+                                    smpl::Vertices* shaped) {
   const std::vector<std::string>& ids = regressor.inputs();
   const auto has = [&ids](const char* id) {
     return std::find(ids.begin(), ids.end(), id) != ids.end();
@@ -128,10 +150,10 @@ Eigen::VectorXd linear_betas(const smpl::BodyModel& model, const LinearRegressor
   // features and f(c) the same features measured on the curve's body.
   Eigen::VectorXd c = curve->betas(inputs.at("height"), inputs.at("weight"));
   const bool fast = measurer != nullptr && measurer->num_betas() >= c.size();
+  smpl::Vertices v;  // the mesh path's last body
   const auto features = [&](const Eigen::VectorXd& betas, bool with_weight) {
     Eigen::VectorXd f = Eigen::VectorXd::Zero(m);
     Eigen::VectorXd lengths;  // the measurer's definitions
-    smpl::Vertices v;
     if (fast) {
       lengths = measurer->measure(betas);
     } else {
@@ -165,11 +187,16 @@ Eigen::VectorXd linear_betas(const smpl::BodyModel& model, const LinearRegressor
     for (Eigen::Index i = 0; i < m; ++i) {
       if (ids[static_cast<size_t>(i)] == "weight") miss[i] = 0.0;
     }
-    if (miss.cwiseAbs().maxCoeff() <= kLengthTolerance) break;
+    if (miss.cwiseAbs().maxCoeff() <= kLengthTolerance) {
+      if (shaped != nullptr && !fast && c.size() == model.num_betas()) *shaped = std::move(v);
+      break;
+    }
     c.head(k) += A * miss;
   }
   return c;
 }
+
+}  // namespace
 
 Eigen::VectorXd refine_to_inputs(const smpl::BodyModel& model, const Eigen::VectorXd& betas,
                                  const MeasurementMap& targets, const WeightFormula& formula,
