@@ -161,9 +161,9 @@ Eigen::VectorXd linear_betas_shaped(const smpl::BodyModel& model, const LinearRe
     }
     for (Eigen::Index i = 0; i < m; ++i) {
       const std::string& id = ids[static_cast<size_t>(i)];
-      if (id == "weight") {
-        if (with_weight)
-          f[i] = std::cbrt(fast ? measurer->volume(betas) : mesh_volume(v, model.faces));
+      if (id == "weight") {  // without the weight: taken as given (nothing to correct)
+        f[i] = with_weight ? std::cbrt(fast ? measurer->volume(betas) : mesh_volume(v, model.faces))
+                           : want[i];
       } else if (fast) {
         const auto& defs = measurer->definitions();
         const auto it = std::find_if(defs.begin(), defs.end(),
@@ -183,10 +183,7 @@ Eigen::VectorXd linear_betas_shaped(const smpl::BodyModel& model, const LinearRe
   // 4.7 mm after the step above), the same step again from the body just made, on the lengths
   // only: the weight keeps the first step's compromise, as the paper's prediction does.
   for (int step = 0; step < kLengthSteps; ++step) {
-    Eigen::VectorXd miss = want - features(c, false);
-    for (Eigen::Index i = 0; i < m; ++i) {
-      if (ids[static_cast<size_t>(i)] == "weight") miss[i] = 0.0;
-    }
+    const Eigen::VectorXd miss = want - features(c, false);
     if (miss.cwiseAbs().maxCoeff() <= kLengthTolerance) {
       if (shaped != nullptr && !fast && c.size() == model.num_betas()) *shaped = std::move(v);
       break;

@@ -697,8 +697,10 @@ void EditorApp::draw_measurements() {
     const float typed_w = 96.0f;
     ImGui::AlignTextToFramePadding();
     ImGui::TextUnformatted(name.c_str());
-    if (const std::string hint = app::measurement_hint(id); !hint.empty() && ImGui::IsItemHovered())
-      ImGui::SetTooltip("%s", hint.c_str());
+    if (ImGui::IsItemHovered()) {  // the hint only when shown, not on every frame
+      if (const std::string hint = app::measurement_hint(id); !hint.empty())
+        ImGui::SetTooltip("%s", hint.c_str());
+    }
     ImGui::SameLine(name_w);
     const MeasurementRange r = measurement_range(id);
     float f = static_cast<float>(shown);
