@@ -89,6 +89,9 @@ TEST(Document, EqualityCoversEveryField) {
   b = a;
   b.values["height"] = 1.71;
   EXPECT_NE(a, b);
+  b = a;
+  b.arm_taken_hanging = true;  // undo/redo restore the arm's convention too
+  EXPECT_NE(a, b);
 }
 
 TEST(Document, ChangesAreDescribedInTheDisplayUnits) {
@@ -109,6 +112,25 @@ TEST(Document, ChangesAreDescribedInTheDisplayUnits) {
   EXPECT_EQ(ca::describe_change(from, to, ca::UnitSystem::Metric).rfind("regressor R2", 0), 0u);
 }
 
+// Toggling how the arm length was taken says so, before the converted value, which is named as
+// it is now taken.
+TEST(Document, TheArmsConventionIsDescribed) {
+  ca::Document from;
+  from.values = {{"height", 1.70}, {"arm_length", 0.468}};
+  ca::Document to = from;
+  to.arm_taken_hanging = true;
+  EXPECT_EQ(ca::describe_change(from, to, ca::UnitSystem::Metric), "arm length taken hanging");
+  EXPECT_EQ(ca::describe_change(to, from, ca::UnitSystem::Metric), "arm length out sideways");
+  to.values["arm_length"] = 0.539;
+  EXPECT_EQ(ca::describe_change(from, to, ca::UnitSystem::Metric),
+            "arm length taken hanging; Arm length (hanging) 46.8 -> 53.9 cm");
+  EXPECT_EQ(ca::describe_change(to, from, ca::UnitSystem::Metric),
+            "arm length out sideways; Arm length (shoulder to wrist) 53.9 -> 46.8 cm");
+  EXPECT_EQ(ca::input_label(to, "arm_length"), "Arm length (hanging)");
+  EXPECT_EQ(ca::input_label(from, "arm_length"), "Arm length (shoulder to wrist)");
+  EXPECT_EQ(ca::input_label(to, "height"), "Overall height");
+}
+
 TEST(Document, LabelsAndDescriptions) {
   EXPECT_EQ(ca::measurement_label("weight"), "Weight");
   EXPECT_EQ(ca::measurement_label("height"), "Overall height");
@@ -118,6 +140,7 @@ TEST(Document, LabelsAndDescriptions) {
     EXPECT_FALSE(ca::measurement_hint(id).empty()) << id;
   }
   EXPECT_NE(ca::measurement_hint("arm_length").find("hanging"), std::string::npos);
+  EXPECT_NE(ca::measurement_hint("arm_length").find("'taken hanging'"), std::string::npos);
   EXPECT_EQ(ca::measurement_hint("not_an_id"), "");
   EXPECT_EQ(ca::describe_regressor(ca::RegressorChoice::R2), "R2: Overall height, Weight");
   EXPECT_NE(ca::describe_regressor(ca::RegressorChoice::NoiseAware).find("uncertainty"),

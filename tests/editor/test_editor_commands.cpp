@@ -24,10 +24,10 @@ std::string last(const ca::EditorCore& c) {
 
 TEST(EditorCommands, KnowsEveryCommandOfTheScriptLanguage) {
   const std::vector<std::string> expected = {
-      "color",     "colour", "compare",      "drag",         "export",  "hierarchical",
-      "level",     "model",  "open-profile", "open-session", "overlay", "redo",
-      "regressor", "reset",  "save-profile", "scale",        "set",     "sex",
-      "undo",      "units",  "wireframe"};
+      "arm-hanging",  "color",     "colour", "compare",      "drag",         "export",
+      "hierarchical", "level",     "model",  "open-profile", "open-session", "overlay",
+      "redo",         "regressor", "reset",  "save-profile", "scale",        "set",
+      "sex",          "undo",      "units",  "wireframe"};
   EXPECT_EQ(ca::command_names(), expected);
 }
 
@@ -41,6 +41,7 @@ TEST(EditorCommands, MalformedCommandsSayWhatWasExpected) {
       {"units furlongs", "units are metric or imperial"},
       {"regressor R7", "regressor is R2, R4, R5, R6 or noise-aware"},
       {"hierarchical maybe", "expected on or off"},
+      {"arm-hanging maybe", "expected on or off"},
       {"level two", "expected a level 1..3"},
       {"model", "expected a model index or file"},
       {"open-profile", "expected a file"},

@@ -13,6 +13,7 @@
 #include "caliper/json.hpp"
 #include "caliper/measurements.hpp"
 #include "caliper_test/random_model.hpp"
+#include "editor_test_entry.hpp"
 
 namespace ca = caliper::app;
 
@@ -471,4 +472,153 @@ TEST(EditorCoreIssue17, ScaleCommandAndExportExtensions) {
       EXPECT_TRUE(c.export_mesh(path)) << e;
     }
   }
+}
+
+// ---- The arm length taken hanging -----------------------------------------------------------
+namespace {
+/// Level 3 with a person's measurements (the random test model's own arms are too short to be
+/// typed: 13 cm).
+ca::EditorCore level_three_core() {
+  ca::EditorCore c = make_core();
+  EXPECT_TRUE(c.set_level(3)) << c.messages().back().text;
+  const caliper::MeasurementMap person = {
+      {"height", 1.70},        {"weight", 65.0},    {"arm_span_fingertips", 1.70},
+      {"inseam_height", 0.78}, {"hip_width", 0.36}, {"arm_length", 0.53}};
+  for (const auto& [id, v] : person) EXPECT_TRUE(c.set_value(id, v)) << c.messages().back().text;
+  return c;
+}
+double largest_move(const smpl::Vertices& a, const smpl::Vertices& b) {
+  return (a - b).cwiseAbs().maxCoeff();
+}
+}  // namespace
+
+// Ticking "taken hanging" converts the arm length with the model's map, so the avatar stays; one
+// undo step restores the value and the convention, and says so.
+TEST(EditorCoreArm, TakingTheArmHangingConvertsItAsOneUndoStep) {
+  ca::EditorCore c = level_three_core();
+  const ca::Document sideways = c.state();
+  const smpl::Vertices v = c.avatar().vertices;
+  const caliper::LinearMap& map = ca::hanging_arm(c.model());
+  ASSERT_TRUE(c.set_arm_taken_hanging(true)) << c.messages().back().text;
+  EXPECT_TRUE(c.state().arm_taken_hanging);
+  const double hanging = c.state().values.at("arm_length");
+  EXPECT_NEAR(hanging, (sideways.values.at("arm_length") - map.b) / map.a, 1e-15);
+  EXPECT_LE(largest_move(c.avatar().vertices, v), 1e-9);
+  EXPECT_EQ(c.messages().back().text.rfind("arm length taken hanging: ", 0), 0u)
+      << c.messages().back().text;
+  // The avatar's arm as typed: the hanging value its own arm maps back to.
+  EXPECT_NEAR(map.apply(c.achieved_as_typed().at("arm_length")),
+              c.avatar().achieved.at("arm_length"), 1e-12);
+  EXPECT_DOUBLE_EQ(*c.shown_value("arm_length"), hanging);
+  EXPECT_TRUE(c.set_arm_taken_hanging(true));  // already so: no step
+  ASSERT_TRUE(c.undo());
+  EXPECT_EQ(c.state(), sideways);
+  EXPECT_EQ(c.messages().back().text.rfind("undone: arm length out sideways; ", 0), 0u)
+      << c.messages().back().text;
+  ASSERT_TRUE(c.redo());
+  EXPECT_TRUE(c.state().arm_taken_hanging);
+  EXPECT_DOUBLE_EQ(c.state().values.at("arm_length"), hanging);
+  EXPECT_TRUE(c.run_command("arm-hanging off"));
+  EXPECT_FALSE(c.state().arm_taken_hanging);
+  EXPECT_NEAR(c.state().values.at("arm_length"), sideways.values.at("arm_length"), 1e-15);
+  EXPECT_FALSE(c.run_command("arm-hanging maybe"));
+}
+
+// Typed and dragged arm lengths stay in the convention: taken hanging, the avatar is that of the
+// mapped value taken out sideways.
+TEST(EditorCoreArm, TypedAndDraggedArmsAreTakenHanging) {
+  ca::EditorCore c = level_three_core();
+  ASSERT_TRUE(c.set_arm_taken_hanging(true));
+  const caliper::LinearMap& map = ca::hanging_arm(c.model());
+  const double typed = 0.60;
+  ASSERT_TRUE(c.set_value("arm_length", typed)) << c.messages().back().text;
+  EXPECT_TRUE(c.state().arm_taken_hanging);
+  ca::Document sideways = c.state();
+  sideways.arm_taken_hanging = false;
+  sideways.values["arm_length"] = map.apply(typed);
+  EXPECT_LE(largest_move(ca::recompute(sideways, c.model(), true).vertices, c.avatar().vertices),
+            1e-9);
+  c.begin_drag();
+  ASSERT_TRUE(c.drag_value("arm_length", typed + 0.01));
+  c.end_drag();
+  EXPECT_TRUE(c.state().arm_taken_hanging);
+  EXPECT_DOUBLE_EQ(c.state().values.at("arm_length"), typed + 0.01);
+  EXPECT_DOUBLE_EQ(*c.shown_value("arm_length"), typed + 0.01);
+}
+
+// A level, regressor or reset that starts the arm length from the avatar starts it as a hanging
+// one when the arm is taken hanging, so that the avatar does not jump.
+TEST(EditorCoreArm, ANewArmLengthStartsFromTheAvatarTakenHanging) {
+  ca::EditorCore c = level_three_core();
+  ASSERT_TRUE(c.set_arm_taken_hanging(true));
+  const caliper::LinearMap& map = ca::hanging_arm(c.model());
+  ASSERT_TRUE(c.set_level(1));
+  EXPECT_TRUE(c.state().arm_taken_hanging);
+  const double avatar_arm = c.avatar().achieved.at("arm_length");
+  // Not an input: shown as the avatar's arm taken hanging.
+  EXPECT_NEAR(map.apply(*c.shown_value("arm_length")), avatar_arm, 1e-12);
+  ASSERT_TRUE(c.set_level(3)) << c.messages().back().text;
+  EXPECT_NEAR(map.apply(c.state().values.at("arm_length")), avatar_arm, 1e-12);
+  c.set_hierarchical(false);
+  c.use_regressor(ca::RegressorChoice::R2);
+  c.use_regressor(ca::RegressorChoice::NoiseAware);
+  EXPECT_TRUE(c.state().arm_taken_hanging);
+  EXPECT_NEAR(map.apply(c.state().values.at("arm_length")), avatar_arm, 0.05);
+  c.reset();
+  EXPECT_TRUE(c.state().arm_taken_hanging);
+  EXPECT_NEAR(map.apply(c.state().values.at("arm_length")),
+              ca::mean_shape_inputs(c.model()).at("arm_length"), 1e-12);
+}
+
+// Profiles keep the convention through the editor; a VR session's arm is out sideways.
+TEST(EditorCoreArm, ProfilesAndSessionsKeepTheConvention) {
+  ca::EditorCore a = level_three_core();
+  ASSERT_TRUE(a.set_arm_taken_hanging(true));
+  ASSERT_TRUE(a.set_value("arm_length", 0.60));  // a person's (the test model's map is no human's)
+  const std::string path = temp_path("profile_hanging.json");
+  ASSERT_TRUE(a.save_profile(path));
+  ca::EditorCore b = make_core();
+  ASSERT_TRUE(b.open_profile(path)) << b.messages().back().text;
+  EXPECT_EQ(b.state(), a.state());
+  EXPECT_LE(largest_move(b.avatar().vertices, a.avatar().vertices), 1e-12);
+  const std::string session = temp_path("session_arm.json");
+  std::ofstream(session) << R"({"measurements": {"arm_length": 0.52}})";
+  ASSERT_TRUE(b.open_session(session)) << b.messages().back().text;
+  EXPECT_FALSE(b.state().arm_taken_hanging);
+  EXPECT_DOUBLE_EQ(b.state().values.at("arm_length"), 0.52);
+}
+
+// A model that cannot map a hanging arm: the toggle is refused saying why, and a document taking
+// the arm hanging gives a clear message instead of an avatar; below level 3 the model can be
+// chosen, and its arm length then starts out sideways.
+TEST(EditorCoreArm, AModelWithoutAHangingArmMapSaysWhy) {
+  ca::EditorCore c = make_core();
+  c.add_model(caliper::test::editor_test_entry_without_hanging_arm());
+  ASSERT_TRUE(c.set_level(3));
+  ASSERT_TRUE(c.set_arm_taken_hanging(true));
+  EXPECT_EQ(c.hanging_arm_unavailable(), "");
+  EXPECT_FALSE(c.select_model(1));
+  EXPECT_TRUE(last_is_error(c));
+  EXPECT_NE(c.messages().back().text.find("sixteen-joints cannot map a hanging arm"),
+            std::string::npos)
+      << c.messages().back().text;
+  EXPECT_EQ(c.current_model(), 0);
+  ASSERT_TRUE(c.set_level(1));
+  ASSERT_TRUE(c.select_model(1)) << c.messages().back().text;
+  EXPECT_NE(c.hanging_arm_unavailable(), "");
+  const double avatar_arm = c.avatar().achieved.at("arm_length");
+  ASSERT_TRUE(c.set_level(3)) << c.messages().back().text;
+  EXPECT_FALSE(c.state().arm_taken_hanging);
+  EXPECT_DOUBLE_EQ(c.state().values.at("arm_length"), avatar_arm);
+  EXPECT_FALSE(c.set_arm_taken_hanging(true));
+  EXPECT_TRUE(last_is_error(c));
+  EXPECT_NE(c.messages().back().text.find("the avatar is unchanged"), std::string::npos);
+  EXPECT_FALSE(c.state().arm_taken_hanging);
+  const std::string path = temp_path("profile_hanging_other.json");
+  std::ofstream(path) << R"({"format": "caliper-profile", "version": 1, "level": 3,
+      "arm_taken_hanging": true, "measurements": {"arm_length": 0.6}})";
+  EXPECT_FALSE(c.open_profile(path));
+  EXPECT_NE(c.messages().back().text.find("untick 'taken hanging'"), std::string::npos)
+      << c.messages().back().text;
+  EXPECT_FALSE(c.state().arm_taken_hanging);
 }

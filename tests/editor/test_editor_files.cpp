@@ -56,6 +56,40 @@ TEST(EditorFiles, ProfileRoundTripKeepsEveryEditableInputExactly) {
   EXPECT_EQ(p.document.values.count("hip_width"), 0u);
 }
 
+// The arm taken hanging is written only when it is (a reader without the field takes the arm
+// out sideways, as before it), read back, and absent means out sideways whatever the base says.
+TEST(EditorFiles, ProfileKeepsTheArmTakenHanging) {
+  ca::Document d = level_two();
+  d.level = 3;
+  d.values["arm_length"] = 0.591;
+  EXPECT_FALSE(ca::profile_json(d, ca::UnitSystem::Metric, nullptr, Eigen::VectorXd())
+                   .contains("arm_taken_hanging"));
+  EXPECT_EQ(ca::profile_json(d, ca::UnitSystem::Metric, nullptr, Eigen::VectorXd())
+                .at("version")
+                .as_int(),
+            1);
+  d.arm_taken_hanging = true;
+  const caliper::Json j = ca::profile_json(d, ca::UnitSystem::Metric, nullptr, Eigen::VectorXd());
+  EXPECT_TRUE(j.at("arm_taken_hanging").as_bool());
+  EXPECT_EQ(j.at("version").as_int(), 2);  // an editor without the field refuses it
+  EXPECT_DOUBLE_EQ(j.at("measurements").at("arm_length").as_number(), 0.591);  // as typed
+  const std::string path = files_temp_path("profile_hanging.json");
+  caliper::write_json_file(path, j);
+  const ca::Profile p = ca::read_profile(path, ca::Document{});
+  EXPECT_TRUE(p.document.arm_taken_hanging);
+  EXPECT_EQ(p.document, d);
+
+  ca::Document hanging_base;
+  hanging_base.arm_taken_hanging = true;
+  const std::string head = R"({"format": "caliper-profile", "version": 1, )";
+  const std::string old =
+      write("profile_old.json", head + R"("measurements": {"arm_length": 0.5}})");
+  EXPECT_FALSE(ca::read_profile(old, hanging_base).document.arm_taken_hanging);
+  const std::string off =
+      write("profile_off.json", head + R"("arm_taken_hanging": false, "measurements": {}})");
+  EXPECT_FALSE(ca::read_profile(off, hanging_base).document.arm_taken_hanging);
+}
+
 TEST(EditorFiles, AProfileWithoutAModelNamesNoSex) {
   const caliper::Json j =
       ca::profile_json(ca::Document{}, ca::UnitSystem::Metric, nullptr, Eigen::VectorXd());
@@ -75,7 +109,7 @@ TEST(EditorFiles, BadProfilesAreRefusedNamingTheProblem) {
   const std::string head = R"({"format": "caliper-profile", "version": )";
   EXPECT_NE(message(write("other.json", R"({"format": "x", "version": 1})")).find("not a caliper"),
             std::string::npos);
-  EXPECT_NE(message(write("v2.json", head + R"(2, "measurements": {}})")).find("version 2"),
+  EXPECT_NE(message(write("v3.json", head + R"(3, "measurements": {}})")).find("version 3"),
             std::string::npos);
   EXPECT_NE(message(write("r9.json", head + R"(1, "regressor": "R9", "measurements": {}})"))
                 .find("unknown regressor 'R9'"),
@@ -86,6 +120,13 @@ TEST(EditorFiles, BadProfilesAreRefusedNamingTheProblem) {
       message(write("range.json", head + R"(1, "measurements": {"height": 17.5}})")).find("height"),
       std::string::npos);
   EXPECT_FALSE(message(write("cut.json", head)).empty());
+  for (const char* bad : {R"("yes")", "1", "null"}) {
+    const std::string m = message(write(
+        "hanging.json", head + R"(1, "arm_taken_hanging": )" + bad + R"(, "measurements": {}})"));
+    EXPECT_NE(m.find("\"arm_taken_hanging\" must be true or false, not " + std::string(bad)),
+              std::string::npos)
+        << m;
+  }
   EXPECT_FALSE(message(files_temp_path("missing.json")).empty());
 }
 
@@ -147,6 +188,26 @@ TEST(EditorFiles, SessionInputsRiseToTheLevelTheSessionProvides) {
   EXPECT_DOUBLE_EQ(s.document.values.at("weight"), 60.0);  // the base's typed value stays
   EXPECT_THROW(ca::session_inputs(base, {{"weight", 5000.0}}, achieved),
                caliper::InvalidInputError);
+}
+
+// A session's arm length was taken out sideways (the VR protocol): with one, the arm is no
+// longer taken hanging; without one, the typed hanging arm and its convention stay.
+TEST(EditorFiles, ASessionsArmLengthIsTakenOutSideways) {
+  ca::Document base;
+  base.level = 3;
+  base.arm_taken_hanging = true;
+  base.values = {{"height", 1.6},
+                 {"weight", 60.0},
+                 {"inseam_height", 0.75},
+                 {"hip_width", 0.3},
+                 {"arm_span_fingertips", 1.6},
+                 {"arm_length", 0.6}};
+  const ca::SessionInputs with_arm = ca::session_inputs(base, {{"arm_length", 0.52}}, {});
+  EXPECT_FALSE(with_arm.document.arm_taken_hanging);
+  EXPECT_DOUBLE_EQ(with_arm.document.values.at("arm_length"), 0.52);
+  const ca::SessionInputs without = ca::session_inputs(base, {{"height", 1.7}}, {});
+  EXPECT_TRUE(without.document.arm_taken_hanging);
+  EXPECT_DOUBLE_EQ(without.document.values.at("arm_length"), 0.6);
 }
 
 TEST(EditorFiles, ExportMetadataNamesTheModelAndTheShape) {

@@ -23,6 +23,7 @@
 #include "app/editor_core.hpp"
 #include "caliper_test/random_model.hpp"
 #include "editor_app.hpp"
+#include "editor_test_entry.hpp"
 #include "key_taps.hpp"
 #include "render/image.hpp"
 #include "render/render_mesh.hpp"
@@ -400,6 +401,32 @@ TEST(EditorUi, TypedValuesApplyOnEnterTabAndFocusLoss) {
   type_into(ui, "Overall height", "150", [&] { ui.key(GLFW_KEY_ESCAPE); });
   EXPECT_NEAR(value(ui.core, "height"), 1.69, 1e-9);
   EXPECT_FALSE(ui.app->quit_requested());  // the Esc went to the field, not to quitting
+}
+
+// The arm length row's "taken hanging" box: ticking it converts the value (the avatar stays),
+// a typed value is then a hanging one, and it is off limits for a model without the map.
+TEST(EditorUi, TheArmLengthCanBeTakenHanging) {
+  Ui ui;
+  EXPECT_EQ(ui.find("taken hanging"), nullptr);  // level 1: no arm length row
+  ui.core.set_level(3);
+  ui.frames(2);
+  const smpl::Vertices before = ui.core.avatar().vertices;
+  ASSERT_TRUE(ui.click("taken hanging"));
+  EXPECT_TRUE(ui.core.state().arm_taken_hanging);
+  EXPECT_LE((ui.core.avatar().vertices - before).cwiseAbs().maxCoeff(), 1e-9);
+  type_into(ui, "Arm length (shoulder to wrist)", "60", [&] { ui.key(GLFW_KEY_ENTER); });
+  EXPECT_NEAR(value(ui.core, "arm_length"), 0.60, 1e-9);
+  EXPECT_TRUE(ui.core.state().arm_taken_hanging);
+  ASSERT_TRUE(ui.click("taken hanging"));
+  EXPECT_FALSE(ui.core.state().arm_taken_hanging);
+  EXPECT_NEAR(ui.core.state().values.at("arm_length"), ca::hanging_arm(ui.core.model()).apply(0.60),
+              1e-12);
+  // A model that cannot swing its arms down: the box is there, off limits.
+  ui.core.add_model(caliper::test::editor_test_entry_without_hanging_arm());
+  ASSERT_TRUE(ui.core.select_model(1));
+  ui.frames(2);
+  EXPECT_FALSE(ui.click("taken hanging"));
+  EXPECT_FALSE(ui.core.state().arm_taken_hanging);
 }
 
 TEST(EditorUi, QuickKeyTapIsNotLost) {

@@ -12,6 +12,7 @@
 
 namespace ca = caliper::app;
 using caliper::test::editor_test_entry;
+using caliper::test::editor_test_entry_without_hanging_arm;
 
 namespace {
 /// A level-1 document at the mean shape's own measurements.
@@ -92,4 +93,117 @@ TEST(Recompute, ADocumentWithoutItsInputsThrows) {
   d.level = 3;
   d.values.erase("hip_width");
   EXPECT_THROW(ca::recompute(d, editor_test_entry(), true), caliper::InvalidInputError);
+}
+
+// ---- The arm length taken hanging ------------------------------------------------------------
+namespace {
+/// A level-3 document at the mean shape's own measurements (the arm out sideways).
+ca::Document level_three() {
+  ca::Document d = mean_document();
+  d.level = 3;
+  return d;
+}
+
+/// The largest difference between two avatars' vertices, metres.
+double largest_move(const ca::AvatarView& a, const ca::AvatarView& b) {
+  return (a.vertices - b.vertices).cwiseAbs().maxCoeff();
+}
+
+}  // namespace
+
+// A hanging arm length is the model's map of it: the same avatar as the mapped value taken out
+// sideways, for the linear regressors and the noise-aware one.
+TEST(Recompute, AnArmTakenHangingIsMappedWithTheModelsMap) {
+  const caliper::LinearMap& map = ca::hanging_arm(editor_test_entry());
+  for (ca::RegressorChoice c : {ca::RegressorChoice::R6, ca::RegressorChoice::NoiseAware}) {
+    ca::Document hanging = level_three();
+    hanging.regressor = c;
+    hanging.arm_taken_hanging = true;
+    hanging.values["arm_length"] = 0.60;
+    ca::Document sideways = hanging;
+    sideways.arm_taken_hanging = false;
+    sideways.values["arm_length"] = map.apply(0.60);
+    EXPECT_DOUBLE_EQ(ca::regression_inputs(hanging, editor_test_entry()).at("arm_length"),
+                     map.apply(0.60));
+    const ca::AvatarView a = ca::recompute(hanging, editor_test_entry(), true);
+    const ca::AvatarView b = ca::recompute(sideways, editor_test_entry(), true);
+    EXPECT_LE((a.betas - b.betas).cwiseAbs().maxCoeff(), 1e-9) << ca::to_string(c);
+    EXPECT_LE(largest_move(a, b), 1e-9) << ca::to_string(c);
+    // Taken as it is (not mapped), the value makes another body.
+    ca::Document unmapped = sideways;
+    unmapped.values["arm_length"] = 0.60;
+    EXPECT_GT(largest_move(a, ca::recompute(unmapped, editor_test_entry(), true)), 1e-4);
+  }
+  // Below level 3 the arm length is no input: the convention changes nothing.
+  ca::Document low = mean_document();
+  const ca::AvatarView before = ca::recompute(low, editor_test_entry(), true);
+  low.arm_taken_hanging = true;
+  EXPECT_EQ(largest_move(before, ca::recompute(low, editor_test_entry(), true)), 0.0);
+}
+
+// Toggling converts the value (hanging = (virtual - b) / a and back), so the avatar stays; the
+// avatar's arm shown as typed is the hanging value the map turns into it.
+TEST(Recompute, TogglingTheArmsConventionConvertsTheValue) {
+  const caliper::LinearMap& map = ca::hanging_arm(editor_test_entry());
+  const ca::Document sideways = level_three();
+  const double v = sideways.values.at("arm_length");
+  const ca::Document hanging = ca::with_arm_taken_hanging(sideways, editor_test_entry(), true);
+  EXPECT_TRUE(hanging.arm_taken_hanging);
+  EXPECT_NEAR(hanging.values.at("arm_length"), (v - map.b) / map.a, 1e-15);
+  EXPECT_NE(hanging.values.at("arm_length"), v);
+  EXPECT_LE(largest_move(ca::recompute(sideways, editor_test_entry(), true),
+                         ca::recompute(hanging, editor_test_entry(), true)),
+            1e-9);
+  const ca::Document back = ca::with_arm_taken_hanging(hanging, editor_test_entry(), false);
+  EXPECT_FALSE(back.arm_taken_hanging);
+  EXPECT_NEAR(back.values.at("arm_length"), v, 1e-15);
+  EXPECT_EQ(ca::with_arm_taken_hanging(hanging, editor_test_entry(), true), hanging);
+
+  const caliper::MeasurementMap measured = {{"height", 1.7}, {"arm_length", 0.5}};
+  EXPECT_EQ(ca::as_typed(sideways, editor_test_entry(), measured), measured);
+  const caliper::MeasurementMap typed = ca::as_typed(hanging, editor_test_entry(), measured);
+  EXPECT_DOUBLE_EQ(typed.at("height"), 1.7);
+  EXPECT_NEAR(map.apply(typed.at("arm_length")), 0.5, 1e-15);
+}
+
+// The map is worked out once per model and shared by the entry's copies.
+TEST(Recompute, TheHangingArmMapIsWorkedOutOnce) {
+  // NOLINTNEXTLINE(performance-unnecessary-copy-initialization): the copy is what is tested
+  const ca::ModelEntry copy = editor_test_entry();
+  EXPECT_EQ(&ca::hanging_arm(copy), &ca::hanging_arm(editor_test_entry()));
+  EXPECT_EQ(ca::hanging_arm_unavailable(copy), "");
+  EXPECT_EQ(ca::hanging_arm(copy).count, 200);
+}
+
+// A model that cannot swing its arms down has no map: a document with the arm taken hanging
+// gives a message naming the model, the reason and what to do; turning the convention on is
+// refused; an arm length that is no input is dropped when the convention goes off.
+TEST(Recompute, AModelWithoutAHangingArmMapSaysWhy) {
+  const ca::ModelEntry& e = editor_test_entry_without_hanging_arm();
+  const std::string why = ca::hanging_arm_unavailable(e);
+  EXPECT_NE(why.find("shoulder"), std::string::npos) << why;
+  ca::Document d;
+  d.values = ca::mean_shape_inputs(e);
+  d.level = 3;
+  EXPECT_NO_THROW(ca::recompute(d, e, true));
+  d.arm_taken_hanging = true;
+  try {
+    ca::recompute(d, e, true);
+    ADD_FAILURE() << "no error";
+  } catch (const caliper::InvalidInputError& x) {
+    const std::string m = x.what();
+    EXPECT_NE(m.find("sixteen-joints cannot map a hanging arm"), std::string::npos) << m;
+    EXPECT_NE(m.find(why), std::string::npos) << m;
+    EXPECT_NE(m.find("untick 'taken hanging'"), std::string::npos) << m;
+  }
+  EXPECT_THROW(ca::with_arm_taken_hanging(d, e, false), caliper::InvalidInputError);
+  d.arm_taken_hanging = false;
+  EXPECT_THROW(ca::with_arm_taken_hanging(d, e, true), caliper::InvalidInputError);
+  // Not an input: nothing to convert, and nothing to convert it with.
+  d.level = 1;
+  d.arm_taken_hanging = true;
+  const ca::Document off = ca::with_arm_taken_hanging(d, e, false);
+  EXPECT_FALSE(off.arm_taken_hanging);
+  EXPECT_EQ(off.values.count("arm_length"), 0u);
+  EXPECT_EQ(ca::as_typed(d, e, {{"arm_length", 0.5}}).count("arm_length"), 0u);
 }

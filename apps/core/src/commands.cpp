@@ -82,6 +82,13 @@ bool hierarchical(Line& l) {
   return true;
 }
 
+/// "arm-hanging on|off": the arm length is taken on the hanging arm or out sideways.
+bool arm_hanging(Line& l) {
+  bool on = true;
+  if (!parse_on_off(l.word(), on)) return l.fail("expected on or off");
+  return l.core.set_arm_taken_hanging(on);
+}
+
 bool level(Line& l) {
   int n = 0;
   if (!(l.in >> n)) return l.fail("expected a level 1..3");
@@ -163,6 +170,7 @@ const std::map<std::string, Handler>& handlers() {
       {"regressor", regressor},
       {"hierarchical", hierarchical},
       {"level", level},
+      {"arm-hanging", arm_hanging},
       {"sex", [](Line& l) { return l.core.select_sex(l.word()); }},
       {"model", model},
       {"undo", [](Line& l) { return l.core.undo() || l.fail("nothing to undo"); }},

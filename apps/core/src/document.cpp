@@ -87,6 +87,11 @@ std::string measurement_label(const std::string& id) {
   return measurement_name(id);
 }
 
+std::string input_label(const Document& doc, const std::string& id) {
+  if (id == "arm_length" && doc.arm_taken_hanging) return "Arm length (hanging)";
+  return measurement_label(id);
+}
+
 std::string measurement_hint(const std::string& id) {
   static const std::map<std::string, std::string> kHints = {
       {"height", "Standing straight, barefoot: floor to the top of the head."},
@@ -98,7 +103,8 @@ std::string measurement_hint(const std::string& id) {
       {"arm_length",
        "Shoulder tip (acromion) to the wrist with the arm stretched out sideways, as the\n"
        "VR protocol takes it. A tape on the relaxed hanging arm reads about 7 cm more:\n"
-       "`caliper create --arm-length-hanging` maps such a value onto this one."},
+       "tick 'taken hanging' to type such a value (the model's own map turns it into this\n"
+       "one, as `caliper create --arm-length-hanging` does)."},
   };
   const auto it = kHints.find(id);
   return it == kHints.end() ? std::string() : it->second;
@@ -127,6 +133,8 @@ std::string describe_change(const Document& from, const Document& to, UnitSystem
     else
       add("regressor " + to_string(to.regressor));
   }
+  if (from.arm_taken_hanging != to.arm_taken_hanging)
+    add(to.arm_taken_hanging ? "arm length taken hanging" : "arm length out sideways");
   for (const auto& [id, v] : to.values) {
     auto it = from.values.find(id);
     if (it != from.values.end() && it->second == v) continue;
@@ -138,7 +146,7 @@ std::string describe_change(const Document& from, const Document& to, UnitSystem
     } else {
       std::snprintf(buf, sizeof buf, "%.1f %s", shown, unit_label(id, units).c_str());
     }
-    add(measurement_label(id) + " " + buf);
+    add(input_label(to, id) + " " + buf);
   }
   return s.empty() ? "no visible change" : s;
 }

@@ -139,6 +139,24 @@ bool EditorCore::check_value(const std::string& id, double v) {
   return true;
 }
 
+Document EditorCore::start_new_inputs(Document d, const std::vector<std::string>& ids,
+                                      const std::vector<std::string>& kept) const {
+  if (!has_model()) {
+    start_from_avatar(d, ids, kept, avatar_.achieved);
+    return d;
+  }
+  const auto has = [](const std::vector<std::string>& v, const char* id) {
+    return std::find(v.begin(), v.end(), id) != v.end();
+  };
+  // A new arm length the model cannot map from a hanging one starts out sideways.
+  if (d.arm_taken_hanging && has(ids, "arm_length") && !has(kept, "arm_length") &&
+      !hanging_arm_unavailable().empty()) {
+    d.arm_taken_hanging = false;
+  }
+  start_from_avatar(d, ids, kept, as_typed(d, model(), avatar_.achieved));
+  return d;
+}
+
 bool EditorCore::set_value(const std::string& id, double value_si) {
   clear_stale_messages();
   if (!has_model()) {
@@ -196,9 +214,43 @@ std::optional<double> EditorCore::shown_value(const std::string& id) const {
     auto it = doc_.values.find(id);
     if (it != doc_.values.end()) return it->second;
   }
-  auto it = avatar_.achieved.find(id);
-  if (it != avatar_.achieved.end()) return it->second;
+  const MeasurementMap achieved = achieved_as_typed();
+  auto it = achieved.find(id);
+  if (it != achieved.end()) return it->second;
   return std::nullopt;
+}
+
+MeasurementMap EditorCore::achieved_as_typed() const {
+  if (!has_model()) return avatar_.achieved;
+  return as_typed(doc_, model(), avatar_.achieved);
+}
+
+std::string EditorCore::hanging_arm_unavailable() const {
+  return has_model() ? app::hanging_arm_unavailable(model()) : std::string();
+}
+
+bool EditorCore::set_arm_taken_hanging(bool hanging) {
+  clear_stale_messages();
+  if (!has_model()) {
+    post(Message::Level::Error, "open a model first");
+    return false;
+  }
+  if (doc_.arm_taken_hanging == hanging) return true;
+  return log_.attempt(
+      [&] {
+        const Document d = with_arm_taken_hanging(doc_, model(), hanging);
+        std::string how = hanging ? "arm length taken hanging" : "arm length out sideways";
+        const auto from = doc_.values.find("arm_length");
+        const auto to = d.values.find("arm_length");
+        if (from != doc_.values.end() && to != d.values.end()) {
+          how += ": " + value_text("arm_length", from->second, view_.units) + " -> " +
+                 value_text("arm_length", to->second, view_.units) +
+                 " (the model's map; the avatar stays)";
+        }
+        commit(d);
+        post(Message::Level::Info, how);
+      },
+      "arm length: ", "; the avatar is unchanged");
 }
 
 void EditorCore::use_regressor(RegressorChoice choice) {
@@ -206,7 +258,7 @@ void EditorCore::use_regressor(RegressorChoice choice) {
   Document d = doc_;
   d.regressor = choice;
   d.hierarchical = false;
-  start_from_avatar(d, choice_inputs(choice), app::editable_inputs(doc_), avatar_.achieved);
+  d = start_new_inputs(d, choice_inputs(choice), app::editable_inputs(doc_));
   log_.attempt(
       [&] {
         commit(d);
@@ -220,7 +272,7 @@ void EditorCore::set_regressor(RegressorChoice choice) {
   Document d = doc_;
   d.regressor = choice;
   // New inputs start from the avatar's own measurements.
-  start_from_avatar(d, choice_inputs(choice), app::editable_inputs(doc_), avatar_.achieved);
+  d = start_new_inputs(d, choice_inputs(choice), app::editable_inputs(doc_));
   log_.attempt([&] { commit(d); }, "regressor " + to_string(choice) + ": ");
 }
 
@@ -229,7 +281,7 @@ void EditorCore::set_hierarchical(bool on) {
   Document d = doc_;
   d.hierarchical = on;
   // Inputs the new mode edits start from the avatar's own values.
-  start_from_avatar(d, app::editable_inputs(d), app::editable_inputs(doc_), avatar_.achieved);
+  d = start_new_inputs(d, app::editable_inputs(d), app::editable_inputs(doc_));
   log_.attempt([&] {
     commit(d);
     post(Message::Level::Info,
@@ -248,7 +300,7 @@ bool EditorCore::set_level(int level) {
   Document d = doc_;
   d.hierarchical = true;
   d.level = level;
-  start_from_avatar(d, level_inputs(level), app::editable_inputs(doc_), avatar_.achieved);
+  d = start_new_inputs(d, level_inputs(level), app::editable_inputs(doc_));
   return log_.attempt(
       [&] {
         commit(d);
@@ -265,9 +317,11 @@ void EditorCore::reset() {
   if (!has_model()) return;
   clear_stale_messages();
   history_.record(doc_);
-  Document d = doc_;  // keeps the regressor, mode and level
+  Document d = doc_;  // keeps the regressor, mode, level and the arm's convention
   d.values.clear();
-  log_.attempt([&] { d.values = mean_shape_inputs(model()); }, "cannot measure the mean shape: ");
+  if (d.arm_taken_hanging && !hanging_arm_unavailable().empty()) d.arm_taken_hanging = false;
+  log_.attempt([&] { d.values = as_typed(d, model(), mean_shape_inputs(model())); },
+               "cannot measure the mean shape: ");
   if (log_.attempt([&] { apply(d, true); }, "model " + model().label + ": "))
     post(Message::Level::Info, "model: " + model().label);
 }
@@ -340,7 +394,7 @@ bool EditorCore::open_session(const std::string& path) {
   return log_.attempt(
       [&] {
         const SessionInputs s =
-            session_inputs(doc_, read_session_measurements(path), avatar_.achieved);
+            session_inputs(doc_, read_session_measurements(path), achieved_as_typed());
         commit(s.document);
         post(Message::Level::Info, "read " + std::to_string(s.used) + " measurements from " + path);
       },

@@ -23,6 +23,13 @@ Json profile_json(const Document& doc, UnitSystem units, const ModelEntry* model
   j.set("regressor", to_string(doc.regressor));
   j.set("hierarchical", doc.hierarchical);
   j.set("level", doc.level);
+  // Only when true: absent means out sideways, as in the profiles written before the field.
+  // Such a profile is version 2, so that an editor older than the field refuses it instead of
+  // taking the hanging arm length for one out sideways (an arm some 7 cm too long).
+  if (doc.arm_taken_hanging) {
+    j.set("version", 2);
+    j.set("arm_taken_hanging", true);
+  }
   Json values = Json::object();
   for (const std::string& id : editable_inputs(doc)) {
     auto it = doc.values.find(id);
@@ -55,9 +62,9 @@ Profile read_profile(const std::string& path, const Document& base) {
     throw InvalidInputError("not a caliper profile (expected \"format\": \"caliper-profile\")");
   }
   const int version = j.at("version").as_int();
-  if (version != 1)
+  if (version != 1 && version != 2)
     throw InvalidInputError("profile version " + std::to_string(version) +
-                            " is not supported (expected 1)");
+                            " is not supported (expected 1, or 2 with the arm taken hanging)");
   Profile p;
   Document& d = p.document;
   d = base;
@@ -70,6 +77,16 @@ Profile read_profile(const std::string& path, const Document& base) {
   if (const Json* l = j.find("level")) {
     d.level = l->as_int();
     if (d.level < 1 || d.level > 3) throw InvalidInputError("level must be 1, 2 or 3");
+  }
+  // Absent: the arm length was taken out sideways (profiles before the field), whatever the
+  // base document's convention.
+  d.arm_taken_hanging = false;
+  if (const Json* h = j.find("arm_taken_hanging")) {
+    if (!h->is_bool()) {
+      throw InvalidInputError("\"arm_taken_hanging\" must be true or false, not " + h->dump() +
+                              " (true: the arm length was taken on the hanging arm)");
+    }
+    d.arm_taken_hanging = h->as_bool();
   }
   for (const auto& [id, x] : profile_measurements(j.at("measurements"))) d.values[id] = x;
   if (const Json* u = j.find("units")) p.units = parse_unit_system(u->as_string());
@@ -159,6 +176,8 @@ SessionInputs session_inputs(const Document& base, const MeasurementMap& found,
     if (!usable(id, x)) continue;
     d.values[id] = x;
     ++s.used;
+    // The VR protocol takes the arm length out sideways.
+    if (id == "arm_length") d.arm_taken_hanging = false;
   }
   if (s.used == 0) throw InvalidInputError("no usable measurement found");
   // Use the most detailed level the session provides.

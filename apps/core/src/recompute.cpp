@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <utility>
 
 #include "caliper/avatar.hpp"
 #include "caliper/errors.hpp"
@@ -11,6 +12,92 @@
 
 namespace caliper::app {
 
+// ---------------------------------------------------------------------------------------------
+// The hanging arm
+HangingArmMap::HangingArmMap(std::shared_ptr<const smpl::BodyModel> model)
+    : model_(std::move(model)) {}
+
+void HangingArmMap::compute() const {
+  std::call_once(once_, [this] {
+    try {
+      map_ = hanging_arm_map(*model_);
+    } catch (const std::exception& e) {
+      reason_ = e.what();
+    }
+  });
+}
+
+const LinearMap* HangingArmMap::get() const {
+  compute();
+  return map_ ? &*map_ : nullptr;
+}
+
+const std::string& HangingArmMap::reason() const {
+  compute();
+  return reason_;
+}
+
+std::string hanging_arm_unavailable(const ModelEntry& entry) {
+  if (!entry.hanging_arm) return "the model entry was made without a hanging-arm map";
+  return entry.hanging_arm->reason();
+}
+
+const LinearMap& hanging_arm(const ModelEntry& entry) {
+  if (const LinearMap* map = entry.hanging_arm ? entry.hanging_arm->get() : nullptr) return *map;
+  throw InvalidInputError("the arm length is taken hanging, but model " + entry.label +
+                          " cannot map a hanging arm onto its own (" +
+                          hanging_arm_unavailable(entry) +
+                          "); untick 'taken hanging' and give the arm length out sideways");
+}
+
+namespace {
+bool is_input(const Document& doc, const std::string& id) {
+  const std::vector<std::string>& inputs = editable_inputs(doc);
+  return std::find(inputs.begin(), inputs.end(), id) != inputs.end();
+}
+}  // namespace
+
+MeasurementMap regression_inputs(const Document& doc, const ModelEntry& entry) {
+  MeasurementMap in;
+  for (const std::string& id : editable_inputs(doc)) {
+    auto it = doc.values.find(id);
+    if (it == doc.values.end()) throw InvalidInputError("no value for " + id);
+    in[id] = it->second;
+  }
+  if (auto arm = in.find("arm_length"); arm != in.end() && doc.arm_taken_hanging)
+    arm->second = hanging_arm(entry).apply(arm->second);
+  return in;
+}
+
+MeasurementMap as_typed(const Document& doc, const ModelEntry& entry, MeasurementMap measured) {
+  auto arm = measured.find("arm_length");
+  if (!doc.arm_taken_hanging || arm == measured.end()) return measured;
+  if (const LinearMap* map = entry.hanging_arm ? entry.hanging_arm->get() : nullptr) {
+    arm->second = (arm->second - map->b) / map->a;
+  } else {
+    measured.erase(arm);
+  }
+  return measured;
+}
+
+Document with_arm_taken_hanging(const Document& doc, const ModelEntry& entry, bool hanging) {
+  Document d = doc;
+  d.arm_taken_hanging = hanging;
+  if (doc.arm_taken_hanging == hanging) return d;
+  auto arm = d.values.find("arm_length");
+  if (arm == d.values.end()) return d;
+  const LinearMap* map = entry.hanging_arm ? entry.hanging_arm->get() : nullptr;
+  if (map == nullptr && !hanging && !is_input(doc, "arm_length")) {
+    d.values.erase(arm);  // not in use, and nothing to convert it with
+    return d;
+  }
+  const LinearMap& m = map != nullptr ? *map : hanging_arm(entry);  // throws without one
+  arm->second = hanging ? (arm->second - m.b) / m.a : m.apply(arm->second);
+  return d;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Model entries and the avatar
 ModelEntry make_model_entry(std::shared_ptr<const smpl::BodyModel> model, const std::string& label,
                             const TrainOptions& options) {
   smpl::validate(*model, label);
@@ -25,6 +112,7 @@ ModelEntry make_model_entry(std::shared_ptr<const smpl::BodyModel> model, const 
         *model, e.landmarks, available_measurements(e.landmarks),
         std::min(model->num_betas(), kMaxMeasurerBetas));
   }
+  e.hanging_arm = std::make_shared<const HangingArmMap>(model);  // worked out on first use
   e.model = std::move(model);
   return e;
 }
@@ -52,12 +140,7 @@ struct Prediction {
 };
 
 Prediction predict(const Document& doc, const ModelEntry& e) {
-  MeasurementMap in;
-  for (const std::string& id : editable_inputs(doc)) {
-    auto it = doc.values.find(id);
-    if (it == doc.values.end()) throw InvalidInputError("no value for " + id);
-    in[id] = it->second;
-  }
+  const MeasurementMap in = regression_inputs(doc, e);
   Prediction p;
   const RegressorChoice choice = active_regressor(doc);
   if (choice == RegressorChoice::NoiseAware) {

@@ -454,6 +454,12 @@ void add_measurement_overlay(render::Scene& s, const app::EditorCore& core, floa
     if (it != av.achieved.end()) {
       render::Label label;
       label.text = app::measurement_label(id) + " " + display(core, id, it->second);
+      if (id == "arm_length" && core.state().arm_taken_hanging) {
+        // The line is the arm out sideways; the value typed was taken hanging.
+        const MeasurementMap typed = core.achieved_as_typed();
+        if (auto h = typed.find(id); h != typed.end())
+          label.text += ", hanging " + display(core, id, h->second);
+      }
       label.anchor = ((l.a + l.b) / 2);
       label.colour = {0.05f, 0.1f, 0.4f, 1};
       label.scale = kLabelScale;
@@ -691,12 +697,12 @@ void EditorApp::draw_measurements() {
     ImGui::PushID(id.c_str());
     const std::string unit = app::unit_label(id, units);
     const double shown = app::to_display(id, *value, units);
-    const std::string name = app::measurement_label(id);
+    const std::string name = app::measurement_label(id);  // also the fields' ids
     const float avail = ImGui::GetContentRegionAvail().x;
     const float name_w = std::min(170.0f, avail * 0.38f);
     const float typed_w = 96.0f;
     ImGui::AlignTextToFramePadding();
-    ImGui::TextUnformatted(name.c_str());
+    ImGui::TextUnformatted(app::input_label(core_.state(), id).c_str());
     if (ImGui::IsItemHovered()) {  // the hint only when shown, not on every frame
       if (const std::string hint = app::measurement_hint(id); !hint.empty())
         ImGui::SetTooltip("%s", hint.c_str());
@@ -737,7 +743,32 @@ void EditorApp::draw_measurements() {
                                                    "); the avatar is unchanged");
       }
     }
+    if (id == "arm_length") draw_arm_hanging_toggle(name_w);
     ImGui::PopID();
+  }
+}
+
+void EditorApp::draw_arm_hanging_toggle(float indent) {
+  const std::string why = core_.hanging_arm_unavailable();  // the map is worked out once
+  bool hanging = core_.state().arm_taken_hanging;
+  ImGui::SetCursorPosX(ImGui::GetCursorPosX() + indent);
+  {
+    const DisabledScope off(!why.empty() && !hanging);
+    if (ImGui::Checkbox("taken hanging", &hanging)) core_.set_arm_taken_hanging(hanging);
+    probe_.track("taken hanging");
+  }
+  if (!ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) return;
+  if (why.empty()) {
+    ImGui::SetTooltip(
+        "Tick when the arm length was taken with a tape on the relaxed hanging arm:\n"
+        "shoulder tip (acromion) over the elbow to the wrist, about 7 cm more than with\n"
+        "the arm out sideways. The model's own map turns it into the arm length the\n"
+        "regressors take. Ticking converts the value, so the avatar stays as it is.");
+  } else {
+    ImGui::SetTooltip(
+        "This model cannot map an arm length taken hanging onto its own:\n%s\n"
+        "Give the arm length out sideways (shoulder tip to wrist, arm stretched out).",
+        why.c_str());
   }
 }
 
@@ -746,6 +777,8 @@ void EditorApp::draw_achieved_table() {
   const app::AvatarView& av = core_.avatar();
   const app::UnitSystem units = core_.view().units;
   const std::vector<std::string> editable = core_.editable_inputs();
+  // The avatar's arm as a hanging one when the arm length is taken hanging (as typed).
+  const MeasurementMap achieved_values = core_.achieved_as_typed();
   ImGui::Spacing();
   ImGui::TextUnformatted("Typed values and the avatar's own measurements");
   if (!ImGui::BeginTable("achieved", 4,
@@ -763,15 +796,16 @@ void EditorApp::draw_achieved_table() {
   }
   rows.push_back("volume");
   for (const std::string& id : rows) {
-    auto a = av.achieved.find(id);
+    auto a = achieved_values.find(id);
     const bool is_input = std::find(editable.begin(), editable.end(), id) != editable.end();
-    if (a == av.achieved.end()) {
+    const std::string label = app::input_label(core_.state(), id);
+    if (a == achieved_values.end()) {
       // During a slider drag only the distances are measured; weight and volume follow at its
       // end. Their rows stay, so that the panel below does not jump while dragging.
       if (av.achieved_complete) continue;
       ImGui::TableNextRow();
       ImGui::TableNextColumn();
-      ImGui::TextUnformatted(app::measurement_label(id).c_str());
+      ImGui::TextUnformatted(label.c_str());
       ImGui::TableNextColumn();
       if (is_input) {
         ImGui::Text("%.1f %s", app::to_display(id, core_.state().values.at(id), units),
@@ -787,7 +821,7 @@ void EditorApp::draw_achieved_table() {
     }
     ImGui::TableNextRow();
     ImGui::TableNextColumn();
-    ImGui::TextUnformatted(app::measurement_label(id).c_str());
+    ImGui::TextUnformatted(label.c_str());
     ImGui::TableNextColumn();
     const std::string unit = app::unit_label(id, units);
     const double achieved = app::to_display(id, a->second, units);

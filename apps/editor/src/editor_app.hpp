@@ -74,6 +74,9 @@ class EditorApp {
   void draw_model_section();
   void draw_regressor_section();
   void draw_measurements();
+  /// The arm length row's "taken hanging" checkbox, `indent` pixels in (under the slider),
+  /// with a tooltip saying what it means, or why the model cannot take the arm hanging.
+  void draw_arm_hanging_toggle(float indent);
   void draw_achieved_table();
   void draw_betas();
   void draw_display_section();

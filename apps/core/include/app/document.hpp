@@ -35,9 +35,13 @@ struct Document {
   RegressorChoice regressor = RegressorChoice::R2;
   bool hierarchical = true;
   int level = 1;  ///< 1..3, used when hierarchical
+  /// values["arm_length"] was taken with a tape on the relaxed hanging arm (shoulder tip over
+  /// the elbow to the wrist), not with the arm out sideways as the model's arm length is: the
+  /// recomputation maps it with the model's hanging_arm_map() (app/recompute.hpp).
+  bool arm_taken_hanging = false;
   bool operator==(const Document& o) const {
     return values == o.values && regressor == o.regressor && hierarchical == o.hierarchical &&
-           level == o.level;
+           level == o.level && arm_taken_hanging == o.arm_taken_hanging;
   }
   bool operator!=(const Document& o) const { return !(*this == o); }
 };
@@ -56,6 +60,9 @@ void start_from_avatar(Document& doc, const std::vector<std::string>& ids,
 /// The human name of a measurement for the UI ("Arm span (fingertips)"; "Weight", "Volume"):
 /// measurement_name (app/units.hpp), under the name the editor uses.
 std::string measurement_label(const std::string& id);
+/// The name of input `id` in `doc`: measurement_label(id), but "Arm length (hanging)" for the
+/// arm length when doc.arm_taken_hanging (short enough for the panel's name column).
+std::string input_label(const Document& doc, const std::string& id);
 /// How to take measurement `id` (a tooltip for the editor's input rows), e.g. for the arm
 /// length that it is taken with the arm out sideways and what a tape on the hanging arm reads;
 /// "" for an id without a hint.
@@ -63,7 +70,8 @@ std::string measurement_hint(const std::string& id);
 /// One line describing a regressor choice, e.g. "R4: height, weight, inseam, arm span".
 std::string describe_regressor(RegressorChoice choice);
 /// A short account of what differs between two documents, values shown in `units`, for
-/// undo/redo messages ("Overall height 170.0 -> 165.2 cm; hierarchical level 2"); "no visible
+/// undo/redo messages ("Overall height 170.0 -> 165.2 cm; hierarchical level 2"; "arm length
+/// taken hanging" / "arm length out sideways" when the arm's convention changed); "no visible
 /// change" when nothing the user sees differs.
 std::string describe_change(const Document& from, const Document& to, UnitSystem units);
 

@@ -86,8 +86,21 @@ class EditorCore {
   void begin_drag();
   bool drag_value(const std::string& id, double value_si);
   void end_drag();
-  /// The value shown for `id`: the input when it is editable, else the avatar's measurement.
+  /// The value shown for `id`: the input when it is editable, else the avatar's measurement
+  /// (as_typed(): an arm length taken hanging is shown as a hanging one).
   std::optional<double> shown_value(const std::string& id) const;
+  /// The avatar's measurements in the convention of the inputs (app::as_typed()): with the arm
+  /// length taken hanging, the avatar's arm as the hanging value that the model's map turns
+  /// into it, so that it compares with what was typed.
+  MeasurementMap achieved_as_typed() const;
+  /// The arm length is taken with a tape on the hanging arm (`hanging`) or out sideways
+  /// (Document::arm_taken_hanging). The value is converted by the model's map so that the
+  /// avatar does not change; one undo step. Refused (message, state unchanged) without a model
+  /// or for a model that cannot map a hanging arm (hanging_arm_unavailable()). Returns success.
+  bool set_arm_taken_hanging(bool hanging);
+  /// Why the current model cannot map an arm length taken hanging ("" when it can, or without
+  /// a model); works the map out on the first call for a model (~45 ms), then it is kept.
+  std::string hanging_arm_unavailable() const;
 
   void set_regressor(RegressorChoice choice);
   /// Uses `choice` as the regressor from now on: hierarchical mode off (one undo step), so
@@ -110,8 +123,9 @@ class EditorCore {
   bool redo();
 
   // ---- Files ---------------------------------------------------------------------------
-  /// Measurement profile JSON (docs/editor.md): {"format": "caliper-profile", "version": 1,
-  /// "units", "sex", "model", "regressor", "hierarchical", "level", "measurements": {id: SI}}.
+  /// Measurement profile JSON (docs/editor.md): {"format": "caliper-profile", "version": 1 (2 with
+  /// the arm taken hanging), "units", "sex", "model", "regressor", "hierarchical", "level",
+  /// "arm_taken_hanging" (only when true), "measurements": {id: SI}}.
   bool save_profile(const std::string& path);
   bool open_profile(const std::string& path);
   /// Reads the measurements of a VR measuring session file (JSON with a "measurements" object
@@ -178,6 +192,11 @@ class EditorCore {
   /// document cannot be applied (a message names the problem).
   bool step_history(bool undo);
   bool check_value(const std::string& id, double value_si);
+  /// `d` with its inputs `ids` that are not in `kept` started from the avatar's own values in
+  /// d's convention (start_from_avatar, achieved_as_typed); when the current model cannot map
+  /// an arm length taken hanging and the arm length is new, it is taken out sideways instead.
+  Document start_new_inputs(Document d, const std::vector<std::string>& ids,
+                            const std::vector<std::string>& kept) const;
 
   std::vector<ModelEntry> models_;
   int current_ = -1;

@@ -21,22 +21,26 @@
 namespace caliper::app {
 
 // ---- Measurement profiles ---------------------------------------------------------------
-/// The profile JSON of `doc`: {"format": "caliper-profile", "version": 1, "units", "model",
-/// "sex" (both only with a `model`), "regressor", "hierarchical", "level", "measurements":
-/// {id: SI} (the editable inputs), "betas"}.
+/// The profile JSON of `doc`: {"format": "caliper-profile", "version": 1 (2 when
+/// doc.arm_taken_hanging, so that editors without the field refuse it), "units", "model",
+/// "sex" (both only with a `model`), "regressor", "hierarchical", "level", "arm_taken_hanging":
+/// true (only when doc.arm_taken_hanging: measurements' arm_length is then the tape's value on
+/// the hanging arm), "measurements": {id: SI} (the editable inputs), "betas"}.
 Json profile_json(const Document& doc, UnitSystem units, const ModelEntry* model,
                   const Eigen::VectorXd& betas);
 
-/// A profile as read: the document (fields the file leaves out keep the base document's; its
-/// measurements are added to the base's values), and the units and sex it names, if any.
+/// A profile as read: the document (fields the file leaves out keep the base document's, but
+/// for "arm_taken_hanging": absent is false; its measurements are added to the base's values),
+/// and the units and sex it names, if any.
 struct Profile {
   Document document;
   std::optional<UnitSystem> units;  ///< absent or not a unit system: std::nullopt
   std::optional<std::string> sex;
 };
 /// Reads a profile file over `base`. Throws (nothing is changed) when the file is not JSON, not
-/// a caliper profile, of another version, names an unknown regressor or a level outside 1..3,
-/// or holds a measurement outside its plausible range (measurement_range's error range).
+/// a caliper profile, of a version other than 1 or 2, names an unknown regressor or a level
+/// outside 1..3, has an "arm_taken_hanging" that is not true or false, or holds a measurement
+/// outside its plausible range (measurement_range's error range).
 Profile read_profile(const std::string& path, const Document& base);
 
 // ---- VR measuring sessions --------------------------------------------------------------
@@ -48,7 +52,9 @@ MeasurementMap read_session_measurements(const std::string& path);
 
 /// `base` with the usable session measurements (known ids within their plausible range) as
 /// inputs, at the most detailed hierarchy level they provide (never lower than base's), and
-/// the other inputs the result edits started from `achieved` (the avatar's own values).
+/// the other inputs the result edits started from `achieved` (the avatar's own values, in the
+/// convention of base's inputs: as_typed()). A session's arm length was taken out sideways
+/// (the VR protocol): with one, the result's arm_taken_hanging is false.
 struct SessionInputs {
   Document document;
   int used = 0;  ///< how many measurements were usable
