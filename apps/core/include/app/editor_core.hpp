@@ -99,7 +99,7 @@ class EditorCore {
   /// or for a model that cannot map a hanging arm (hanging_arm_unavailable()). Returns success.
   bool set_arm_taken_hanging(bool hanging);
   /// Why the current model cannot map an arm length taken hanging ("" when it can, or without
-  /// a model); works the map out on the first call for a model (~45 ms), then it is kept.
+  /// a model); works the map out on the first call for a model (20-45 ms), then it is kept.
   std::string hanging_arm_unavailable() const;
 
   void set_regressor(RegressorChoice choice);

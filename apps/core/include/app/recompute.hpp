@@ -26,7 +26,7 @@ namespace caliper::app {
 
 /// A model's map from an arm length taken with a tape on the hanging arm to the model's own arm
 /// length (caliper::hanging_arm_map(): virtual = a * hanging + b), worked out on first use and
-/// kept: it takes some 45 ms, so opening a model does not pay for it and no frame pays twice.
+/// kept: it takes 20-45 ms, so opening a model does not pay for it and no frame pays twice.
 /// Thread-safe; the copies of a ModelEntry share one.
 class HangingArmMap {
  public:
