@@ -282,7 +282,7 @@ MeasurementMap measure_all(const smpl::BodyModel& model, const smpl::Vertices& v
   if (info.closed) {  // a volume needs a closed surface
     const double volume = mesh_volume(vertices, model.faces);
     out["volume"] = volume;
-    out["weight"] = weight_from_volume(volume, weight_formula_for(model.meta.gender));
+    out["weight"] = weight_from_volume(volume, weight_formula_of(model));
   }
   if (options.circumferences) {
     for (const auto& [id, value] :

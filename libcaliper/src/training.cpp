@@ -396,7 +396,7 @@ TrainingSet paper_training_set(const smpl::BodyModel& model) {
   const LandmarkTable landmarks = landmarks_for(model);
   const ShapeMeasurer measurer(model, landmarks, available_measurements(landmarks));
   return make_training_set(measurer, corner_betas(measurer.num_betas(), 2.0),
-                           weight_formula_for(model.meta.gender));
+                           weight_formula_of(model));
 }
 
 }  // namespace caliper

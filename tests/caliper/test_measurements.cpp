@@ -170,6 +170,10 @@ TEST(MeasureAll, VolumeWeightAndCircumferences) {
   EXPECT_DOUBLE_EQ(m.at("volume"), volume);
   EXPECT_DOUBLE_EQ(m.at("weight"),
                    weight_from_volume(volume, weight_formula_for(model.meta.gender)));
+  // A model that carries its own weight formula is weighed with it, not with its gender's.
+  smpl::BodyModel own = model;
+  set_weight_formula(own, {1010.0, 1.5, "own"});
+  EXPECT_DOUBLE_EQ(measure_all(own, v).at("weight"), 1010.0 * volume + 1.5);
   for (const auto& d : paper_measurements()) EXPECT_TRUE(m.count(d.id)) << d.id;
   EXPECT_TRUE(m.count("waist_circumference"));
   EXPECT_THROW(measure_all(model, smpl::Vertices(10, 3)), InvalidInputError);

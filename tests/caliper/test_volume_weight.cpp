@@ -1,5 +1,8 @@
 // Mesh volume and weight-from-volume: analytic cases and invariants.
 #include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
 
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
@@ -121,6 +124,51 @@ TEST(Weight, NeutralIsTheMeanOfBoth) {
   EXPECT_EQ(weight_formula_for("Male").name, "male");
   EXPECT_EQ(weight_formula_for("neutral").name, "neutral");
   EXPECT_EQ(weight_formula_for("").name, "neutral");
+}
+
+TEST(Weight, AModelsOwnFormulaIsReadFromItsMetadataElseThePapersForItsGender) {
+  smpl::BodyModel model;
+  model.meta.gender = "female";
+  EXPECT_EQ(weight_formula_of(model).coefficient, female_weight_formula().coefficient);
+  model.meta.gender = "male";
+  EXPECT_EQ(weight_formula_of(model).intercept, male_weight_formula().intercept);
+  // Doubles that are not exact in binary come back to the bit.
+  const WeightFormula own{1001.44 + 0.1, -2.36 + 1.0 / 3.0, "open-male"};
+  set_weight_formula(model, own);
+  const WeightFormula back = weight_formula_of(model);
+  EXPECT_EQ(back.coefficient, own.coefficient);
+  EXPECT_EQ(back.intercept, own.intercept);
+  EXPECT_EQ(back.name, "open-male");
+  EXPECT_DOUBLE_EQ(weight_from_volume(0.07, back), own.coefficient * 0.07 + own.intercept);
+  // Formulas no body has are refused on writing, and the model is left as it was.
+  for (const WeightFormula& bad :
+       {WeightFormula{0.0, 0.0, ""}, WeightFormula{3000.0, 0.0, ""},
+        WeightFormula{std::nan(""), 0.0, ""}, WeightFormula{1000.0, 80.0, ""},
+        WeightFormula{1000.0, std::numeric_limits<double>::infinity(), ""}}) {
+    EXPECT_THROW(set_weight_formula(model, bad), std::invalid_argument);
+  }
+  EXPECT_EQ(weight_formula_of(model).coefficient, own.coefficient);
+}
+
+TEST(Weight, ABadFormulaInAModelIsRefusedNamingTheKey) {
+  smpl::BodyModel model;
+  model.meta.gender = "female";
+  for (const char* text :
+       {"", "not json", "[]", "{\"coefficient\": 1000}", "{\"intercept\": -2}",
+        "{\"coefficient\": \"1000\", \"intercept\": -2}",
+        "{\"coefficient\": 1e308, \"intercept\": 0}", "{\"coefficient\": 100, \"intercept\": 0}",
+        "{\"coefficient\": 1000, \"intercept\": -60}",
+        "{\"coefficient\": 1000, \"intercept\": 0, \"name\": 7}"}) {
+    model.meta.extra[kWeightFormulaMetaKey] = text;
+    try {
+      (void)weight_formula_of(model);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const smpl::ModelError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("'weight_formula'"), std::string::npos) << what;
+      EXPECT_NE(what.find("caliper-modelgen"), std::string::npos) << what;
+    }
+  }
 }
 
 TEST(Weight, InverseAndCubeRoot) {

@@ -129,7 +129,7 @@ void fast_avatar(const ModelBundle& b, const ShapeMeasurer& measurer, const std:
       achieved[measurer.definitions()[i].id] = m[static_cast<Eigen::Index>(i)];
     const double volume = measurer.volume(k_betas);
     achieved["volume"] = volume;
-    achieved["weight"] = weight_from_volume(volume, weight_formula_for(b.model.meta.gender));
+    achieved["weight"] = weight_from_volume(volume, weight_formula_of(b.model));
   }
   plaus = plausibility(k_betas);
   betas = Eigen::VectorXd::Zero(b.model.num_betas());

@@ -105,7 +105,7 @@ TrainResult run_train(const TrainCommand& c) {
   const ShapeMeasurer measurer(model, landmarks_for(model), defs, k);
   const Eigen::MatrixXd betas = opt.gaussian ? gaussian_betas(opt.gaussian_count, k, opt.seed)
                                              : corner_betas(k, opt.corner_sd);
-  r.set = make_training_set(measurer, betas, weight_formula_for(model.meta.gender));
+  r.set = make_training_set(measurer, betas, weight_formula_of(model));
   r.regressors = train_regressors(r.set, ModelSignature::of(model, k), opt);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (c.save) r.regressors.save(*c.save);

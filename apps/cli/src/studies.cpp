@@ -69,7 +69,7 @@ Bodies draw_bodies(const ModelBundle& b, int n, std::uint64_t seed) {
   Eigen::MatrixXd m;
   Eigen::VectorXd vol;
   measurer.measure_batch(out.betas, m, vol);
-  const WeightFormula f = weight_formula_for(b.model.meta.gender);
+  const WeightFormula f = weight_formula_of(b.model);
   out.inputs.resize(n, 6);
   int col = 0;
   for (int c = 0; c < 6; ++c) {

@@ -137,7 +137,7 @@ struct ModelMeasureInfo {
 
 /// Everything `caliper measure` reports for a rest-pose body of `model` with vertices
 /// `vertices` (#V x 3 = model.num_vertices()): the available paper measurements, "volume"
-/// (m^3), "weight" (kg, by weight_formula_for(model.meta.gender)) and, if asked, the
+/// (m^3), "weight" (kg, by weight_formula_of(model)) and, if asked, the
 /// circumferences that can be computed. "volume" and "weight" only when the model's faces close
 /// the surface (open_edge_count() == 0): an open mesh such as a hand has no volume, and they are
 /// left out. Throws InvalidInputError for a vertex count mismatch.

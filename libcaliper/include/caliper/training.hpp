@@ -116,7 +116,7 @@ TrainingSet make_training_set(const ShapeMeasurer& measurer, const Eigen::Matrix
 
 /// Convenience: the paper's set, corner_betas(min(10, B), 2.0), for `model` with
 /// landmarks_for(model), the measurements available on it, and
-/// weight_formula_for(model.meta.gender).
+/// weight_formula_of(model).
 TrainingSet paper_training_set(const smpl::BodyModel& model);
 
 }  // namespace caliper
