@@ -569,8 +569,7 @@ RegressorSet train_regressors(const smpl::BodyModel& model, const TrainOptions& 
   const Eigen::MatrixXd betas =
       options.gaussian ? gaussian_betas(options.gaussian_count, measurer.num_betas(), options.seed)
                        : corner_betas(measurer.num_betas(), options.corner_sd);
-  const TrainingSet training =
-      make_training_set(measurer, betas, weight_formula_of(model));
+  const TrainingSet training = make_training_set(measurer, betas, weight_formula_of(model));
   return train_regressors(training, ModelSignature::of(model, measurer.num_betas()), options);
 }
 

@@ -95,8 +95,7 @@ std::map<std::string, double> validation_measurements(const smpl::BodyModel& mod
     return it == mm.end() ? std::nan("") : it->second;
   };
   out["stature"] = get(m, "height");
-  out["weight"] =
-      caliper::weight_from_volume(volume, caliper::weight_formula_of(model));
+  out["weight"] = caliper::weight_from_volume(volume, caliper::weight_formula_of(model));
   out["span"] = get(m, "arm_span_fingertips");
   out["crotch_height"] = get(m, "inseam_height");
   out["hip_breadth"] = get(m, "hip_width");
