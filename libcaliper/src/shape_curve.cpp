@@ -21,9 +21,15 @@ namespace {
 
 constexpr int kFeatures = 6;
 
-Eigen::Vector2d raw_inputs(double height_m, double weight_kg) {
-  return {height_m, portable::cbrt(weight_kg)};
+Eigen::Vector2d raw_inputs(double height_m, double weight_kg, ShapeCurve::WeightInput input) {
+  return {height_m,
+          input == ShapeCurve::WeightInput::kKilograms ? weight_kg : portable::cbrt(weight_kg)};
 }
+
+// The file's names of the two inputs ("inputs"), one pair per WeightInput.
+constexpr const char* kHeightName = "height (m)";
+constexpr const char* kCubeRootName = "cube root of weight (kg)";
+constexpr const char* kKilogramsName = "weight (kg)";
 
 }  // namespace
 
@@ -39,14 +45,14 @@ Eigen::VectorXd ShapeCurve::betas(double height_m, double weight_kg) const {
     throw InvalidInputError("shape curve: height and weight must be finite and positive (got " +
                             std::to_string(height_m) + " m, " + std::to_string(weight_kg) + " kg)");
   }
-  const Eigen::Vector2d x = raw_inputs(height_m, weight_kg).cwiseMax(lo).cwiseMin(hi);
+  const Eigen::Vector2d x = raw_inputs(height_m, weight_kg, weight_input).cwiseMax(lo).cwiseMin(hi);
   const Eigen::Vector2d s = (x - center).cwiseQuotient(scale);
   return coefficients * shape_curve_features(s[0], s[1]);
 }
 
 ShapeCurve fit_shape_curve(const Eigen::VectorXd& heights, const Eigen::VectorXd& weights_kg,
                            const Eigen::MatrixXd& betas, const Eigen::VectorXd& weights,
-                           const std::string& population) {
+                           const std::string& population, ShapeCurve::WeightInput weight_input) {
   const Eigen::Index n = heights.size();
   if (weights_kg.size() != n || betas.rows() != n || weights.size() != n) {
     throw std::invalid_argument("fit_shape_curve: " + std::to_string(n) + " heights, " +
@@ -63,12 +69,13 @@ ShapeCurve fit_shape_curve(const Eigen::VectorXd& heights, const Eigen::VectorXd
   std::vector<Eigen::Vector2d> x(static_cast<size_t>(n));
   ShapeCurve c;
   c.population = population;
+  c.weight_input = weight_input;
   c.lo = Eigen::Vector2d::Constant(HUGE_VAL);
   c.hi = Eigen::Vector2d::Constant(-HUGE_VAL);
   double total = 0.0;
   Eigen::Vector2d sum = Eigen::Vector2d::Zero();
   for (Eigen::Index i = 0; i < n; ++i) {
-    x[static_cast<size_t>(i)] = raw_inputs(heights[i], weights_kg[i]);
+    x[static_cast<size_t>(i)] = raw_inputs(heights[i], weights_kg[i], weight_input);
     if (weights[i] <= 0.0) continue;
     ++c.subjects;
     total += weights[i];
@@ -126,7 +133,9 @@ void set_shape_curve(smpl::BodyModel& model, const ShapeCurve& c) {
   nlohmann::json j;
   j["population"] = c.population;
   j["subjects"] = c.subjects;
-  j["inputs"] = {"height (m)", "cube root of weight (kg)"};
+  j["inputs"] = {kHeightName, c.weight_input == ShapeCurve::WeightInput::kKilograms
+                                  ? kKilogramsName
+                                  : kCubeRootName};
   j["features"] =
       "1, h, w, h^2, h w, w^2 of h, w = (input - center) / scale, inputs within [lo, hi]";
   j["center"] = pair(c.center);
@@ -156,6 +165,16 @@ std::optional<ShapeCurve> shape_curve(const smpl::BodyModel& model) {
     const nlohmann::json j = nlohmann::json::parse(it->second);
     c.population = j.at("population").get<std::string>();
     c.subjects = j.at("subjects").get<int>();
+    if (const auto in = j.find("inputs"); in != j.end()) {
+      const auto names = in->get<std::vector<std::string>>();
+      if (names.size() == 2 && names[0] == kHeightName && names[1] == kKilogramsName) {
+        c.weight_input = ShapeCurve::WeightInput::kKilograms;
+      } else if (names.size() != 2 || names[0] != kHeightName || names[1] != kCubeRootName) {
+        throw bad(std::string("has inputs this program does not know (it knows [\"") + kHeightName +
+                  "\", \"" + kCubeRootName + "\"] and [\"" + kHeightName + "\", \"" +
+                  kKilogramsName + "\"]): " + in->dump());
+      }
+    }
     const auto pair = [&](const char* key) {
       const auto v = j.at(key).get<std::vector<double>>();
       if (v.size() != 2)

@@ -1,6 +1,7 @@
 // The general population's body for a height and a weight (caliper/shape_curve.hpp): the fit
 // recovers a quadratic, stops at the subjects' range, round-trips through the model metadata to
-// the bit, refuses hostile entries naming the key; and a plain regressor started from it
+// the bit, names its weight input (the cube root or the weight itself), refuses hostile entries
+// naming the key; and a plain regressor started from it
 // (caliper::linear_betas) still reproduces its inputs while the rest follows the curve.
 #include <gtest/gtest.h>
 
@@ -34,7 +35,7 @@ struct CurveSample {
   Eigen::MatrixXd betas;
 };
 
-CurveSample curve_sample(const Eigen::MatrixXd& truth, int n) {
+CurveSample curve_sample(const Eigen::MatrixXd& truth, int n, bool kilograms = false) {
   CurveSample s;
   s.height.resize(n);
   s.weight.resize(n);
@@ -45,7 +46,9 @@ CurveSample curve_sample(const Eigen::MatrixXd& truth, int n) {
   }
   // The standardisation the fit will find (weighted mean and SD of the raw features).
   Eigen::MatrixXd x(n, 2);
-  for (int i = 0; i < n; ++i) x.row(i) << s.height[i], caliper::portable::cbrt(s.weight[i]);
+  for (int i = 0; i < n; ++i) {
+    x.row(i) << s.height[i], kilograms ? s.weight[i] : caliper::portable::cbrt(s.weight[i]);
+  }
   const Eigen::RowVector2d mean = x.colwise().mean();
   const Eigen::RowVector2d sd =
       ((x.rowwise() - mean).array().square().colwise().sum() / n).sqrt().matrix();
@@ -131,6 +134,46 @@ TEST(ShapeCurve, RoundTripsThroughTheModelMetadataToTheBit) {
                std::invalid_argument);
 }
 
+TEST(ShapeCurve, TheWeightItselfAsInputIsFittedNamedInTheFileAndReadBack) {
+  using Input = caliper::ShapeCurve::WeightInput;
+  const Eigen::MatrixXd truth = curve_truth(3);
+  const CurveSample kg = curve_sample(truth, 200, true);
+  const caliper::ShapeCurve c =
+      caliper::fit_shape_curve(kg.height, kg.weight, kg.betas, kg.wt, "p", Input::kKilograms);
+  EXPECT_EQ(c.weight_input, Input::kKilograms);
+  EXPECT_LT((c.coefficients - truth).cwiseAbs().maxCoeff(), 1e-9);
+  // The same subjects on the cube root's features do not give the quadratic back.
+  const caliper::ShapeCurve wrong =
+      caliper::fit_shape_curve(kg.height, kg.weight, kg.betas, kg.wt, "p");
+  EXPECT_EQ(wrong.weight_input, Input::kCubeRoot);
+  EXPECT_GT((wrong.coefficients - truth).cwiseAbs().maxCoeff(), 1e-3);
+  // The file names the input, and the curve read back gives the same bodies.
+  smpl::BodyModel m = curve_test_model(3);
+  caliper::set_shape_curve(m, c);
+  const std::string text = m.meta.extra.at(caliper::shape_curve_meta_key());
+  EXPECT_NE(text.find(R"x("inputs":["height (m)","weight (kg)"])x"), std::string::npos) << text;
+  const std::optional<caliper::ShapeCurve> back = caliper::shape_curve(m);
+  ASSERT_TRUE(back.has_value());
+  EXPECT_EQ(back->weight_input, Input::kKilograms);
+  for (const double w : {52.0, 81.5, 140.0}) {
+    EXPECT_TRUE(back->betas(1.71, w) == c.betas(1.71, w)) << w;
+  }
+  // A cube-root curve keeps the text every model made so far has, and a file without the
+  // names is read as the cube root's.
+  const CurveSample cube = curve_sample(truth, 200);
+  caliper::set_shape_curve(
+      m, caliper::fit_shape_curve(cube.height, cube.weight, cube.betas, cube.wt, "p"));
+  std::string old = m.meta.extra.at(caliper::shape_curve_meta_key());
+  const std::string names = R"x("inputs":["height (m)","cube root of weight (kg)"],)x";
+  const size_t at = old.find(names);
+  ASSERT_NE(at, std::string::npos) << old;
+  EXPECT_EQ(caliper::shape_curve(m)->weight_input, Input::kCubeRoot);
+  m.meta.extra[caliper::shape_curve_meta_key()] = old.erase(at, names.size());
+  const std::optional<caliper::ShapeCurve> unnamed = caliper::shape_curve(m);
+  ASSERT_TRUE(unnamed.has_value());
+  EXPECT_EQ(unnamed->weight_input, Input::kCubeRoot);
+}
+
 TEST(ShapeCurve, BadEntriesAreRefusedNamingTheKeyAndWhatToDo) {
   smpl::BodyModel m = curve_test_model(2);
   const CurveSample s = curve_sample(curve_truth(2), 40);
@@ -160,6 +203,12 @@ TEST(ShapeCurve, BadEntriesAreRefusedNamingTheKeyAndWhatToDo) {
   EXPECT_TRUE(refused(replaced("\"coefficients\":[[", "\"coefficients\":[[1],[")));  // 3 rows
   EXPECT_TRUE(refused(replaced("\"coefficients\":[[", "\"coefficients\":[[1,")));    // 7 wide
   EXPECT_TRUE(refused(replaced("\"center\":[", "\"center\":[1e999,")));  // 3 values, inf
+  // Inputs this program does not know: a curve read on the wrong feature would be wrong.
+  EXPECT_TRUE(refused(replaced("cube root of weight (kg)", "weight (lb)")));
+  EXPECT_TRUE(refused(replaced("\"height (m)\",", "")));
+  EXPECT_TRUE(refused(replaced("[\"height (m)\",", "[\"stature (m)\",")));
+  EXPECT_TRUE(refused(replaced("\"inputs\":[", "\"inputs\":[\"height (m)\",")));
+  EXPECT_TRUE(refused(replaced("\"inputs\":[\"height (m)\"", "\"inputs\":[7")));
   // Values that parse but cannot be used.
   smpl::BodyModel n = curve_test_model(2);
   caliper::ShapeCurve c = caliper::fit_shape_curve(s.height, s.weight, s.betas, s.wt, "p");

@@ -7,11 +7,11 @@
 /// hip grows about linearly with the weight and the waist with its cube root, so any linear map
 /// misses the thinnest and the heaviest by 2-12 cm (docs/evaluation.md, section 4). The curve is
 /// E[betas | height, weight] over the registered general-population subjects (NHANES), a full
-/// quadratic in the standardised height and cube root of the weight, fitted by the generator and
-/// stored in the model file (`BodyModel::meta.extra["shape_curve"]`, JSON). A linear regressor
-/// then starts from the curve's body instead of the mean body (create_avatar(),
-/// AvatarOptions::shape_curve): the inputs still decide the betas along the directions they
-/// measure, the curve the rest.
+/// quadratic in the standardised height and cube root of the weight (or the weight itself:
+/// ShapeCurve::weight_input), fitted by the generator and stored in the model file
+/// (`BodyModel::meta.extra["shape_curve"]`, JSON). A linear regressor then starts from the
+/// curve's body instead of the mean body (create_avatar(), AvatarOptions::shape_curve): the
+/// inputs still decide the betas along the directions they measure, the curve the rest.
 #pragma once
 
 #include <optional>
@@ -25,11 +25,17 @@ namespace caliper {
 
 /// A quadratic curve betas(height, weight) over a model's betas.
 struct ShapeCurve {
+  /// The curve's second input: the cube root of the weight (the paper's feature; every model
+  /// made so far) or the weight itself, which follows the heaviest people's bodies more closely
+  /// (docs/models.md, Limits). The file names it ("inputs"); a file without the name is the
+  /// cube root's.
+  enum class WeightInput { kCubeRoot, kKilograms };
+  WeightInput weight_input = WeightInput::kCubeRoot;
   std::string population;        ///< e.g. "NHANES 2017-2020 development half"
   int subjects = 0;              ///< how many registered subjects it was fitted to
-  Eigen::Vector2d center;        ///< of (height m, cube root of weight kg)
+  Eigen::Vector2d center;        ///< of (height m, the weight input)
   Eigen::Vector2d scale;         ///< > 0: the standardised features are (x - center) / scale
-  Eigen::Vector2d lo;            ///< the subjects' smallest (height, cube root of weight) ...
+  Eigen::Vector2d lo;            ///< the subjects' smallest (height, weight input) ...
   Eigen::Vector2d hi;            ///< ... and largest: the curve is not extrapolated beyond them
   Eigen::MatrixXd coefficients;  ///< B x 6: betas = C [1, h, w, h^2, h w, w^2]'
 
@@ -43,12 +49,14 @@ struct ShapeCurve {
 Eigen::Matrix<double, 6, 1> shape_curve_features(double h, double w);
 
 /// Least-squares fit of `betas` (n x B, one subject per row) on the quadratic features of
-/// (height m, weight kg) with sample weights `weights` (n, >= 0). Throws std::invalid_argument
+/// (height m, `weight_input` of the weight kg) with sample weights `weights` (n, >= 0). Throws
+/// std::invalid_argument
 /// for mismatched sizes, fewer than 7 weighted subjects (the quadratic has 6 coefficients),
 /// non-finite values or subjects that do not determine a quadratic.
-ShapeCurve fit_shape_curve(const Eigen::VectorXd& heights, const Eigen::VectorXd& weights_kg,
-                           const Eigen::MatrixXd& betas, const Eigen::VectorXd& weights,
-                           const std::string& population);
+ShapeCurve fit_shape_curve(
+    const Eigen::VectorXd& heights, const Eigen::VectorXd& weights_kg, const Eigen::MatrixXd& betas,
+    const Eigen::VectorXd& weights, const std::string& population,
+    ShapeCurve::WeightInput weight_input = ShapeCurve::WeightInput::kCubeRoot);
 
 /// The model metadata key: "shape_curve".
 const char* shape_curve_meta_key();
