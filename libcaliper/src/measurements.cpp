@@ -254,7 +254,9 @@ MeasurementMap measure(const smpl::Vertices& vertices, const LandmarkTable& land
 }
 
 ModelMeasureInfo::ModelMeasureInfo(const smpl::BodyModel& model)
-    : landmarks(landmarks_for(model)), closed(open_edge_count(model.faces) == 0) {}
+    : landmarks(landmarks_for(model)),
+      closed(open_edge_count(model.faces) == 0),
+      weight_formula(weight_formula_of(model)) {}
 
 namespace {
 
@@ -282,7 +284,7 @@ MeasurementMap measure_all(const smpl::BodyModel& model, const smpl::Vertices& v
   if (info.closed) {  // a volume needs a closed surface
     const double volume = mesh_volume(vertices, model.faces);
     out["volume"] = volume;
-    out["weight"] = weight_from_volume(volume, weight_formula_of(model));
+    out["weight"] = weight_from_volume(volume, info.weight_formula);
   }
   if (options.circumferences) {
     for (const auto& [id, value] :

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <Eigen/Cholesky>
@@ -166,13 +167,15 @@ std::optional<ShapeCurve> shape_curve(const smpl::BodyModel& model) {
     c.population = j.at("population").get<std::string>();
     c.subjects = j.at("subjects").get<int>();
     if (const auto in = j.find("inputs"); in != j.end()) {
-      const auto names = in->get<std::vector<std::string>>();
-      if (names.size() == 2 && names[0] == kHeightName && names[1] == kKilogramsName) {
+      const std::vector<std::string> names = in->get<std::vector<std::string>>();
+      const std::vector<std::string> cube_root{kHeightName, kCubeRootName},
+          kilograms{kHeightName, kKilogramsName};
+      if (names == kilograms) {
         c.weight_input = ShapeCurve::WeightInput::kKilograms;
-      } else if (names.size() != 2 || names[0] != kHeightName || names[1] != kCubeRootName) {
-        throw bad(std::string("has inputs this program does not know (it knows [\"") + kHeightName +
-                  "\", \"" + kCubeRootName + "\"] and [\"" + kHeightName + "\", \"" +
-                  kKilogramsName + "\"]): " + in->dump());
+      } else if (names != cube_root) {
+        throw bad("has inputs this program does not know (it knows " +
+                  nlohmann::json(cube_root).dump() + " and " + nlohmann::json(kilograms).dump() +
+                  "): " + in->dump());
       }
     }
     const auto pair = [&](const char* key) {

@@ -129,7 +129,8 @@ void fast_avatar(const ModelBundle& b, const ShapeMeasurer& measurer, const std:
       achieved[measurer.definitions()[i].id] = m[static_cast<Eigen::Index>(i)];
     const double volume = measurer.volume(k_betas);
     achieved["volume"] = volume;
-    achieved["weight"] = weight_from_volume(volume, weight_formula_of(b.model));
+    achieved["weight"] = weight_from_volume(
+        volume, b.measure_info ? b.measure_info->weight_formula : weight_formula_of(b.model));
   }
   plaus = plausibility(k_betas);
   betas = Eigen::VectorXd::Zero(b.model.num_betas());

@@ -19,6 +19,7 @@
 
 #include <Eigen/Core>
 
+#include "caliper/weight.hpp"
 #include "smpl/body_model.hpp"
 
 namespace caliper {
@@ -125,14 +126,17 @@ struct MeasureOptions {
 };
 
 /// What measure_all() needs to know of the model itself, worked out once: its landmark table
-/// (landmarks_for()) and whether its faces close the surface (open_edge_count() == 0, a pass
+/// (landmarks_for()), whether its faces close the surface (open_edge_count() == 0, a pass
 /// over every edge through a hash table: milliseconds for a 25,000-face mesh, more than the
-/// rest of a body's measurements). A caller that measures many bodies of one model makes it
-/// once and passes it to every call. Throws what landmarks_for() throws.
+/// rest of a body's measurements) and the formula that weighs its bodies (weight_formula_of(),
+/// which parses the model's own entry when it has one). A caller that measures many bodies of
+/// one model makes it once and passes it to every call. Throws what landmarks_for() and
+/// weight_formula_of() throw.
 struct ModelMeasureInfo {
   explicit ModelMeasureInfo(const smpl::BodyModel& model);
   LandmarkTable landmarks;
-  bool closed = false;  ///< the faces close the surface: volume and weight can be measured
+  bool closed = false;           ///< the faces close the surface: volume and weight can be measured
+  WeightFormula weight_formula;  ///< weight_formula_of(model)
 };
 
 /// Everything `caliper measure` reports for a rest-pose body of `model` with vertices

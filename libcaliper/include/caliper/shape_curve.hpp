@@ -50,9 +50,8 @@ Eigen::Matrix<double, 6, 1> shape_curve_features(double h, double w);
 
 /// Least-squares fit of `betas` (n x B, one subject per row) on the quadratic features of
 /// (height m, `weight_input` of the weight kg) with sample weights `weights` (n, >= 0). Throws
-/// std::invalid_argument
-/// for mismatched sizes, fewer than 7 weighted subjects (the quadratic has 6 coefficients),
-/// non-finite values or subjects that do not determine a quadratic.
+/// std::invalid_argument for mismatched sizes, fewer than 7 weighted subjects (the quadratic has
+/// 6 coefficients), non-finite values or subjects that do not determine a quadratic.
 ShapeCurve fit_shape_curve(
     const Eigen::VectorXd& heights, const Eigen::VectorXd& weights_kg, const Eigen::MatrixXd& betas,
     const Eigen::VectorXd& weights, const std::string& population,
