@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iterator>
 #include <optional>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -20,12 +21,13 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <Eigen/QR>
 
 #include "caliper/circumference.hpp"
 #include "caliper/measurements.hpp"
 #include "caliper/population.hpp"
-#include "caliper/portable_math.hpp"
 #include "caliper/shape_curve.hpp"
+#include "caliper/weight.hpp"
 #include "makehuman_measures.hpp"
 #include "makehuman_rig.hpp"
 #include "makehuman_shape.hpp"
@@ -101,6 +103,11 @@ TEST(MakeHumanShape, ReadsBothSurveysWithTheirUnits) {
     EXPECT_EQ(mh::fit_measures()[20].id, "upper_arm_length");
     EXPECT_GT(s.values[20], 0.24) << s.source;
     EXPECT_LT(s.values[20], 0.42) << s.source;
+    // The relaxed mid-upper-arm girth of both surveys, ANSUR II's mapped from the flexed
+    // biceps: NHANES 2017-2020 (development half) 17.9 to 57.2 cm, ANSUR II flexed 21.6 to 49.0.
+    EXPECT_EQ(mh::fit_measures()[21].id, "upper_arm_circumference");
+    EXPECT_GT(s.values[21], 0.165) << s.source;
+    EXPECT_LT(s.values[21], 0.65) << s.source;
     if (s.source == "NHANES") {
       EXPECT_TRUE(std::isnan(s.values[2])) << "NHANES has no arm span";
       max_bmi = std::max(max_bmi, bmi(s));
@@ -122,18 +129,19 @@ void check_residuals(const Registered& s) {
   // height, weight (kg), span, crotch height, biacromial, hip breadth, chest, waist (navel),
   // buttock circumference, iliac crest height, waist at the iliac crest, neck, thigh, calf,
   // ankle and wrist circumferences, knee height, hanging arm, hand length, acromial height, upper
-  // arm (acromion-radiale; NHANES's mapped from its own protocol, 4.9 mm RMS, 24 mm worst). About
-  // twice the worst and twice the RMS seen over the whole surveys (docs/models.md), so that a
+  // arm (acromion-radiale; NHANES's mapped from its own protocol, 4.9 mm RMS, 24 mm worst), upper
+  // arm girth (ANSUR II's flexed biceps mapped onto the relaxed girth; 3.8 mm RMS, 30 mm worst).
+  // About twice the worst and twice the RMS seen over the whole surveys (docs/models.md), so that a
   // change that makes the fits worse fails. Span and biacromial breadth are met less closely
   // since the hanging arm is fitted too (ANSUR II's span is shorter than its shoulders, arms and
   // hands laid end to end; the fit shares the difference: span +4.8 mm, biacromial -4.5 mm,
   // arm -9.7 mm on the men's mean).
-  const double bound[] = {0.005, 6.0,   0.027, 0.007, 0.024, 0.020, 0.125,
-                          0.125, 0.050, 0.007, 0.060, 0.090, 0.100, 0.023,
-                          0.013, 0.009, 0.004, 0.055, 0.015, 0.015, 0.048};
-  const double rms_bound[] = {0.001,  1.2,   0.011,  0.0025, 0.0097, 0.010,  0.019,
-                              0.017,  0.008, 0.002,  0.007,  0.004,  0.024,  0.003,
-                              0.0025, 0.002, 0.0015, 0.0215, 0.0055, 0.0035, 0.006};
+  const double bound[] = {0.005, 6.0,   0.027, 0.007, 0.024, 0.020, 0.125, 0.125,
+                          0.050, 0.007, 0.060, 0.090, 0.100, 0.023, 0.013, 0.009,
+                          0.004, 0.055, 0.015, 0.015, 0.048, 0.060};
+  const double rms_bound[] = {0.001,  1.2,    0.011,  0.0025, 0.0097, 0.010, 0.019,  0.017,
+                              0.008,  0.002,  0.007,  0.004,  0.024,  0.003, 0.0025, 0.002,
+                              0.0015, 0.0215, 0.0055, 0.0035, 0.006,  0.008};
   ASSERT_EQ(std::size(bound), mh::fit_measures().size());
   std::vector<double> sq(mh::fit_measures().size(), 0.0);
   std::vector<int> n(mh::fit_measures().size(), 0);
@@ -370,7 +378,9 @@ void check_populations(const Registered& s) {
   Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(6, 16);
   for (size_t j = 0; j < nhanes.size(); ++j) {
     const Eigen::VectorXd& v = s.subjects[nhanes_subject[j]].values;
-    const Eigen::Vector2d x(v[0], caliper::portable::cbrt(v[1]));
+    // The generator's curve is on the weight itself (the heaviest men; docs/models.md).
+    ASSERT_EQ(curve->weight_input, caliper::ShapeCurve::WeightInput::kKilograms);
+    const Eigen::Vector2d x(v[0], v[1]);
     const Eigen::Vector2d z = (x - curve->center).cwiseQuotient(curve->scale);
     const Eigen::VectorXd residual = betas_of(g, nhanes[j]) - curve->betas(v[0], v[1]);
     normal += caliper::shape_curve_features(z[0], z[1]) * residual.transpose();
@@ -443,6 +453,51 @@ TEST(MakeHumanShape, TolerancesDifferOnlyWhereDocumented) {
       EXPECT_EQ(m.tolerance_for("male", "ANSUR II"), m.tolerance_for("female", "ANSUR II")) << m.id;
       EXPECT_EQ(m.tolerance_for("male", "NHANES"), m.tolerance_for("female", "ANSUR II")) << m.id;
     }
+  }
+}
+
+// The general population conditions ANSUR II's spread on the directions the NHANES subjects'
+// measurements determine, not on the non-linear fit's tail (docs/models.md, Limits). A made-up
+// fit: 600 subjects' weights in 20 directions driven by 6 measurements (variances 1 to 0.02 of
+// the largest) plus small quadratic departures in every direction (a tail of 1e-4 and below).
+TEST(MakeHumanShape, NhanesSpreadRankIsTheNumberOfMeasurementsNotTheFitsTail) {
+  constexpr int kDirs = 20, kMeasures = 6, kSubjects = 600;
+  std::mt19937 rng(11);
+  std::normal_distribution<double> normal;
+  Eigen::MatrixXd a(kDirs, kMeasures), b(kDirs, kMeasures * kMeasures);
+  for (Eigen::Index r = 0; r < a.size(); ++r) a.data()[r] = normal(rng);
+  for (Eigen::Index r = 0; r < b.size(); ++r) b.data()[r] = normal(rng);
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(a);
+  const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(kDirs, kMeasures);
+  Eigen::MatrixXd w(kSubjects, kDirs);
+  for (int i = 0; i < kSubjects; ++i) {
+    Eigen::VectorXd m(kMeasures), mm(kMeasures * kMeasures);
+    for (int j = 0; j < kMeasures; ++j) m[j] = normal(rng) * std::pow(0.14, j / 5.0);
+    for (int j = 0; j < kMeasures * kMeasures; ++j) mm[j] = m[j / kMeasures] * m[j % kMeasures];
+    w.row(i) = (q * m + 2e-3 * b * mm).transpose();
+  }
+  const Eigen::MatrixXd c = w.rowwise() - w.colwise().mean();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> spread(c.transpose() * c /
+                                                              (kSubjects - 1.0));
+  const Eigen::VectorXd& ev = spread.eigenvalues();
+  EXPECT_EQ(mh::nhanes_spread_rank(ev), kMeasures);
+  // The tail is there: every direction varies by more than the numerical noise's 1e-9.
+  EXPECT_GT(ev[0], 1e-9 * ev[kDirs - 1]);
+  EXPECT_EQ(mh::nhanes_spread_rank(Eigen::VectorXd()), 0);
+  EXPECT_EQ(mh::nhanes_spread_rank(Eigen::VectorXd::Ones(3)), 3);
+}
+
+// The open models weigh a body with the paper's formula of the sex on the skin's volume plus
+// 4 L (makehuman_measures.hpp), the fit and the models alike.
+TEST(MakeHumanShape, OpenModelWeightFormulaIsThePapersOnTheVolumePlusTheAllowance) {
+  for (const char* sex : {"female", "male", "neutral"}) {
+    const caliper::WeightFormula paper = caliper::weight_formula_for(sex);
+    const caliper::WeightFormula open = mh::open_model_weight_formula(sex);
+    EXPECT_EQ(open.coefficient, paper.coefficient) << sex;
+    EXPECT_NEAR(caliper::weight_from_volume(0.060, open), caliper::weight_from_volume(0.064, paper),
+                1e-9)
+        << sex;
+    EXPECT_NE(open.name.find("4 L"), std::string::npos) << open.name;
   }
 }
 

@@ -56,6 +56,24 @@ TEST(UpperArmMapping, RecoversTheProtocolOffsetAndTheRelation) {
   EXPECT_GT(modelgen::upper_arm_mapping(made_up_ansur(), made_up_nhanes(), 100.0).offset, 0.04);
 }
 
+// Step 1 alone, as the generator maps ANSUR II's flexed biceps onto NHANES's relaxed girth: a
+// made-up relaxed girth 2 cm under the flexed one at equal stature and weight.
+TEST(ProtocolOffset, IsTheMeanDifferenceAtEqualStatureAndWeightUnderTheBmiCut) {
+  const Eigen::MatrixXd a = made_up_ansur().leftCols(3);
+  Eigen::MatrixXd n = made_up_nhanes();
+  for (Eigen::Index r = 0; r < n.rows(); ++r) n(r, 2) = shoulder_elbow(n(r, 0), n(r, 1)) - 0.02;
+  const modelgen::ProtocolOffset o = modelgen::protocol_offset(a, n);
+  EXPECT_EQ(o.nhanes_people, 4);
+  EXPECT_NEAR(o.offset, -0.02, 5e-4);
+  // The same step inside the upper arm's mapping gives the same offset, to the last bit.
+  const Eigen::MatrixXd m = made_up_nhanes();
+  EXPECT_EQ(modelgen::protocol_offset(a, m).offset,
+            modelgen::upper_arm_mapping(made_up_ansur(), m).offset);
+  EXPECT_THROW(modelgen::protocol_offset(made_up_ansur(), n), std::invalid_argument);
+  EXPECT_THROW(modelgen::protocol_offset(a.topRows(9), n), std::invalid_argument);
+  EXPECT_THROW(modelgen::protocol_offset(a, n, 20.0), std::invalid_argument);
+}
+
 TEST(UpperArmMapping, RefusesTablesItCannotUse) {
   const Eigen::MatrixXd a = made_up_ansur(), n = made_up_nhanes();
   EXPECT_THROW(modelgen::upper_arm_mapping(a.leftCols(3), n), std::invalid_argument);

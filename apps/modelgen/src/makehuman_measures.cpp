@@ -19,7 +19,7 @@ constexpr double kNoValue = std::numeric_limits<double>::quiet_NaN();
 
 /// SMPL joint indices.
 constexpr int kJointLeftHip = 1, kJointRightHip = 2, kJointLeftKnee = 4, kJointLeftAnkle = 7,
-              kJointNeck = 12, kJointHead = 15;
+              kJointNeck = 12, kJointHead = 15, kJointLeftShoulder = 16, kJointLeftElbow = 18;
 
 /// The ankle girth is taken at least this far above the ankle joint (below, the slice meets the
 /// heel and the instep).
@@ -240,11 +240,18 @@ smpl::Faces region_faces(const smpl::Faces& faces, Keep keep) {
 
 }  // namespace
 
+caliper::WeightFormula open_model_weight_formula(const std::string& sex) {
+  caliper::WeightFormula f = caliper::weight_formula_for(sex);
+  f.intercept += f.coefficient * kSkinVolumeAllowance;
+  f.name = f.name + ": Pujades et al. 2019 on the skin's volume plus 4 L";
+  return f;
+}
+
 Measurer::Measurer(const smpl::BodyModel& tmpl, const smpl::Vertices& rest, const std::string& sex)
     : model(tmpl),
       faces(tmpl.faces),
       landmarks(caliper::landmarks_for(tmpl)),
-      formula(caliper::weight_formula_for(sex)),
+      formula(open_model_weight_formula(sex)),
       at(survey_vertices(rest, tmpl.faces, tmpl.j_regressor, landmarks)) {
   const smpl::Vertices& t = rest;
   const double neck_y = t(at.neck_front, 1);
@@ -295,6 +302,15 @@ Eigen::VectorXd Measurer::operator()(const smpl::Vertices& v) const {
   all["knee_height"] = v(at.knee_lateral, 1) - floor;
   all["arm_length"] = hanging_arm_length(model, v);
   all["upper_arm_length"] = hanging_upper_arm_length(model, v);
+  // NHANES's mid-upper-arm circumference: the left arm's slice perpendicular to the T-posed
+  // arm halfway between the acromion and the radiale, the loop nearest the humerus's midpoint
+  // (SMPL's shoulder and elbow joints).
+  const Eigen::Vector3d radiale = caliper::landmark_point(v, landmarks.at("left_radiale"));
+  const Eigen::Vector3d humerus = 0.5 * (joint(v, model.j_regressor, kJointLeftShoulder) +
+                                         joint(v, model.j_regressor, kJointLeftElbow));
+  all["upper_arm_circumference"] =
+      nearest_loop_girth(slice_x(v, faces, 0.5 * (shoulder.x() + radiale.x())),
+                         Eigen::Vector2d(humerus.y(), humerus.z()));
   all["acromial_height"] = shoulder.y() - floor;
   all["hand_length"] = (caliper::landmark_point(v, landmarks.at("left_fingertip")) - wrist).norm();
   Eigen::VectorXd out(static_cast<Eigen::Index>(fit_measures().size()));

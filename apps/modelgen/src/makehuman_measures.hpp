@@ -61,6 +61,21 @@ SurveyVertices survey_vertices(const smpl::Vertices& t, const smpl::Faces& f,
                                const smpl::SparseMatrix& j_regressor,
                                const caliper::LandmarkTable& landmarks);
 
+/// The skin's allowance in the open models' weight formula (m^3): open_model_weight_formula().
+inline constexpr double kSkinVolumeAllowance = 0.004;
+
+/// The weight formula of the open models of `sex` ("female", "male", "neutral"): the paper's
+/// (caliper::weight_formula_for()) read on the skin's volume plus kSkinVolumeAllowance,
+/// coefficient x (V + 4 L) + intercept. The paper's lines were fitted to SMPL registered to
+/// CAESAR's scans (underwear, a cap, breathing), so at equal weight they ask for more volume than
+/// a naked skin encloses: 64.3 L of a 62 kg woman (0.965 kg/L), where tissue at about 1.04 kg/L
+/// plus the lungs' residual air is 61-63 L. With the arms' girth fitted, the volume the paper's
+/// formula asks for has to go somewhere: into the women's trunks (navel waist +14 mm on the
+/// ANSUR II women, 244 subjects left out); with 4 L every residual is as small as without the
+/// arms (docs/models.md). The fit weighs its bodies with it and the models carry it, so that the
+/// product weighs an avatar as the generator fitted it.
+caliper::WeightFormula open_model_weight_formula(const std::string& sex);
+
 /// The fit_measures() of bodies of one model and sex, in fit_measures() order (metres, kg); NaN
 /// where a measurement cannot be taken on a body. The rules are placed once on `rest`, a T-posed
 /// body of the sex on `tmpl`'s topology (its average: the fold under the buttock, say, lies

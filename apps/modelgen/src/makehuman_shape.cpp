@@ -68,7 +68,10 @@ const std::vector<FitMeasure>& fit_measures() {
                                             // NHANES: mapped (protocol_mapping.hpp); the
                                             // mapping's residual SD is 5-6 mm, plus NHANES's
                                             // own measuring error.
-                                            {"upper_arm_length", 0.005, 0.0, 0.01}};
+                                            {"upper_arm_length", 0.005, 0.0, 0.01},
+                                            // ANSUR II: the flexed biceps mapped onto the
+                                            // relaxed girth (read_subjects()).
+                                            {"upper_arm_circumference", 0.01}};
   return m;
 }
 
@@ -77,6 +80,8 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 /// fit_measures() index of "upper_arm_length".
 constexpr int kUpperArmLength = 20;
+/// fit_measures() index of "upper_arm_circumference".
+constexpr int kUpperArmCircumference = 21;
 
 void add_survey(const std::string& path, const std::string& sex, const std::string& source,
                 const std::vector<std::string>& columns, const std::vector<int>& measure,
@@ -115,6 +120,21 @@ UpperArmMapping upper_arm_mapping_of(const std::string& ansur_path,
   return upper_arm_mapping(a, n);
 }
 
+/// What to add to an ANSUR II subject's flexed biceps circumference to have the relaxed
+/// mid-upper-arm girth NHANES measures (`BMXARMC`) at equal stature and weight
+/// (protocol_mapping.hpp, protocol_offset(); metres, negative).
+double biceps_offset_of(const std::string& ansur_path, const std::string& nhanes_path) {
+  Eigen::MatrixXd a =
+      read_survey_columns(ansur_path, {"stature", "weightkg", "bicepscircumferenceflexed"});
+  a.col(0) *= 1e-3;
+  a.col(1) *= 0.1;
+  a.col(2) *= 1e-3;
+  Eigen::MatrixXd n = read_survey_columns(nhanes_path, {"BMXHT", "BMXWT", "BMXARMC"});
+  n.col(0) *= 1e-2;
+  n.col(2) *= 1e-2;
+  return protocol_offset(a, n).offset;
+}
+
 }  // namespace
 
 std::vector<Subject> read_subjects(const std::string& ansur_dir, const std::string& nhanes_dir) {
@@ -140,18 +160,19 @@ std::vector<Subject> read_subjects(const std::string& ansur_dir, const std::stri
                                           "radialestylionlength",
                                           "handlength",
                                           "acromialheight",
-                                          "acromionradialelength"};
-  const std::vector<int> ansur_measure = {0,  1,  2,  3,  4,  5,  6,  7,  8,  9, 11,
-                                          12, 13, 14, 15, 16, 17, 17, 18, 19, 20};
+                                          "acromionradialelength",
+                                          "bicepscircumferenceflexed"};
+  const std::vector<int> ansur_measure = {0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  11,
+                                          12, 13, 14, 15, 16, 17, 17, 18, 19, 20, 21};
   std::vector<double> ansur_scale(ansur.size(), 1e-3);
   ansur_scale[1] = 0.1;
   add_survey(ansur_dir + "/ANSUR_II_FEMALE_Public.csv", "female", "ANSUR II", ansur, ansur_measure,
              ansur_scale, out);
   add_survey(ansur_dir + "/ANSUR_II_MALE_Public.csv", "male", "ANSUR II", ansur, ansur_measure,
              ansur_scale, out);
-  const std::vector<std::string> nhanes = {"BMXHT", "BMXWT", "BMXHIP", "BMXWAIST"};
-  const std::vector<int> nhanes_measure = {0, 1, 8, 10};
-  const std::vector<double> nhanes_scale = {1e-2, 1.0, 1e-2, 1e-2};
+  const std::vector<std::string> nhanes = {"BMXHT", "BMXWT", "BMXHIP", "BMXWAIST", "BMXARMC"};
+  const std::vector<int> nhanes_measure = {0, 1, 8, 10, kUpperArmCircumference};
+  const std::vector<double> nhanes_scale = {1e-2, 1.0, 1e-2, 1e-2, 1e-2};
   for (const auto& [sex, ansur_file, nhanes_file] :
        {std::tuple<std::string, std::string, std::string>{"female", "ANSUR_II_FEMALE_Public.csv",
                                                           "NHANES_2017_2020_FEMALE_dev.csv"},
@@ -170,6 +191,11 @@ std::vector<Subject> read_subjects(const std::string& ansur_dir, const std::stri
     for (Eigen::Index r = 0; r < arm.rows(); ++r) {
       out[first + static_cast<size_t>(r)].values[kUpperArmLength] =
           map.acromion_radiale(arm(r, 0) * 1e-2);
+    }
+    const double relaxed =
+        biceps_offset_of(ansur_dir + "/" + ansur_file, nhanes_dir + "/" + nhanes_file);
+    for (Subject& s : out) {
+      if (s.source == "ANSUR II" && s.sex == sex) s.values[kUpperArmCircumference] += relaxed;
     }
   }
   return out;
@@ -747,9 +773,15 @@ std::uint64_t fit_fingerprint(const ShapeBasis& basis, const smpl::BodyModel& tm
   // levels (makehuman_measures.cpp, caliper::thigh_fold_level(); raise it when one changes), and
   // the thigh's floor under the crotch: a changed definition makes another fit.
   // 2: the thigh at least 3 cm under the crotch; 3: the chest clipped between the acromia;
-  // 4: the radiale landmark (the upper arm's acromion-radiale length)
-  constexpr std::int32_t kMeasuresVersion = 4;
+  // 4: the radiale landmark (the upper arm's acromion-radiale length); 5: the mid-upper-arm
+  // girth, and the weight of the open models' own formula (open_model_weight_formula())
+  constexpr std::int32_t kMeasuresVersion = 5;
   f.bytes(&kMeasuresVersion, sizeof kMeasuresVersion);
+  for (const char* sex : {"female", "male"}) {
+    const caliper::WeightFormula w = open_model_weight_formula(sex);
+    f.bytes(&w.coefficient, sizeof w.coefficient);
+    f.bytes(&w.intercept, sizeof w.intercept);
+  }
   f.bytes(&caliper::kThighBelowCrotch, sizeof caliper::kThighBelowCrotch);
   for (const FitMeasure& m : fit_measures()) {
     f.text(m.id);
@@ -879,9 +911,28 @@ Eigen::VectorXd coordinates(const std::vector<Subject>& subjects, const FitResul
   return z;
 }
 
-/// Variance below this fraction of the largest is numerical noise (also: the rank of the NHANES
-/// subjects' spread).
+/// Variance below this fraction of the largest is numerical noise.
 constexpr double kRankTolerance = 1e-9;
+
+/// nhanes_spread_rank()'s cut. At 1e-9 (the numerical noise's) the women's ANSUR II spread was
+/// conditioned on 23 directions, vanished after the sixth component, and R4 drove the held-out
+/// soldiers' betas to 10 SD (docs/models.md, Limits).
+constexpr double kNhanesSpreadTolerance = 1e-3;
+
+}  // namespace
+
+Eigen::Index nhanes_spread_rank(const Eigen::VectorXd& eigenvalues_ascending) {
+  const Eigen::Index k = eigenvalues_ascending.size();
+  if (k == 0) return 0;
+  const double largest = eigenvalues_ascending[k - 1];
+  Eigen::Index rank = 0;
+  while (rank < k && eigenvalues_ascending[k - 1 - rank] > kNhanesSpreadTolerance * largest) {
+    ++rank;
+  }
+  return rank;
+}
+
+namespace {
 
 /// The general adult population of one sex (Population::general): the NHANES subjects' moments
 /// plus the ANSUR II subjects' covariance given the NHANES measurements. The NHANES subjects
@@ -923,9 +974,7 @@ Moments general_moments(const ShapeBasis& basis, const std::vector<Subject>& sub
     P(j, j) += floor * floor;
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> spread(N);
-  const double largest = spread.eigenvalues()[k - 1];
-  Eigen::Index rank = 0;
-  while (rank < k && spread.eigenvalues()[k - 1 - rank] > kRankTolerance * largest) ++rank;
+  const Eigen::Index rank = nhanes_spread_rank(spread.eigenvalues());
   const Eigen::MatrixXd D = spread.eigenvectors().rightCols(rank);
   const Eigen::MatrixXd Ct = P.ldlt().solve(D);  // k x rank
   const Eigen::MatrixXd SC = S * Ct;
@@ -1071,9 +1120,10 @@ void store_shape_curve(const std::vector<Subject>& subjects, const FitResult& fi
     wt[r] = sex == "neutral" ? 0.5 / per_sex.at(subjects[i].sex) : 1.0;
     betas.row(r) = (to_betas * (coordinates(subjects, fit, i) - mean)).transpose();
   }
-  caliper::set_shape_curve(
-      model, caliper::fit_shape_curve(height, weight, betas, wt,
-                                      "NHANES 2017-2020 development half, registered"));
+  caliper::set_shape_curve(model,
+                           caliper::fit_shape_curve(height, weight, betas, wt,
+                                                    "NHANES 2017-2020 development half, registered",
+                                                    caliper::ShapeCurve::WeightInput::kKilograms));
 }
 
 }  // namespace
@@ -1131,6 +1181,8 @@ smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl
   }
   store_survey_populations(basis, subjects, fit, sex, mean, to_betas, model);
   if (population.general) store_shape_curve(subjects, fit, sex, mean, to_betas, model);
+  // The formula the fit weighed the bodies with, so that the product weighs them alike.
+  caliper::set_weight_formula(model, open_model_weight_formula(sex));
   // The basis is symmetric, so the mean and the components are to rounding; made exact here
   // (mirrored landmarks then agree to the last bit).
   const Eigen::Index nv = model.v_template.rows();

@@ -163,14 +163,21 @@ void save_fit(const std::string& path, std::uint64_t fingerprint, const FitResul
 std::optional<FitResult> load_fit(const std::string& path, std::uint64_t fingerprint,
                                   Eigen::Index rows, Eigen::Index cols);
 
+/// How many directions of the NHANES subjects' registered weights their measurements determine,
+/// from the eigenvalues of the weights' covariance (ascending, as Eigen gives them): those above
+/// 1e-3 of the largest. The subjects are fitted on six measurements through a non-linear mesh, so
+/// below about six real directions lies a tail of the fit's small departures (2e-3 down to
+/// 1e-10), which Population::general must not condition ANSUR II's spread on (docs/models.md).
+Eigen::Index nhanes_spread_rank(const Eigen::VectorXd& eigenvalues_ascending);
+
 /// Which population a model's betas ~ N(0, I) stand for (each sex; the neutral model: both
 /// sexes, each weighted to half).
 struct Population {
   /// false: the registered subjects of the sex, pooled (each survey in proportion to its
   /// size, or to `survey_share`). true: the general adult population, "NHANES for what NHANES
   /// measures, ANSUR II for the rest": the mean and covariance of the NHANES subjects' weights
-  /// (they vary only along the directions their four measurements move the fit, through the
-  /// ANSUR II prior) plus the covariance of the ANSUR II subjects' weights given those four
+  /// (they vary only along the directions their six measurements move the fit, through the
+  /// ANSUR II prior) plus the covariance of the ANSUR II subjects' weights given those six
   /// measurements (their population covariance minus the part the measurements explain
   /// linearly). Needs subjects of both surveys of the sex, else std::invalid_argument.
   bool general = false;

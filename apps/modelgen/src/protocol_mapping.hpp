@@ -13,11 +13,30 @@
 ///    the NHANES people with a BMI under `max_bmi` (ANSUR II has few people above 35);
 /// 2. acromion-radiale = intercept + slope x shoulder-elbow, least squares on ANSUR II;
 /// so an NHANES person's value becomes intercept + slope x (BMXARML - offset).
+///
+/// Step 1 alone (protocol_offset()) also maps ANSUR II's *flexed* biceps circumference onto
+/// NHANES's relaxed mid-upper-arm circumference `BMXARMC`, which the mesh measures: at equal
+/// stature and weight the relaxed girth is the smaller (about 5 mm for women, 21 mm for men),
+/// so a soldier's relaxed girth is taken as flexed + offset.
 #pragma once
 
 #include <Eigen/Core>
 
 namespace modelgen {
+
+/// Step 1 of one sex: NHANES's value minus the ANSUR II value predicted at the NHANES person's
+/// stature and cube root of weight, averaged over the people under the BMI cut (metres).
+struct ProtocolOffset {
+  double offset = 0.0;    ///< NHANES minus ANSUR II at equal stature and weight
+  int nhanes_people = 0;  ///< behind the offset
+};
+
+/// Step 1 from `ansur` rows (stature m, weight kg, value m) and `nhanes` rows (height m, weight
+/// kg, value m). Throws std::invalid_argument when a table has another number of columns, a
+/// value is not a positive finite number, ANSUR II has fewer than 10 rows or no NHANES person is
+/// under `max_bmi`.
+ProtocolOffset protocol_offset(const Eigen::MatrixXd& ansur, const Eigen::MatrixXd& nhanes,
+                               double max_bmi = 35.0);
 
 /// One sex's mapping (metres).
 struct UpperArmMapping {
