@@ -6,10 +6,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "caliper/measurements.hpp"
+#include "caliper/shape_curve.hpp"
 #include "caliper/volume.hpp"
+#include "caliper/weight.hpp"
+#include "makehuman_measures.hpp"
 #include "mesh_checks.hpp"
 #include "smpl/evaluate.hpp"
 #include "smpl/io.hpp"
@@ -64,6 +68,21 @@ TEST_P(OpenModel, HasTheSmplStructure) {
     ASSERT_EQ(model_.mirror[static_cast<std::size_t>(model_.mirror[static_cast<std::size_t>(v)])],
               v);
   }
+}
+
+// The product weighs an avatar as the generator fitted it: the model carries the generator's
+// formula (the paper's on the skin's volume plus 4 L), and its shape curve names the weight in
+// kg as its input.
+TEST_P(OpenModel, CarriesTheWeightFormulaAndCurveInputItWasFittedWith) {
+  const caliper::WeightFormula own = caliper::weight_formula_of(model_);
+  const caliper::WeightFormula fitted = modelgen::mh::open_model_weight_formula(GetParam());
+  EXPECT_EQ(own.coefficient, fitted.coefficient);
+  EXPECT_EQ(own.intercept, fitted.intercept);
+  EXPECT_EQ(own.name, fitted.name);
+  EXPECT_NE(own.intercept, caliper::weight_formula_for(GetParam()).intercept);
+  const std::optional<caliper::ShapeCurve> curve = caliper::shape_curve(model_);
+  ASSERT_TRUE(curve);
+  EXPECT_EQ(curve->weight_input, caliper::ShapeCurve::WeightInput::kKilograms);
 }
 
 TEST_P(OpenModel, HasEveryLandmarkOfTheSharedVocabulary) {
