@@ -60,7 +60,7 @@ void declare_options(CLI::App& cli, Options& o) {
             "fitted joint regressor, landmarks, texture coordinates), its targets fitted to every\n"
             "ANSUR II and NHANES subject under --surveys (ansur2/, nhanes/; default\n"
             "../shared/data) and their principal components per sex, touching skin separated and\n"
-            "pose correctives fitted; the same bytes on every x86-64 CPU. About 4 minutes on 2\n"
+            "pose correctives fitted; the same bytes on every x86-64 CPU. About 5 minutes on 2\n"
             "cores; with --fit-cache a rerun on the same inputs takes under 2 minutes.\n"
             "--validate compares a model's bodies with the ANSUR II statistics table\n"
             "(assets/models/ansur_stats.csv, which --stats-from recomputes from the survey files).",
