@@ -105,34 +105,36 @@ void add_survey(const std::string& path, const std::string& sex, const std::stri
   }
 }
 
-/// The upper arm mapping of one sex from its ANSUR II and NHANES files (protocol_mapping.hpp).
-UpperArmMapping upper_arm_mapping_of(const std::string& ansur_path,
-                                     const std::string& nhanes_path) {
-  Eigen::MatrixXd a = read_survey_columns(
-      ansur_path, {"stature", "weightkg", "shoulderelbowlength", "acromionradialelength"});
-  a.col(0) *= 1e-3;
-  a.col(1) *= 0.1;
-  a.col(2) *= 1e-3;
-  a.col(3) *= 1e-3;
-  Eigen::MatrixXd n = read_survey_columns(nhanes_path, {"BMXHT", "BMXWT", "BMXARML"});
-  n.col(0) *= 1e-2;
-  n.col(2) *= 1e-2;
-  return upper_arm_mapping(a, n);
-}
+/// What one sex's ANSUR II and NHANES files give the arm's two measurements
+/// (protocol_mapping.hpp), each file read once.
+struct ArmProtocols {
+  UpperArmMapping upper_arm;  ///< NHANES's upper arm length onto ANSUR II's acromion-radiale
+  /// What to add to an ANSUR II subject's flexed biceps circumference to have the relaxed
+  /// mid-upper-arm girth NHANES measures (`BMXARMC`) at equal stature and weight (metres,
+  /// negative; protocol_offset()).
+  double biceps_offset = 0.0;
+  Eigen::VectorXd nhanes_upper_arm;  ///< every NHANES person's `BMXARML` (metres), file order
+};
 
-/// What to add to an ANSUR II subject's flexed biceps circumference to have the relaxed
-/// mid-upper-arm girth NHANES measures (`BMXARMC`) at equal stature and weight
-/// (protocol_mapping.hpp, protocol_offset(); metres, negative).
-double biceps_offset_of(const std::string& ansur_path, const std::string& nhanes_path) {
+ArmProtocols arm_protocols_of(const std::string& ansur_path, const std::string& nhanes_path) {
   Eigen::MatrixXd a =
-      read_survey_columns(ansur_path, {"stature", "weightkg", "bicepscircumferenceflexed"});
+      read_survey_columns(ansur_path, {"stature", "weightkg", "shoulderelbowlength",
+                                       "acromionradialelength", "bicepscircumferenceflexed"});
   a.col(0) *= 1e-3;
   a.col(1) *= 0.1;
-  a.col(2) *= 1e-3;
-  Eigen::MatrixXd n = read_survey_columns(nhanes_path, {"BMXHT", "BMXWT", "BMXARMC"});
+  for (Eigen::Index c = 2; c < 5; ++c) a.col(c) *= 1e-3;
+  Eigen::MatrixXd n = read_survey_columns(nhanes_path, {"BMXHT", "BMXWT", "BMXARML", "BMXARMC"});
   n.col(0) *= 1e-2;
   n.col(2) *= 1e-2;
-  return protocol_offset(a, n).offset;
+  n.col(3) *= 1e-2;
+  ArmProtocols out;
+  out.upper_arm = upper_arm_mapping(a.leftCols(4), n.leftCols(3));
+  Eigen::MatrixXd biceps_a(a.rows(), 3), biceps_n(n.rows(), 3);
+  biceps_a << a.leftCols(2), a.col(4);
+  biceps_n << n.leftCols(2), n.col(3);
+  out.biceps_offset = protocol_offset(biceps_a, biceps_n).offset;
+  out.nhanes_upper_arm = n.col(2);
+  return out;
 }
 
 }  // namespace
@@ -180,22 +182,22 @@ std::vector<Subject> read_subjects(const std::string& ansur_dir, const std::stri
     const size_t first = out.size();
     add_survey(nhanes_dir + "/" + nhanes_file, sex, "NHANES", nhanes, nhanes_measure, nhanes_scale,
                out);
-    const UpperArmMapping map =
-        upper_arm_mapping_of(ansur_dir + "/" + ansur_file, nhanes_dir + "/" + nhanes_file);
-    const Eigen::MatrixXd arm = read_survey_columns(nhanes_dir + "/" + nhanes_file, {"BMXARML"});
-    if (static_cast<size_t>(arm.rows()) != out.size() - first) {
-      throw std::runtime_error(nhanes_dir + "/" + nhanes_file + ": " + std::to_string(arm.rows()) +
-                               " upper arm lengths for " + std::to_string(out.size() - first) +
-                               " people");
+    const ArmProtocols arm =
+        arm_protocols_of(ansur_dir + "/" + ansur_file, nhanes_dir + "/" + nhanes_file);
+    const Eigen::VectorXd& length = arm.nhanes_upper_arm;
+    if (static_cast<size_t>(length.size()) != out.size() - first) {
+      throw std::runtime_error(nhanes_dir + "/" + nhanes_file + ": " +
+                               std::to_string(length.size()) + " upper arm lengths for " +
+                               std::to_string(out.size() - first) + " people");
     }
-    for (Eigen::Index r = 0; r < arm.rows(); ++r) {
+    for (Eigen::Index r = 0; r < length.size(); ++r) {
       out[first + static_cast<size_t>(r)].values[kUpperArmLength] =
-          map.acromion_radiale(arm(r, 0) * 1e-2);
+          arm.upper_arm.acromion_radiale(length[r]);
     }
-    const double relaxed =
-        biceps_offset_of(ansur_dir + "/" + ansur_file, nhanes_dir + "/" + nhanes_file);
     for (Subject& s : out) {
-      if (s.source == "ANSUR II" && s.sex == sex) s.values[kUpperArmCircumference] += relaxed;
+      if (s.source == "ANSUR II" && s.sex == sex) {
+        s.values[kUpperArmCircumference] += arm.biceps_offset;
+      }
     }
   }
   return out;

@@ -71,8 +71,7 @@ ProtocolOffset protocol_offset(const Eigen::MatrixXd& ansur, const Eigen::Matrix
 
 UpperArmMapping upper_arm_mapping(const Eigen::MatrixXd& ansur, const Eigen::MatrixXd& nhanes,
                                   double max_bmi) {
-  check_table(ansur, 4, "ANSUR II");
-  check_table(nhanes, 3, "NHANES");
+  check_table(ansur, 4, "ANSUR II");  // the NHANES table: protocol_offset()
   const Eigen::Index n = ansur.rows();
   const ProtocolOffset step1 = protocol_offset(ansur.leftCols(3), nhanes, max_bmi);
   UpperArmMapping m;
