@@ -12,6 +12,7 @@
 #include <iterator>
 #include <optional>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -119,6 +120,60 @@ TEST(MakeHumanShape, ReadsBothSurveysWithTheirUnits) {
   EXPECT_EQ(counts[1][1], 2041);  // NHANES men
   EXPECT_GT(max_bmi, 50.0);       // the general population reaches far beyond the soldiers
   EXPECT_THROW(mh::read_subjects("/nonexistent", kData + "/nhanes"), std::runtime_error);
+}
+
+// A survey file whose arm value is not a positive number (here a woman's BMXARMC set to 0) is
+// refused with the file, the row and the column named, not taken into the arm's protocol maps.
+TEST(MakeHumanShape, ABadArmValueInASurveyIsRefusedNamingFileRowAndColumn) {
+  REQUIRE_DATA();
+  namespace fs = std::filesystem;
+  const fs::path dir =
+      fs::temp_directory_path() / ("caliper-bad-survey-" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  fs::copy(kData + "/ansur2", dir / "ansur2", fs::copy_options::recursive);
+  fs::copy(kData + "/nhanes", dir / "nhanes", fs::copy_options::recursive);
+  const fs::path file = dir / "nhanes" / "NHANES_2017_2020_FEMALE_dev.csv";
+  std::vector<std::string> lines;
+  {
+    std::ifstream in(file);
+    for (std::string l; std::getline(in, l);) lines.push_back(l);
+  }
+  size_t header = 0;
+  while (header < lines.size() && (lines[header].empty() || lines[header][0] == '#')) ++header;
+  ASSERT_LT(header + 3, lines.size());
+  const auto split = [](const std::string& line) {
+    std::vector<std::string> out;
+    std::stringstream in(line);
+    std::string cell;
+    while (std::getline(in, cell, ',')) out.push_back(cell);
+    return out;
+  };
+  const std::vector<std::string> names = split(lines[header]);
+  std::vector<std::string> cells = split(lines[header + 3]);
+  const auto col = std::find_if(names.begin(), names.end(), [](const std::string& n) {
+    return n.find("BMXARMC") != std::string::npos;
+  });
+  ASSERT_NE(col, names.end());
+  cells[static_cast<size_t>(col - names.begin())] = "0";
+  std::string row;
+  for (size_t c = 0; c < cells.size(); ++c) row += (c ? "," : "") + cells[c];
+  lines[header + 3] = row;
+  {
+    std::ofstream out(file);
+    for (const std::string& l : lines) out << l << "\n";
+  }
+  try {
+    mh::read_subjects((dir / "ansur2").string(), (dir / "nhanes").string());
+    ADD_FAILURE() << "a zero arm circumference was accepted";
+  } catch (const std::runtime_error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find(file.string()), std::string::npos) << m;
+    EXPECT_NE(m.find("data row 3"), std::string::npos) << m;
+    EXPECT_NE(m.find("BMXARMC"), std::string::npos) << m;
+    EXPECT_NE(m.find("as published"), std::string::npos) << m;
+  }
+  fs::remove_all(dir);
 }
 
 // Every registered body measures what its subject measured: heights and lengths to a few mm,

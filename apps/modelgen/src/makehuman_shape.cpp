@@ -116,23 +116,47 @@ struct ArmProtocols {
   Eigen::VectorXd nhanes_upper_arm;  ///< every NHANES person's `BMXARML` (metres), file order
 };
 
+/// Throws std::runtime_error naming the file, the data row and the column of the first value of
+/// `t` (read from `path`'s `columns`) that is not a positive number.
+void require_positive(const Eigen::MatrixXd& t, const std::string& path,
+                      const std::vector<std::string>& columns) {
+  for (Eigen::Index r = 0; r < t.rows(); ++r) {
+    for (Eigen::Index c = 0; c < t.cols(); ++c) {
+      if (!(std::isfinite(t(r, c)) && t(r, c) > 0.0)) {
+        throw std::runtime_error("survey file '" + path + "' data row " + std::to_string(r + 1) +
+                                 ": column '" + columns[static_cast<size_t>(c)] +
+                                 "' is not a positive number; use the survey's file as published");
+      }
+    }
+  }
+}
+
 ArmProtocols arm_protocols_of(const std::string& ansur_path, const std::string& nhanes_path) {
-  Eigen::MatrixXd a =
-      read_survey_columns(ansur_path, {"stature", "weightkg", "shoulderelbowlength",
-                                       "acromionradialelength", "bicepscircumferenceflexed"});
+  const std::vector<std::string> ansur_columns = {"stature", "weightkg", "shoulderelbowlength",
+                                                  "acromionradialelength",
+                                                  "bicepscircumferenceflexed"};
+  const std::vector<std::string> nhanes_columns = {"BMXHT", "BMXWT", "BMXARML", "BMXARMC"};
+  Eigen::MatrixXd a = read_survey_columns(ansur_path, ansur_columns);
+  Eigen::MatrixXd n = read_survey_columns(nhanes_path, nhanes_columns);
+  require_positive(a, ansur_path, ansur_columns);
+  require_positive(n, nhanes_path, nhanes_columns);
   a.col(0) *= 1e-3;
   a.col(1) *= 0.1;
   for (Eigen::Index c = 2; c < 5; ++c) a.col(c) *= 1e-3;
-  Eigen::MatrixXd n = read_survey_columns(nhanes_path, {"BMXHT", "BMXWT", "BMXARML", "BMXARMC"});
   n.col(0) *= 1e-2;
   n.col(2) *= 1e-2;
   n.col(3) *= 1e-2;
   ArmProtocols out;
-  out.upper_arm = upper_arm_mapping(a.leftCols(4), n.leftCols(3));
-  Eigen::MatrixXd biceps_a(a.rows(), 3), biceps_n(n.rows(), 3);
-  biceps_a << a.leftCols(2), a.col(4);
-  biceps_n << n.leftCols(2), n.col(3);
-  out.biceps_offset = protocol_offset(biceps_a, biceps_n).offset;
+  try {
+    out.upper_arm = upper_arm_mapping(a.leftCols(4), n.leftCols(3));
+    Eigen::MatrixXd biceps_a(a.rows(), 3), biceps_n(n.rows(), 3);
+    biceps_a << a.leftCols(2), a.col(4);
+    biceps_n << n.leftCols(2), n.col(3);
+    out.biceps_offset = protocol_offset(biceps_a, biceps_n).offset;
+  } catch (const std::invalid_argument& e) {  // too few people: the files are not the surveys'
+    throw std::runtime_error("survey files '" + ansur_path + "' and '" + nhanes_path +
+                             "': " + e.what() + "; use the surveys' files as published");
+  }
   out.nhanes_upper_arm = n.col(2);
   return out;
 }
