@@ -48,9 +48,14 @@ int index_of(const std::string& id) {
 /// Mean measurement / stature of ANSUR II (both files, 2026-11-25: python over the CSVs), per
 /// sex: the average MakeHuman body is an average adult, so its proportions should be near.
 const std::map<std::string, std::pair<double, double>> kAnsurRatio = {
-    {"neck_circumference", {0.2027, 0.2267}},  {"thigh_circumference", {0.3785, 0.3562}},
-    {"calf_circumference", {0.2293, 0.2235}},  {"wrist_circumference", {0.0951, 0.1002}},
-    {"ankle_circumference", {0.1326, 0.1307}}, {"knee_height", {0.2860, 0.2799}}};
+    {"neck_circumference", {0.2027, 0.2267}},
+    {"thigh_circumference", {0.3785, 0.3562}},
+    {"calf_circumference", {0.2293, 0.2235}},
+    {"wrist_circumference", {0.0951, 0.1002}},
+    {"ankle_circumference", {0.1326, 0.1307}},
+    {"knee_height", {0.2860, 0.2799}},
+    // trochanterionheight minus lateralfemoralepicondyleheight (2026-12-07)
+    {"upper_leg_length", {0.2330, 0.2329}}};
 
 /// How far the average MakeHuman body's proportions may be from the soldiers'. MakeHuman's
 /// average is not ANSUR II's: its woman has slender wrists (-18 %), thighs (-13 %), ankles (-13 %)
@@ -107,6 +112,18 @@ TEST(MakeHumanMeasures, RuleLevelsAreAnatomical) {
     EXPECT_LT(calf, knee) << sex;
     EXPECT_GT(ankle, 0.04 * height) << sex;  // above the malleoli (about 4 % of stature)
     EXPECT_LT(ankle, calf) << sex;
+    // The trochanterion: on the side of the hip, between the crotch and the iliac crest, well
+    // outside the hip joint (the greater trochanter lies lateral of the femur's head).
+    const Eigen::RowVector3d trochanter = (1.0 - m.at.trochanter_t) * t.row(m.at.trochanter_a) +
+                                          m.at.trochanter_t * t.row(m.at.trochanter_b);
+    EXPECT_NEAR((trochanter.y() - crotch) / height, sex == "female" ? 0.0388 : 0.0313, 1e-9)
+        << sex << ": ANSUR II's level over the crotch";
+    EXPECT_GT(trochanter.y(), crotch) << sex;
+    EXPECT_LT(trochanter.y(), t(m.at.iliac_crest, 1)) << sex;
+    const double hip_x = s.tmpl.j_regressor.row(1).dot(t.col(0));
+    EXPECT_GT(trochanter.x() - hip_x, 0.04) << sex;
+    std::printf("%-6s trochanterion %.3f H, %.1f mm outside the hip joint\n", sex.c_str(),
+                (trochanter.y() - floor) / height, (trochanter.x() - hip_x) * 1000.0);
     const double neck = t(m.at.neck_front, 1) - floor;
     EXPECT_GT(neck / height, 0.80) << sex;  // under the chin (about 0.87 H), over the shoulders
     EXPECT_LT(neck / height, 0.90) << sex;

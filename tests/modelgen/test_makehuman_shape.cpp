@@ -109,6 +109,11 @@ TEST(MakeHumanShape, ReadsBothSurveysWithTheirUnits) {
     EXPECT_EQ(mh::fit_measures()[21].id, "upper_arm_circumference");
     EXPECT_GT(s.values[21], 0.165) << s.source;
     EXPECT_LT(s.values[21], 0.65) << s.source;
+    // The upper leg, trochanterion to lateral femoral epicondyle height, NHANES's (inguinal
+    // crease to kneecap, seated) mapped onto it: 0.266 to 0.521 m in the surveys.
+    EXPECT_EQ(mh::fit_measures()[22].id, "upper_leg_length");
+    EXPECT_GT(s.values[22], 0.25) << s.source;
+    EXPECT_LT(s.values[22], 0.55) << s.source;
     if (s.source == "NHANES") {
       EXPECT_TRUE(std::isnan(s.values[2])) << "NHANES has no arm span";
       max_bmi = std::max(max_bmi, bmi(s));
@@ -120,6 +125,60 @@ TEST(MakeHumanShape, ReadsBothSurveysWithTheirUnits) {
   EXPECT_EQ(counts[1][1], 2041);  // NHANES men
   EXPECT_GT(max_bmi, 50.0);       // the general population reaches far beyond the soldiers
   EXPECT_THROW(mh::read_subjects("/nonexistent", kData + "/nhanes"), std::runtime_error);
+}
+
+// NHANES's upper leg length (the inguinal crease to the kneecap's upper edge, seated) mapped onto
+// ANSUR II's trochanterion-to-epicondyle height: at equal stature and cube root of weight the
+// mapped values are ANSUR II's (the mean difference under BMI 35 is what the mapping removes:
+// 0.3 mm women, 9.1 mm men), and the difference stays small in every BMI bin under 40 (at most
+// 5.2 mm, the men of BMI 35-40), because both ends of both measurements are bony; ANSUR II's
+// crotch height in place of the trochanterion drifts by 14-21 mm from the thinnest bin to the
+// BMI 35-40 one (the crotch sinks into a fuller thigh).
+TEST(MakeHumanShape, NhanesUpperLegIsAnsurIisTrochanterToKneeAtEveryBmi) {
+  REQUIRE_DATA();
+  const std::vector<mh::Subject> all = mh::read_subjects(kData + "/ansur2", kData + "/nhanes");
+  const auto features = [](const mh::Subject& s) {
+    return Eigen::RowVector3d(1.0, s.values[0], std::cbrt(s.values[1]));
+  };
+  for (const char* sex : {"female", "male"}) {
+    std::vector<const mh::Subject*> ansur;
+    for (const mh::Subject& s : all) {
+      if (s.sex == sex && s.source == "ANSUR II") ansur.push_back(&s);
+    }
+    Eigen::MatrixXd x(static_cast<Eigen::Index>(ansur.size()), 3);
+    Eigen::VectorXd y(x.rows());
+    for (Eigen::Index r = 0; r < x.rows(); ++r) {
+      x.row(r) = features(*ansur[static_cast<size_t>(r)]);
+      y[r] = ansur[static_cast<size_t>(r)]->values[22];
+    }
+    const Eigen::Vector3d fit = x.householderQr().solve(y);
+    const double edges[] = {0.0, 20.0, 25.0, 30.0, 35.0, 40.0};
+    double sum[5] = {0, 0, 0, 0, 0};
+    int count[5] = {0, 0, 0, 0, 0};
+    for (const mh::Subject& s : all) {
+      if (s.sex != std::string(sex) || s.source != "NHANES") continue;
+      for (int b = 0; b < 5; ++b) {
+        if (bmi(s) >= edges[b] && bmi(s) < edges[b + 1]) {
+          sum[b] += s.values[22] - features(s).dot(fit);
+          ++count[b];
+        }
+      }
+    }
+    double under35 = 0.0;
+    int n35 = 0;
+    for (int b = 0; b < 5; ++b) {
+      ASSERT_GT(count[b], 20) << sex << " bin " << b;
+      const double mean = sum[b] / count[b];
+      std::printf("%-6s BMI %2.0f-%2.0f: NHANES mapped minus ANSUR II %+.1f mm (%d people)\n", sex,
+                  edges[b], edges[b + 1], mean * 1000.0, count[b]);
+      EXPECT_LT(std::abs(mean), 0.0075) << sex << " BMI bin " << b;
+      if (b < 4) {
+        under35 += sum[b];
+        n35 += count[b];
+      }
+    }
+    EXPECT_LT(std::abs(under35 / n35), 1e-9) << sex << ": the mapping removes the mean under 35";
+  }
 }
 
 // A survey file whose arm value is not a positive number (here a woman's BMXARMC set to 0) is
@@ -185,18 +244,22 @@ void check_residuals(const Registered& s) {
   // buttock circumference, iliac crest height, waist at the iliac crest, neck, thigh, calf,
   // ankle and wrist circumferences, knee height, hanging arm, hand length, acromial height, upper
   // arm (acromion-radiale; NHANES's mapped from its own protocol, 4.9 mm RMS, 24 mm worst), upper
-  // arm girth (ANSUR II's flexed biceps mapped onto the relaxed girth; 3.8 mm RMS, 30 mm worst).
+  // arm girth (ANSUR II's flexed biceps mapped onto the relaxed girth; 3.8 mm RMS, 30 mm worst),
+  // upper leg (trochanterion to epicondyle height; NHANES's mapped, 9.1 mm RMS, 42 mm worst).
+  // Crotch and knee height share their residual with the upper leg since it is fitted too (the
+  // mesh's hip keeps its height over the crotch, ANSUR II's trochanterion does not: 2.4-2.9 mm
+  // RMS, 10.4 mm worst, from 0.3-1.2 and 2.9).
   // About twice the worst and twice the RMS seen over the whole surveys (docs/models.md), so that a
   // change that makes the fits worse fails. Span and biacromial breadth are met less closely
   // since the hanging arm is fitted too (ANSUR II's span is shorter than its shoulders, arms and
   // hands laid end to end; the fit shares the difference: span +4.8 mm, biacromial -4.5 mm,
   // arm -9.7 mm on the men's mean).
-  const double bound[] = {0.005, 6.0,   0.027, 0.007, 0.024, 0.020, 0.125, 0.125,
+  const double bound[] = {0.005, 6.0,   0.027, 0.021, 0.024, 0.020, 0.125, 0.125,
                           0.050, 0.007, 0.060, 0.090, 0.100, 0.023, 0.013, 0.009,
-                          0.004, 0.055, 0.015, 0.015, 0.048, 0.060};
-  const double rms_bound[] = {0.001,  1.2,    0.011,  0.0025, 0.0097, 0.010, 0.019,  0.017,
-                              0.008,  0.002,  0.007,  0.004,  0.024,  0.003, 0.0025, 0.002,
-                              0.0015, 0.0215, 0.0055, 0.0035, 0.006,  0.008};
+                          0.021, 0.055, 0.015, 0.015, 0.048, 0.060, 0.085};
+  const double rms_bound[] = {0.001, 1.2,    0.011,  0.006,  0.0097, 0.010, 0.019,  0.017,
+                              0.008, 0.002,  0.007,  0.004,  0.024,  0.003, 0.0025, 0.002,
+                              0.006, 0.0215, 0.0055, 0.0035, 0.006,  0.008, 0.012};
   ASSERT_EQ(std::size(bound), mh::fit_measures().size());
   std::vector<double> sq(mh::fit_measures().size(), 0.0);
   std::vector<int> n(mh::fit_measures().size(), 0);
@@ -372,7 +435,7 @@ void check_populations(const Registered& s) {
   // average man), whichever population: on the general population's mean man the rule alone
   // picks another vertex (10707 instead of 10772 on the whole surveys, 22 mm less girth).
   const int fitted = mh::survey_vertices(s.basis.male_mean, s.tmpl.faces, s.tmpl.j_regressor,
-                                         caliper::landmarks_for(s.tmpl))
+                                         caliper::landmarks_for(s.tmpl), "male")
                          .iliac_crest;
   EXPECT_EQ(g.landmarks.at("left_iliac_crest").at(0), fitted);
   EXPECT_EQ(shared.landmarks.at("left_iliac_crest").at(0), fitted);
@@ -492,7 +555,8 @@ TEST(MakeHumanShape, RegisteredBodiesAndTheirPrincipalComponents) {
 
 // The men's hanging arm is fitted tighter than the women's (docs/models.md: 7.5 mm for both left
 // the men's sampled arm 1.10 % short; 5 mm for both cost the women's chest SD), and NHANES's upper
-// arm, mapped from another measuring protocol (protocol_mapping.hpp), looser than ANSUR II's;
+// arm and leg, mapped from other measuring protocols (protocol_mapping.hpp), looser than ANSUR
+// II's;
 // every other measure has one tolerance, and registered() keeps the largest.
 TEST(MakeHumanShape, TolerancesDifferOnlyWhereDocumented) {
   for (const mh::FitMeasure& m : mh::fit_measures()) {
@@ -504,6 +568,10 @@ TEST(MakeHumanShape, TolerancesDifferOnlyWhereDocumented) {
       EXPECT_EQ(m.tolerance_for("male", "ANSUR II"), 0.005);
       EXPECT_EQ(m.tolerance_for("female", "NHANES"), 0.01);
       EXPECT_EQ(m.tolerance_for("male", "NHANES"), 0.01);
+    } else if (m.id == "upper_leg_length") {
+      EXPECT_EQ(m.tolerance_for("male", "ANSUR II"), 0.01);
+      EXPECT_EQ(m.tolerance_for("female", "NHANES"), 0.015);
+      EXPECT_EQ(m.tolerance_for("male", "NHANES"), 0.015);
     } else {
       EXPECT_EQ(m.tolerance_for("male", "ANSUR II"), m.tolerance_for("female", "ANSUR II")) << m.id;
       EXPECT_EQ(m.tolerance_for("male", "NHANES"), m.tolerance_for("female", "ANSUR II")) << m.id;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "caliper/circumference.hpp"
@@ -30,6 +31,21 @@ constexpr double kAnkleRise = 0.03;
 /// alike). Each subject's own iliac crest height then moves the vertex (fitted on ANSUR II's
 /// iliocristaleheight).
 constexpr double kIliacCrestFraction = 0.608;
+
+/// Height of the trochanterion (the top of the femur's greater trochanter) above the crotch, as
+/// a fraction of stature: ANSUR II's mean (trochanterionheight - crotchheight) / stature of the
+/// sex (0.0388 women, 0.0313 men; the neutral rule the mean of the two). Placed at ANSUR II's
+/// mean trochanterion height / stature (0.516) instead, the point sat 9 mm too high over the
+/// women's crotch: their fits then missed crotch height by -3.0 mm, knee height by +3.0 mm and
+/// the upper leg by +3.1 mm on average (the mesh's lateral hip keeps its height over the crotch).
+/// Each subject's own upper leg length then moves it (fitted on ANSUR II's trochanterion height
+/// minus its lateral femoral epicondyle height, and on NHANES's upper leg length).
+double trochanter_above_crotch(const std::string& sex) {
+  constexpr double kFemale = 0.0388, kMale = 0.0313;
+  if (sex == "female") return kFemale;
+  if (sex == "male") return kMale;
+  return 0.5 * (kFemale + kMale);
+}
 
 /// Step of the scans that place the gluteal fold and the calf's largest girth.
 constexpr double kScanStep = 0.002;
@@ -176,7 +192,7 @@ Eigen::Vector3d joint(const smpl::Vertices& t, const smpl::SparseMatrix& jr, int
 
 SurveyVertices survey_vertices(const smpl::Vertices& t, const smpl::Faces& f,
                                const smpl::SparseMatrix& j_regressor,
-                               const caliper::LandmarkTable& landmarks) {
+                               const caliper::LandmarkTable& landmarks, const std::string& sex) {
   SurveyVertices s;
   s.midline_x =
       0.5 * (joint(t, j_regressor, kJointLeftHip).x() + joint(t, j_regressor, kJointRightHip).x());
@@ -193,6 +209,26 @@ SurveyVertices survey_vertices(const smpl::Vertices& t, const smpl::Faces& f,
     }
   }
   if (s.iliac_crest < 0) throw std::runtime_error("MakeHuman shape: no iliac crest vertex");
+  // Trochanterion: where the edges of the mesh cross its level, the most lateral crossing.
+  const double trochanter_y = caliper::landmark_point(t, landmarks.at("crotch")).y() +
+                              trochanter_above_crotch(sex) * (t.col(1).maxCoeff() - floor);
+  double lateral = -1.0;
+  for (Eigen::Index r = 0; r < f.rows(); ++r) {
+    for (int e = 0; e < 3; ++e) {
+      const int a = f(r, e), b = f(r, (e + 1) % 3);
+      const double ya = t(a, 1), yb = t(b, 1);
+      if ((ya - trochanter_y) * (yb - trochanter_y) >= 0.0) continue;
+      const double u = (trochanter_y - ya) / (yb - ya);
+      const double x = t(a, 0) + u * (t(b, 0) - t(a, 0));
+      if (x > 0.0 && x < half && x > lateral) {
+        lateral = x;
+        s.trochanter_a = a;
+        s.trochanter_b = b;
+        s.trochanter_t = u;
+      }
+    }
+  }
+  if (s.trochanter_a < 0) throw std::runtime_error("MakeHuman shape: no trochanterion edge");
   // Neck: the narrowest neck slice between the neck and head joints (below the jaw); the
   // front midline vertex at that level.
   const Eigen::Vector3d neck_joint = joint(t, j_regressor, kJointNeck);
@@ -252,7 +288,7 @@ Measurer::Measurer(const smpl::BodyModel& tmpl, const smpl::Vertices& rest, cons
       faces(tmpl.faces),
       landmarks(caliper::landmarks_for(tmpl)),
       formula(open_model_weight_formula(sex)),
-      at(survey_vertices(rest, tmpl.faces, tmpl.j_regressor, landmarks)) {
+      at(survey_vertices(rest, tmpl.faces, tmpl.j_regressor, landmarks, sex)) {
   const smpl::Vertices& t = rest;
   const double neck_y = t(at.neck_front, 1);
   const double half = caliper::landmark_point(t, landmarks.at("left_shoulder")).x() - at.midline_x;
@@ -300,6 +336,8 @@ Eigen::VectorXd Measurer::operator()(const smpl::Vertices& v) const {
                                                   Eigen::Vector2d(wrist.y(), wrist.z() - 0.025));
   all["ankle_circumference"] = left_leg_girth(v, leg_faces, v(at.ankle_back, 1), mid);
   all["knee_height"] = v(at.knee_lateral, 1) - floor;
+  all["upper_leg_length"] = (1.0 - at.trochanter_t) * v(at.trochanter_a, 1) +
+                            at.trochanter_t * v(at.trochanter_b, 1) - v(at.knee_lateral, 1);
   all["arm_length"] = hanging_arm_length(model, v);
   all["upper_arm_length"] = hanging_upper_arm_length(model, v);
   // NHANES's mid-upper-arm circumference: the left arm's slice perpendicular to the T-posed

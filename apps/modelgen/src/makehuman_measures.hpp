@@ -29,7 +29,13 @@
 /// - hand_length: the left wrist landmark to the middle fingertip in the T-pose (ANSUR II: from
 ///   the wrist crease at the stylion to the tip of the middle finger);
 /// - acromial_height: the left acromion (shoulder landmark) above the floor; with the arm's
-///   length it places the hanging wrist (ANSUR II's wrist height).
+///   length it places the hanging wrist (ANSUR II's wrist height);
+/// - upper_leg_length: the left trochanterion's height over the lateral femoral epicondyle's
+///   (ANSUR II's trochanterionheight minus lateralfemoralepicondyleheight, two bony landmarks;
+///   NHANES's upper leg length is mapped onto it, makehuman_shape.hpp); the trochanterion is the
+///   most lateral point of the average body's horizontal section through the left hip at ANSUR
+///   II's mean trochanterion height over the crotch for the sex (0.0388 of the stature women,
+///   0.0313 men), a point of a mesh edge.
 /// Girths are tape measures: the perimeter of the convex hull of the slice.
 #pragma once
 
@@ -45,21 +51,29 @@ namespace modelgen::mh {
 
 /// The vertices that carry the rules above (indices into the topology's vertices).
 struct SurveyVertices {
-  int iliac_crest = -1;    ///< left lateral torso vertex at the iliac crest
-  int neck_front = -1;     ///< front midline vertex of the neck at the neck girth's level
-  int gluteal_fold = -1;   ///< back of the left leg at the buttock fold
-  int calf_back = -1;      ///< back of the left calf at its largest girth
-  int ankle_back = -1;     ///< back of the left ankle at its smallest girth
-  int knee_lateral = -1;   ///< lateral vertex of the left knee at the knee joint
+  int iliac_crest = -1;   ///< left lateral torso vertex at the iliac crest
+  int neck_front = -1;    ///< front midline vertex of the neck at the neck girth's level
+  int gluteal_fold = -1;  ///< back of the left leg at the buttock fold
+  int calf_back = -1;     ///< back of the left calf at its largest girth
+  int ankle_back = -1;    ///< back of the left ankle at its smallest girth
+  int knee_lateral = -1;  ///< lateral vertex of the left knee at the knee joint
+  /// The left trochanterion: the most lateral point of the hip's horizontal section at the
+  /// trochanter's level, on the mesh edge from vertex trochanter_a to trochanter_b at
+  /// trochanter_t (the lateral hip's vertices are 2 cm apart in height; a vertex would miss the
+  /// level by up to 1 cm).
+  int trochanter_a = -1;
+  int trochanter_b = -1;
+  double trochanter_t = 0.0;
   double midline_x = 0.0;  ///< the body's midline (mean x of the hip joints)
 };
 
 /// Finds the SurveyVertices on the T-posed body `t` (faces `f`, SMPL joint regressor
-/// `j_regressor`, landmark table of caliper::landmarks_for). Throws std::runtime_error naming the
-/// rule when no vertex fits it.
+/// `j_regressor`, landmark table of caliper::landmarks_for) of `sex` ("female", "male", or
+/// "neutral": the trochanterion's level is the sex's). Throws std::runtime_error naming the rule
+/// when no vertex fits it.
 SurveyVertices survey_vertices(const smpl::Vertices& t, const smpl::Faces& f,
                                const smpl::SparseMatrix& j_regressor,
-                               const caliper::LandmarkTable& landmarks);
+                               const caliper::LandmarkTable& landmarks, const std::string& sex);
 
 /// The skin's allowance in the open models' weight formula (m^3): open_model_weight_formula().
 inline constexpr double kSkinVolumeAllowance = 0.004;

@@ -71,7 +71,12 @@ const std::vector<FitMeasure>& fit_measures() {
                                             {"upper_arm_length", 0.005, 0.0, 0.01},
                                             // ANSUR II: the flexed biceps mapped onto the
                                             // relaxed girth (read_subjects()).
-                                            {"upper_arm_circumference", 0.01}};
+                                            {"upper_arm_circumference", 0.01},
+                                            // NHANES: mapped (read_subjects()); at equal
+                                            // stature and weight it varies 2.3-2.4 cm from
+                                            // person to person, ANSUR II's 1.7-2.1 cm: the
+                                            // inguinal crease is hard to find.
+                                            {"upper_leg_length", 0.01, 0.0, 0.015}};
   return m;
 }
 
@@ -82,6 +87,8 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr int kUpperArmLength = 20;
 /// fit_measures() index of "upper_arm_circumference".
 constexpr int kUpperArmCircumference = 21;
+/// fit_measures() index of "upper_leg_length".
+constexpr int kUpperLegLength = 22;
 
 void add_survey(const std::string& path, const std::string& sex, const std::string& source,
                 const std::vector<std::string>& columns, const std::vector<int>& measure,
@@ -105,15 +112,20 @@ void add_survey(const std::string& path, const std::string& sex, const std::stri
   }
 }
 
-/// What one sex's ANSUR II and NHANES files give the arm's two measurements
-/// (protocol_mapping.hpp), each file read once.
-struct ArmProtocols {
+/// What one sex's ANSUR II and NHANES files give the measurements NHANES takes by another
+/// protocol than ANSUR II (protocol_mapping.hpp), each file read once.
+struct Protocols {
   UpperArmMapping upper_arm;  ///< NHANES's upper arm length onto ANSUR II's acromion-radiale
   /// What to add to an ANSUR II subject's flexed biceps circumference to have the relaxed
   /// mid-upper-arm girth NHANES measures (`BMXARMC`) at equal stature and weight (metres,
   /// negative; protocol_offset()).
   double biceps_offset = 0.0;
   Eigen::VectorXd nhanes_upper_arm;  ///< every NHANES person's `BMXARML` (metres), file order
+  /// What to subtract from NHANES's upper leg length (`BMXLEG`: the inguinal crease to the
+  /// kneecap's upper edge, seated, along the thigh) to have ANSUR II's trochanterion height over
+  /// the lateral femoral epicondyle at equal stature and weight (metres; protocol_offset()).
+  double leg_offset = 0.0;
+  Eigen::VectorXd nhanes_upper_leg;  ///< every NHANES person's `BMXLEG` (metres), file order
 };
 
 /// Throws std::runtime_error naming the file, the data row and the column of the first value of
@@ -131,33 +143,44 @@ void require_positive(const Eigen::MatrixXd& t, const std::string& path,
   }
 }
 
-ArmProtocols arm_protocols_of(const std::string& ansur_path, const std::string& nhanes_path) {
-  const std::vector<std::string> ansur_columns = {"stature", "weightkg", "shoulderelbowlength",
+Protocols protocols_of(const std::string& ansur_path, const std::string& nhanes_path) {
+  const std::vector<std::string> ansur_columns = {"stature",
+                                                  "weightkg",
+                                                  "shoulderelbowlength",
                                                   "acromionradialelength",
-                                                  "bicepscircumferenceflexed"};
-  const std::vector<std::string> nhanes_columns = {"BMXHT", "BMXWT", "BMXARML", "BMXARMC"};
+                                                  "bicepscircumferenceflexed",
+                                                  "trochanterionheight",
+                                                  "lateralfemoralepicondyleheight"};
+  const std::vector<std::string> nhanes_columns = {"BMXHT", "BMXWT", "BMXARML", "BMXARMC",
+                                                   "BMXLEG"};
   Eigen::MatrixXd a = read_survey_columns(ansur_path, ansur_columns);
   Eigen::MatrixXd n = read_survey_columns(nhanes_path, nhanes_columns);
   require_positive(a, ansur_path, ansur_columns);
   require_positive(n, nhanes_path, nhanes_columns);
   a.col(0) *= 1e-3;
   a.col(1) *= 0.1;
-  for (Eigen::Index c = 2; c < 5; ++c) a.col(c) *= 1e-3;
+  for (Eigen::Index c = 2; c < 7; ++c) a.col(c) *= 1e-3;
   n.col(0) *= 1e-2;
-  n.col(2) *= 1e-2;
-  n.col(3) *= 1e-2;
-  ArmProtocols out;
+  for (Eigen::Index c = 2; c < 5; ++c) n.col(c) *= 1e-2;
+  Protocols out;
   try {
     out.upper_arm = upper_arm_mapping(a.leftCols(4), n.leftCols(3));
     Eigen::MatrixXd biceps_a(a.rows(), 3), biceps_n(n.rows(), 3);
     biceps_a << a.leftCols(2), a.col(4);
     biceps_n << n.leftCols(2), n.col(3);
     out.biceps_offset = protocol_offset(biceps_a, biceps_n).offset;
+    // Both from bony landmarks, so neither grows with the thigh's fat: the offset is the same in
+    // every BMI bin to a few mm (docs/models.md).
+    Eigen::MatrixXd leg_a(a.rows(), 3), leg_n(n.rows(), 3);
+    leg_a << a.leftCols(2), a.col(5) - a.col(6);
+    leg_n << n.leftCols(2), n.col(4);
+    out.leg_offset = protocol_offset(leg_a, leg_n).offset;
   } catch (const std::invalid_argument& e) {  // too few people: the files are not the surveys'
     throw std::runtime_error("survey files '" + ansur_path + "' and '" + nhanes_path +
                              "': " + e.what() + "; use the surveys' files as published");
   }
   out.nhanes_upper_arm = n.col(2);
+  out.nhanes_upper_leg = n.col(4);
   return out;
 }
 
@@ -187,11 +210,14 @@ std::vector<Subject> read_subjects(const std::string& ansur_dir, const std::stri
                                           "handlength",
                                           "acromialheight",
                                           "acromionradialelength",
-                                          "bicepscircumferenceflexed"};
-  const std::vector<int> ansur_measure = {0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  11,
-                                          12, 13, 14, 15, 16, 17, 17, 18, 19, 20, 21};
+                                          "bicepscircumferenceflexed",
+                                          "trochanterionheight",
+                                          "lateralfemoralepicondyleheight"};
+  const std::vector<int> ansur_measure = {0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  11, 12,
+                                          13, 14, 15, 16, 17, 17, 18, 19, 20, 21, 22, 22};
   std::vector<double> ansur_scale(ansur.size(), 1e-3);
   ansur_scale[1] = 0.1;
+  ansur_scale.back() = -1e-3;  // the upper leg: trochanterion minus epicondyle height
   add_survey(ansur_dir + "/ANSUR_II_FEMALE_Public.csv", "female", "ANSUR II", ansur, ansur_measure,
              ansur_scale, out);
   add_survey(ansur_dir + "/ANSUR_II_MALE_Public.csv", "male", "ANSUR II", ansur, ansur_measure,
@@ -206,21 +232,21 @@ std::vector<Subject> read_subjects(const std::string& ansur_dir, const std::stri
     const size_t first = out.size();
     add_survey(nhanes_dir + "/" + nhanes_file, sex, "NHANES", nhanes, nhanes_measure, nhanes_scale,
                out);
-    const ArmProtocols arm =
-        arm_protocols_of(ansur_dir + "/" + ansur_file, nhanes_dir + "/" + nhanes_file);
-    const Eigen::VectorXd& length = arm.nhanes_upper_arm;
+    const Protocols p = protocols_of(ansur_dir + "/" + ansur_file, nhanes_dir + "/" + nhanes_file);
+    const Eigen::VectorXd& length = p.nhanes_upper_arm;
     if (static_cast<size_t>(length.size()) != out.size() - first) {
       throw std::runtime_error(nhanes_dir + "/" + nhanes_file + ": " +
                                std::to_string(length.size()) + " upper arm lengths for " +
                                std::to_string(out.size() - first) + " people");
     }
     for (Eigen::Index r = 0; r < length.size(); ++r) {
-      out[first + static_cast<size_t>(r)].values[kUpperArmLength] =
-          arm.upper_arm.acromion_radiale(length[r]);
+      Eigen::VectorXd& values = out[first + static_cast<size_t>(r)].values;
+      values[kUpperArmLength] = p.upper_arm.acromion_radiale(length[r]);
+      values[kUpperLegLength] = p.nhanes_upper_leg[r] - p.leg_offset;
     }
     for (Subject& s : out) {
       if (s.source == "ANSUR II" && s.sex == sex) {
-        s.values[kUpperArmCircumference] += arm.biceps_offset;
+        s.values[kUpperArmCircumference] += p.biceps_offset;
       }
     }
   }
@@ -800,8 +826,9 @@ std::uint64_t fit_fingerprint(const ShapeBasis& basis, const smpl::BodyModel& tm
   // the thigh's floor under the crotch: a changed definition makes another fit.
   // 2: the thigh at least 3 cm under the crotch; 3: the chest clipped between the acromia;
   // 4: the radiale landmark (the upper arm's acromion-radiale length); 5: the mid-upper-arm
-  // girth, and the weight of the open models' own formula (open_model_weight_formula())
-  constexpr std::int32_t kMeasuresVersion = 5;
+  // girth, and the weight of the open models' own formula (open_model_weight_formula()); 6: the
+  // upper leg length (the trochanterion vertex)
+  constexpr std::int32_t kMeasuresVersion = 6;
   f.bytes(&kMeasuresVersion, sizeof kMeasuresVersion);
   for (const char* sex : {"female", "male"}) {
     const caliper::WeightFormula w = open_model_weight_formula(sex);
@@ -1230,7 +1257,7 @@ smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl
                                : sex == "male" ? basis.male_mean
                                                : both;
   const SurveyVertices at =
-      survey_vertices(rest, tmpl.faces, tmpl.j_regressor, caliper::landmarks_for(tmpl));
+      survey_vertices(rest, tmpl.faces, tmpl.j_regressor, caliper::landmarks_for(tmpl), sex);
   model.landmarks["left_iliac_crest"] = {at.iliac_crest};
   model.landmarks["right_iliac_crest"] = {model.mirror[static_cast<std::size_t>(at.iliac_crest)]};
   // The thigh's level, ANSUR II's gluteal furrow, the same way (the vertex the fit measured the

@@ -69,19 +69,22 @@ struct Subject {
 /// shoulder (biacromial) width, hip width, chest, waist (navel level) and hip (buttock)
 /// circumferences, iliac crest height, the waist at the iliac crest (the NHANES and WHO waist),
 /// neck, thigh (gluteal furrow), calf, ankle and wrist circumferences, knee height, the hanging
-/// arm's length, the hand's and the acromion's height, the hanging arm's acromion-radiale length
-/// (from the iliac crest height on defined in makehuman_measures.hpp and validation.hpp, the
-/// others are libcaliper's).
+/// arm's length, the hand's and the acromion's height, the hanging arm's acromion-radiale length,
+/// the mid-upper-arm girth and the upper leg length (from the iliac crest height on defined in
+/// makehuman_measures.hpp and validation.hpp, the others are libcaliper's).
 const std::vector<FitMeasure>& fit_measures();
 
 /// ANSUR II subjects of both files under `ansur_dir` (stature, weightkg, span, crotchheight,
 /// biacromialbreadth, hipbreadth, chest-, waist- and buttockcircumference, iliocristaleheight,
 /// neck-, thigh-, calf-, ankle- and wristcircumference, lateralfemoralepicondyleheight,
 /// acromionradialelength + radialestylionlength, handlength, acromialheight,
-/// acromionradialelength) and NHANES subjects of both development files under `nhanes_dir`
-/// (BMXHT, BMXWT, BMXHIP, BMXWAIST, and BMXARML as an acromion-radiale length through
-/// upper_arm_mapping() of the sex, from ANSUR II's shoulderelbowlength). Throws std::runtime_error
-/// naming the file for a missing or malformed one.
+/// acromionradialelength, bicepscircumferenceflexed plus the offset to the relaxed girth,
+/// trochanterionheight - lateralfemoralepicondyleheight) and NHANES subjects of both development
+/// files under `nhanes_dir` (BMXHT, BMXWT, BMXHIP, BMXWAIST, BMXARMC, BMXARML as an
+/// acromion-radiale length through upper_arm_mapping() of the sex, from ANSUR II's
+/// shoulderelbowlength, and BMXLEG minus the offset to ANSUR II's trochanterion-to-epicondyle
+/// height at equal stature and weight, protocol_offset()). Throws std::runtime_error naming the
+/// file for a missing or malformed one.
 std::vector<Subject> read_subjects(const std::string& ansur_dir, const std::string& nhanes_dir);
 
 /// The target basis (see the file comment).
