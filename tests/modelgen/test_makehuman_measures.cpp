@@ -114,15 +114,17 @@ TEST(MakeHumanMeasures, RuleLevelsAreAnatomical) {
     EXPECT_LT(ankle, calf) << sex;
     // The trochanterion: on the side of the hip, between the crotch and the iliac crest, well
     // outside the hip joint (the greater trochanter lies lateral of the femur's head).
-    const Eigen::RowVector3d trochanter = (1.0 - m.at.trochanter_t) * t.row(m.at.trochanter_a) +
-                                          m.at.trochanter_t * t.row(m.at.trochanter_b);
-    EXPECT_NEAR((trochanter.y() - crotch) / height, sex == "female" ? 0.0388 : 0.0313, 1e-9)
+    ASSERT_EQ(m.at.trochanterion.size(), static_cast<size_t>(mh::kTrochanterShares)) << sex;
+    const Eigen::RowVector3d trochanter =
+        caliper::landmark_point(t, m.at.trochanterion).transpose();
+    // ANSUR II's level over the crotch, to a thirty-second of the edge's height (2 cm).
+    EXPECT_NEAR(trochanter.y() - crotch, (sex == "female" ? 0.0388 : 0.0313) * height, 0.001)
         << sex << ": ANSUR II's level over the crotch";
     EXPECT_GT(trochanter.y(), crotch) << sex;
     EXPECT_LT(trochanter.y(), t(m.at.iliac_crest, 1)) << sex;
     const double hip_x = s.tmpl.j_regressor.row(1).dot(t.col(0));
     EXPECT_GT(trochanter.x() - hip_x, 0.04) << sex;
-    std::printf("%-6s trochanterion %.3f H, %.1f mm outside the hip joint\n", sex.c_str(),
+    std::printf("%-6s trochanterion %.4f H, %.1f mm outside the hip joint\n", sex.c_str(),
                 (trochanter.y() - floor) / height, (trochanter.x() - hip_x) * 1000.0);
     const double neck = t(m.at.neck_front, 1) - floor;
     EXPECT_GT(neck / height, 0.80) << sex;  // under the chin (about 0.87 H), over the shoulders

@@ -282,7 +282,7 @@ void write_shape_models(const modelgen::mh::Assets& assets, const smpl::BodyMode
     }
     print_fit_residuals(subjects, fit);
   }
-  // One component per fitted measurement (mh::fit_measures(), 20): each registration is the
+  // One component per fitted measurement (mh::fit_measures(), 23): each registration is the
   // prior's mean moved along the directions those measurements see, so the registered bodies
   // vary in about that many directions. With 16 the men's sampled biacromial SD was 0.88 of
   // ANSUR II's (0.99 with 20; docs/models.md).

@@ -213,6 +213,8 @@ SurveyVertices survey_vertices(const smpl::Vertices& t, const smpl::Faces& f,
   const double trochanter_y = caliper::landmark_point(t, landmarks.at("crotch")).y() +
                               trochanter_above_crotch(sex) * (t.col(1).maxCoeff() - floor);
   double lateral = -1.0;
+  int edge_a = -1, edge_b = -1;
+  double share = 0.0;
   for (Eigen::Index r = 0; r < f.rows(); ++r) {
     for (int e = 0; e < 3; ++e) {
       const int a = f(r, e), b = f(r, (e + 1) % 3);
@@ -222,13 +224,16 @@ SurveyVertices survey_vertices(const smpl::Vertices& t, const smpl::Faces& f,
       const double x = t(a, 0) + u * (t(b, 0) - t(a, 0));
       if (x > 0.0 && x < half && x > lateral) {
         lateral = x;
-        s.trochanter_a = a;
-        s.trochanter_b = b;
-        s.trochanter_t = u;
+        edge_a = a;
+        edge_b = b;
+        share = u;
       }
     }
   }
-  if (s.trochanter_a < 0) throw std::runtime_error("MakeHuman shape: no trochanterion edge");
+  if (edge_a < 0) throw std::runtime_error("MakeHuman shape: no trochanterion edge");
+  const auto of_b = static_cast<int>(std::lround(share * kTrochanterShares));
+  s.trochanterion.assign(kTrochanterShares - of_b, edge_a);
+  s.trochanterion.insert(s.trochanterion.end(), of_b, edge_b);
   // Neck: the narrowest neck slice between the neck and head joints (below the jaw); the
   // front midline vertex at that level.
   const Eigen::Vector3d neck_joint = joint(t, j_regressor, kJointNeck);
@@ -336,8 +341,8 @@ Eigen::VectorXd Measurer::operator()(const smpl::Vertices& v) const {
                                                   Eigen::Vector2d(wrist.y(), wrist.z() - 0.025));
   all["ankle_circumference"] = left_leg_girth(v, leg_faces, v(at.ankle_back, 1), mid);
   all["knee_height"] = v(at.knee_lateral, 1) - floor;
-  all["upper_leg_length"] = (1.0 - at.trochanter_t) * v(at.trochanter_a, 1) +
-                            at.trochanter_t * v(at.trochanter_b, 1) - v(at.knee_lateral, 1);
+  all["upper_leg_length"] =
+      caliper::landmark_point(v, at.trochanterion).y() - v(at.knee_lateral, 1);
   all["arm_length"] = hanging_arm_length(model, v);
   all["upper_arm_length"] = hanging_upper_arm_length(model, v);
   // NHANES's mid-upper-arm circumference: the left arm's slice perpendicular to the T-posed

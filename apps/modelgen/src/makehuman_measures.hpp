@@ -40,6 +40,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -50,6 +51,8 @@
 namespace modelgen::mh {
 
 /// The vertices that carry the rules above (indices into the topology's vertices).
+inline constexpr int kTrochanterShares = 16;
+
 struct SurveyVertices {
   int iliac_crest = -1;   ///< left lateral torso vertex at the iliac crest
   int neck_front = -1;    ///< front midline vertex of the neck at the neck girth's level
@@ -58,12 +61,12 @@ struct SurveyVertices {
   int ankle_back = -1;    ///< back of the left ankle at its smallest girth
   int knee_lateral = -1;  ///< lateral vertex of the left knee at the knee joint
   /// The left trochanterion: the most lateral point of the hip's horizontal section at the
-  /// trochanter's level, on the mesh edge from vertex trochanter_a to trochanter_b at
-  /// trochanter_t (the lateral hip's vertices are 2 cm apart in height; a vertex would miss the
-  /// level by up to 1 cm).
-  int trochanter_a = -1;
-  int trochanter_b = -1;
-  double trochanter_t = 0.0;
+  /// trochanter's level, a point on a mesh edge (the lateral hip's vertices lie 2 cm apart in
+  /// height; a vertex would miss the level by up to 1 cm), as a landmark the model file can
+  /// carry (caliper::landmark_point(), the mean of its ids): kTrochanterShares ids, each of the
+  /// edge's two vertices repeated in proportion to its share of the point, rounded to
+  /// 1/kTrochanterShares (the level then within a thirty-second of the edge's height).
+  std::vector<int> trochanterion;
   double midline_x = 0.0;  ///< the body's midline (mean x of the hip joints)
 };
 

@@ -827,7 +827,7 @@ std::uint64_t fit_fingerprint(const ShapeBasis& basis, const smpl::BodyModel& tm
   // 2: the thigh at least 3 cm under the crotch; 3: the chest clipped between the acromia;
   // 4: the radiale landmark (the upper arm's acromion-radiale length); 5: the mid-upper-arm
   // girth, and the weight of the open models' own formula (open_model_weight_formula()); 6: the
-  // upper leg length (the trochanterion vertex)
+  // upper leg length (the trochanterion)
   constexpr std::int32_t kMeasuresVersion = 6;
   f.bytes(&kMeasuresVersion, sizeof kMeasuresVersion);
   for (const char* sex : {"female", "male"}) {
@@ -1264,6 +1264,13 @@ smpl::BodyModel shape_model(const ShapeBasis& basis, const smpl::BodyModel& tmpl
   // thigh at; caliper::circumferences() slices there when a model carries it).
   model.landmarks["left_gluteal_fold"] = {at.gluteal_fold};
   model.landmarks["right_gluteal_fold"] = {model.mirror[static_cast<std::size_t>(at.gluteal_fold)]};
+  // The upper leg's ends the fit measured, the same way: the trochanterion (16 ids, a point on
+  // an edge; makehuman_measures.hpp) and the knee's lateral vertex (the knee height's).
+  model.landmarks["left_trochanterion"] = at.trochanterion;
+  std::vector<int>& right = model.landmarks["right_trochanterion"];
+  for (const int i : at.trochanterion) right.push_back(model.mirror[static_cast<std::size_t>(i)]);
+  model.landmarks["left_knee_lateral"] = {at.knee_lateral};
+  model.landmarks["right_knee_lateral"] = {model.mirror[static_cast<std::size_t>(at.knee_lateral)]};
   model.meta.name = "caliper-open-" + sex;
   model.meta.gender = sex;
   model.meta.source =

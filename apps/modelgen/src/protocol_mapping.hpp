@@ -17,7 +17,10 @@
 /// Step 1 alone (protocol_offset()) also maps ANSUR II's *flexed* biceps circumference onto
 /// NHANES's relaxed mid-upper-arm circumference `BMXARMC`, which the mesh measures: at equal
 /// stature and weight the relaxed girth is the smaller (about 5 mm for women, 21 mm for men),
-/// so a soldier's relaxed girth is taken as flexed + offset.
+/// so a soldier's relaxed girth is taken as flexed + offset; and NHANES's upper leg length
+/// `BMXLEG` (inguinal crease to the kneecap's upper edge, seated) onto ANSUR II's trochanterion
+/// height minus its lateral femoral epicondyle height (+0.3 mm women, +9.1 mm men), so an NHANES
+/// person's upper leg is taken as BMXLEG - offset.
 #pragma once
 
 #include <Eigen/Core>
