@@ -50,9 +50,10 @@
 
 namespace modelgen::mh {
 
-/// The vertices that carry the rules above (indices into the topology's vertices).
+/// How many ids SurveyVertices::trochanterion holds (the resolution of its point on an edge).
 inline constexpr int kTrochanterShares = 16;
 
+/// The vertices that carry the rules above (indices into the topology's vertices).
 struct SurveyVertices {
   int iliac_crest = -1;   ///< left lateral torso vertex at the iliac crest
   int neck_front = -1;    ///< front midline vertex of the neck at the neck girth's level
