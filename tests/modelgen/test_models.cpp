@@ -8,6 +8,7 @@
 #include <cmath>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "caliper/measurements.hpp"
 #include "caliper/shape_curve.hpp"
@@ -118,6 +119,57 @@ TEST_P(OpenModel, HasEveryLandmarkOfTheSharedVocabulary) {
   }
   constexpr double kPelvisTol = 0.01;  // the generator puts the pelvis joint at the origin
   EXPECT_LT(pelvis.norm(), kPelvisTol);
+}
+
+// The ends of the upper leg the fit measured (docs/measurements.md): the trochanterion, a point
+// on one mesh edge written as kTrochanterShares ids, on the side of the hip between the crotch
+// and the iliac crest; the knee's lateral vertex; each right landmark the left one's mirror.
+TEST_P(OpenModel, CarriesTheUpperLegsLandmarksWhereItWasFitted) {
+  const smpl::Vertices& v = model_.v_template;
+  for (const char* name :
+       {"left_trochanterion", "right_trochanterion", "left_knee_lateral", "right_knee_lateral"}) {
+    ASSERT_TRUE(model_.landmarks.count(name)) << name;
+  }
+  const std::vector<int>& ids = model_.landmarks.at("left_trochanterion");
+  ASSERT_EQ(ids.size(), static_cast<size_t>(modelgen::mh::kTrochanterShares));
+  std::vector<int> ends = ids;
+  std::sort(ends.begin(), ends.end());
+  ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+  ASSERT_LE(ends.size(), 2u);
+  if (ends.size() == 2) {  // the two ends of one edge of the mesh
+    bool edge = false;
+    for (Eigen::Index f = 0; f < model_.faces.rows() && !edge; ++f) {
+      int hits = 0;
+      for (int c = 0; c < 3; ++c) {
+        if (model_.faces(f, c) == ends[0] || model_.faces(f, c) == ends[1]) ++hits;
+      }
+      edge = hits == 2;
+    }
+    EXPECT_TRUE(edge) << ends[0] << "-" << ends[1] << " is not an edge";
+  }
+  auto pt = [&](const std::string& n) {
+    return caliper::landmark_point(v, model_.landmarks.at(n));
+  };
+  const Eigen::Vector3d trochanter = pt("left_trochanterion");
+  EXPECT_GT(trochanter.y(), pt("crotch").y());
+  EXPECT_LT(trochanter.y(), pt("left_iliac_crest").y());
+  // On the side of the hip, well outside the hip joint (SMPL's joint 1, the left hip).
+  Eigen::Vector3d hip_joint = Eigen::Vector3d::Zero();
+  for (smpl::SparseMatrix::InnerIterator it(model_.j_regressor, 1); it; ++it) {
+    hip_joint += it.value() * caliper::landmark_point(v, {static_cast<int>(it.col())});
+  }
+  EXPECT_GT(trochanter.x() - hip_joint.x(), 0.04);
+  const Eigen::Vector3d knee = pt("left_knee_lateral");
+  EXPECT_LT(knee.y(), pt("crotch").y());
+  for (const char* base : {"trochanterion", "knee_lateral"}) {
+    const Eigen::Vector3d l = pt(std::string("left_") + base), r = pt(std::string("right_") + base);
+    EXPECT_NEAR(l.x(), -r.x(), 1e-6) << base;
+    EXPECT_NEAR(l.y(), r.y(), 1e-6) << base;
+    EXPECT_NEAR(l.z(), r.z(), 1e-6) << base;
+  }
+  // The upper leg of the mean body: a quarter of the stature or so (ANSUR II: 0.233).
+  const double stature = v.col(1).maxCoeff() - v.col(1).minCoeff();
+  EXPECT_NEAR((trochanter.y() - knee.y()) / stature, 0.233, 0.02);
 }
 
 TEST_P(OpenModel, IsAClosedOrientedManifoldWithPositiveVolume) {
