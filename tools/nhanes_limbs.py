@@ -62,7 +62,14 @@ def leg_offset(ansur_path, height, weight, leg):
 def leg_points(model):
     """The upper leg's ends where the generator fitted them: the model's `left_trochanterion`
     landmark (the mean of its vertex ids, a point on an edge) and `left_knee_lateral` vertex."""
-    return list(model.landmarks["left_trochanterion"]), model.landmarks["left_knee_lateral"][0]
+    landmarks = model.landmarks
+    missing = [n for n in ("left_trochanterion", "left_knee_lateral") if n not in landmarks]
+    if missing:
+        raise SystemExit(f"nhanes_limbs: the model has no {' or '.join(missing)} landmark (open "
+                         "models made before the upper leg was fitted, 2026-12-07, and SMPL files "
+                         "lack them); regenerate the models with caliper-modelgen or leave out "
+                         "--model-dir to judge the committed ones")
+    return list(landmarks["left_trochanterion"]), landmarks["left_knee_lateral"][0]
 
 
 def arm_girth(model, vertices):
@@ -107,6 +114,7 @@ def main():
     for sex in args.sex or ["female", "male"]:
         model = (caliper.load_model(os.path.join(args.model_dir, f"caliper-{sex}.npz"))
                  if args.model_dir else caliper.open_model(sex))
+        trochanterion, knee = leg_points(model)  # before the slow part: refuse a model early
         regressors = caliper.train_regressors(model)
         path = os.path.join(args.nhanes_dir, f"NHANES_2017_2020_{sex.upper()}_dev.csv")
         height, weight, armc, leg = read_nhanes(path)
@@ -114,7 +122,6 @@ def main():
                             height, weight, leg)
         keep = np.arange(len(height)) % args.every == 0
         height, weight, armc, leg = height[keep], weight[keep], armc[keep], leg[keep] - offset
-        trochanterion, knee = leg_points(model)
         arm, thigh = [], []
         for h, w in zip(height, weight):
             v = np.asarray(caliper.create(model, regressors, height=h, weight=w,

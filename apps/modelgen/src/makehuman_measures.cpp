@@ -230,7 +230,11 @@ SurveyVertices survey_vertices(const smpl::Vertices& t, const smpl::Faces& f,
       }
     }
   }
-  if (edge_a < 0) throw std::runtime_error("MakeHuman shape: no trochanterion edge");
+  if (edge_a < 0) {
+    throw std::runtime_error(
+        "MakeHuman shape: no mesh edge crosses the trochanterion's level on the left hip; the base "
+        "mesh is not MakeHuman's: give its CC0 assets as published with --makehuman DIR");
+  }
   const auto of_b = static_cast<int>(std::lround(share * kTrochanterShares));
   s.trochanterion.assign(kTrochanterShares - of_b, edge_a);
   s.trochanterion.insert(s.trochanterion.end(), of_b, edge_b);
