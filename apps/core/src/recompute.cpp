@@ -113,6 +113,7 @@ ModelEntry make_model_entry(std::shared_ptr<const smpl::BodyModel> model, const 
         std::min(model->num_betas(), kMaxMeasurerBetas));
   }
   e.hanging_arm = std::make_shared<const HangingArmMap>(model);  // worked out on first use
+  e.preview_shapedirs = std::make_shared<const Eigen::MatrixXf>(model->shapedirs.cast<float>());
   e.model = std::move(model);
   return e;
 }
@@ -199,7 +200,13 @@ AvatarView recompute(const Document& doc, const ModelEntry& entry, bool complete
   a.betas.head(k) = b;
   // Rest-pose vertices: v_template + shapedirs * betas.
   const Eigen::Index n3 = m.v_template.size();
-  const Eigen::VectorXd shaped = m.shapedirs.leftCols(k) * b;
+  const bool preview = !complete && entry.preview_shapedirs &&
+                       entry.preview_shapedirs->rows() == n3 &&
+                       entry.preview_shapedirs->cols() >= k;
+  const Eigen::VectorXd shaped =
+      preview
+          ? Eigen::VectorXd((entry.preview_shapedirs->leftCols(k) * b.cast<float>()).cast<double>())
+          : Eigen::VectorXd(m.shapedirs.leftCols(k) * b);
   a.vertices.resize(m.num_vertices(), 3);
   Eigen::Map<Eigen::VectorXd>(a.vertices.data(), n3) =
       Eigen::Map<const Eigen::VectorXd>(m.v_template.data(), n3) + shaped;

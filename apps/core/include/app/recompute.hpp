@@ -63,6 +63,11 @@ struct ModelEntry {
   /// The map of an arm length taken hanging onto the model's (Document::arm_taken_hanging),
   /// made by make_model_entry() and worked out on first use; null: the entry has none.
   std::shared_ptr<const HangingArmMap> hanging_arm;
+  /// The model's shape directions in single precision, for the previews of a drag
+  /// (recompute(..., complete = false)): a slider event reads half the bytes (3.7 MB instead of
+  /// 7.4 for the open models), and the body moves by under a micrometre. The complete recompute
+  /// at the drag's end uses the model's double-precision directions. Null: always those.
+  std::shared_ptr<const Eigen::MatrixXf> preview_shapedirs;
 };
 
 /// Builds a ModelEntry: validates the model, computes its landmark table and fits the
