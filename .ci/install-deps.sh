@@ -12,7 +12,7 @@ packages=(
   libassimp-dev libgtest-dev libgmock-dev libbenchmark-dev python3 python3-numpy python3-scipy
   python3-dev libpython3.11-dev python3-pytest pybind11-dev libcli11-dev libcsv-dev
   libgl-dev libglx-dev libglfw3-dev libxrandr-dev libx11-dev libxrender-dev x11proto-dev
-  libglm-dev libimgui-dev libosmesa6-dev libopenxr-dev libopenxr-loader1
+  libglm-dev libimgui-dev libosmesa6-dev libmeshoptimizer-dev libopenxr-dev libopenxr-loader1
   libopenal-dev libavformat-dev libavcodec-dev libswscale-dev libavutil-dev
   xvfb xauth nodejs
 )

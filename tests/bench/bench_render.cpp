@@ -30,8 +30,8 @@ const ca::ModelEntry& full_size_entry() {
   return e;
 }
 
-/// The editor's default model: the open female model from assets/models (12,354 vertices,
-/// 24,704 triangles, 1.8 x SMPL's), to show what a user of the shipped models gets.
+/// The editor's default model: the open female model from assets/models (13,380 vertices,
+/// 26,756 triangles, 1.9 x SMPL's), to show what a user of the shipped models gets.
 const ca::ModelEntry& open_female_entry() {
   static const ca::ModelEntry e = [] {
     auto m = std::make_shared<smpl::BodyModel>(
@@ -109,6 +109,7 @@ void BM_DragFrameCpu(benchmark::State& state) {
   DragFixture f(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)), 4,
                 state.range(2));
   f.off->renderer().set_cull_closed_meshes(state.range(3) != 0);
+  f.off->renderer().set_level_of_detail(state.range(4) != 0);
   int64_t i = 0;
   for (auto _ : state) {
     f.drag_frame(i++);
@@ -116,14 +117,19 @@ void BM_DragFrameCpu(benchmark::State& state) {
     f.off->resolve();  // ends with glFinish
     state.ResumeTiming();
   }
+  state.counters["triangles"] = static_cast<double>(f.off->renderer().triangles_drawn());
 }
 // Arguments: width, height, model (0 SMPL-shaped, 1 open female), back-face culling of closed
-// meshes (1, the renderer's default; 0 = everything two-sided, the baseline).
+// meshes (1, the renderer's default; 0 = everything two-sided, the baseline), level of detail
+// (1, the renderer's default: the coarsest simplified index buffer under half a pixel of error;
+// 0 = always the full mesh, the baseline).
 BENCHMARK(BM_DragFrameCpu)
-    ->Args({1200, 1000, 0, 0})
-    ->Args({1200, 1000, 0, 1})
-    ->Args({1200, 1000, 1, 0})
-    ->Args({1200, 1000, 1, 1})
+    ->Args({1200, 1000, 0, 0, 0})
+    ->Args({1200, 1000, 0, 1, 0})
+    ->Args({1200, 1000, 0, 1, 1})
+    ->Args({1200, 1000, 1, 0, 0})
+    ->Args({1200, 1000, 1, 1, 0})
+    ->Args({1200, 1000, 1, 1, 1})
     ->Unit(benchmark::kMillisecond);
 
 /// Upload only: float conversion, normals (13776 faces) and glBufferSubData of positions and
@@ -137,6 +143,26 @@ void BM_UploadPositions(benchmark::State& state) {
   benchmark::DoNotOptimize(p.data());
 }
 BENCHMARK(BM_UploadPositions)->Unit(benchmark::kMillisecond);
+
+/// A new mesh's upload (upload_mesh: winding check, normals, buffers), with argument 1 its
+/// simplified levels (prepare_levels: what the editor adds when it loads a model), and its
+/// release. Arguments: model (0 SMPL-shaped, 1 open female), levels (0 or 1).
+void BM_UploadMesh(benchmark::State& state) {
+  DragFixture f(64, 64, 1, state.range(0));
+  const cr::MeshData m =
+      cr::mesh_data(f.core.avatar().vertices, bench_entry(state.range(0)).model->faces);
+  for (auto _ : state) {
+    const cr::MeshHandle h = f.off->renderer().upload_mesh(m);
+    if (state.range(1) != 0) f.off->renderer().prepare_levels(h);
+    f.off->renderer().release_mesh(h);
+  }
+}
+BENCHMARK(BM_UploadMesh)
+    ->Args({0, 0})
+    ->Args({0, 1})
+    ->Args({1, 0})
+    ->Args({1, 1})
+    ->Unit(benchmark::kMillisecond);
 
 /// Draw calls only (mesh, no upload), CPU side of llvmpipe's vertex processing and binning.
 void BM_DrawCallsOnly(benchmark::State& state) {

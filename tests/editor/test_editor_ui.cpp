@@ -719,6 +719,24 @@ TEST(EditorUiGolden, Window1280x720FixedScaleSideView) {
   check_golden(ui.picture(), "editor_1280x720_scrolled.png");
 }
 
+// While a slider is dragged the editor draws the body's simplified levels (the drag frame's
+// budget, docs/performance.md); before and after the drag, the full mesh.
+TEST(EditorUi, DrawsTheBodysSimplifiedLevelsOnlyWhileASliderIsDragged) {
+  Ui ui(1280, 720, false);
+  ui.core.add_model(open_female());
+  ui.frames(2);
+  const size_t full = static_cast<size_t>(open_female().model->faces.rows());
+  EXPECT_EQ(ui.app->renderer().triangles_drawn(), full);
+  ui.core.begin_drag();
+  ui.core.drag_value("height", 1.75);
+  ui.frames(1);
+  EXPECT_LT(ui.app->renderer().triangles_drawn(), full / 2);
+  EXPECT_GT(ui.app->renderer().triangles_drawn(), full / 20);
+  ui.core.end_drag();
+  ui.frames(1);
+  EXPECT_EQ(ui.app->renderer().triangles_drawn(), full);
+}
+
 // ---- The dialog's path rules (plain C++) ---------------------------------------------------
 TEST(FileDialogPath, ExtensionFoldersAndRefusals) {
   const ce::FileActionInfo save = ce::file_action_info(ce::FileAction::SaveProfile, {".glb"});

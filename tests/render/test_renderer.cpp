@@ -3,6 +3,7 @@
 // mesh colour where the mesh is, left-right symmetry of a symmetric mesh).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "render/render_mesh.hpp"
 #include "render/renderer.hpp"
 #include "render/text.hpp"
+#include "smpl/io.hpp"
 
 namespace cr = caliper::render;
 
@@ -302,6 +304,106 @@ TEST(Renderer, CullsBackFacesOnlyOfClosedConsistentlyWoundMeshes) {
   EXPECT_NEAR(covered_fraction(box_faces(), outside, mirror),
               covered_fraction(box_faces(), outside), 0.02);
   EXPECT_EQ(covered_fraction(box_faces(), inside, mirror), 0.0);
+}
+
+namespace {
+
+/// The open female model's mean body, framed whole from the front in a w x h view (the editor's
+/// view while a slider is dragged) or, with `close_up`, its head filling the view.
+struct BodyScene {
+  smpl::BodyModel model = smpl::load_model(CALIPER_SOURCE_ASSETS "/models/caliper-female.npz");
+  cr::Scene scene;
+  cr::View view;
+
+  BodyScene(cr::Renderer& r, int w, int h, bool close_up = false) {
+    scene.grid.visible = false;
+    scene.background = {0, 0, 0, 1};
+    cr::MeshInstance inst;
+    inst.mesh = r.upload_mesh(cr::mesh_data(model.v_template, model.faces));
+    inst.colour = {1, 1, 1, 1};
+    scene.meshes.push_back(inst);
+    view.viewport = {0, 0, w, h};
+    const Eigen::Vector3f lo = model.v_template.colwise().minCoeff().cast<float>();
+    const Eigen::Vector3f hi = model.v_template.colwise().maxCoeff().cast<float>();
+    const Eigen::Vector3f head_lo(-0.12f, hi.y() - 0.25f, lo.z()), head_hi(0.12f, hi.y(), hi.z());
+    view.camera = close_up ? cr::frame_box(head_lo, head_hi, 0, static_cast<float>(w) / h)
+                           : cr::frame_box(lo, hi, 0, static_cast<float>(w) / h);
+  }
+};
+
+/// Pixels not black: the body's coverage.
+std::vector<bool> coverage(const cr::Image& img) {
+  std::vector<bool> c(static_cast<size_t>(img.width) * static_cast<size_t>(img.height));
+  for (int y = 0; y < img.height; ++y) {
+    for (int x = 0; x < img.width; ++x) {
+      c[static_cast<size_t>(y) * static_cast<size_t>(img.width) + static_cast<size_t>(x)] =
+          channel_distance(img.pixel(x, y), {0, 0, 0, 1}) > 0;
+    }
+  }
+  return c;
+}
+
+}  // namespace
+
+// Level of detail (the editor's while a slider is dragged): a whole body in view is drawn from a
+// simplified index buffer, under half of the triangles, with its silhouette where the full
+// mesh's is: every pixel whose coverage changes touches the full mesh's outline, and fewer
+// change than half the outline's pixels. Close up: nearly the full mesh; wireframes and with it
+// off: the full mesh.
+TEST(Renderer, LevelOfDetailKeepsTheSilhouetteAndHalvesTheTrianglesOfAWholeBody) {
+  const int w = 600, h = 1000;
+  cr::OffscreenRenderer off(w, h, 1);
+  cr::Renderer& r = off.renderer();
+  BodyScene body(r, w, h);
+  const size_t full = static_cast<size_t>(body.model.faces.rows());
+  EXPECT_FALSE(r.level_of_detail());  // off by default
+  const std::vector<bool> a = coverage(off.render(body.scene, {body.view}));
+  EXPECT_EQ(r.triangles_drawn(), full);
+  r.set_level_of_detail(true);
+  const std::vector<bool> b = coverage(off.render(body.scene, {body.view}));
+  EXPECT_LT(r.triangles_drawn(), full / 2);
+  EXPECT_GT(r.triangles_drawn(), full / 10);
+  size_t outline = 0, changed = 0, changed_off_outline = 0;
+  const auto at = [&](int x, int y) {
+    return a[static_cast<size_t>(std::clamp(y, 0, h - 1)) * static_cast<size_t>(w) +
+             static_cast<size_t>(std::clamp(x, 0, w - 1))];
+  };
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      // On the outline: a pixel of the full mesh's picture whose 3 x 3 neighbourhood holds both.
+      bool any_in = false, any_out = false;
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) (at(x + dx, y + dy) ? any_in : any_out) = true;
+      }
+      const bool on_outline = any_in && any_out;
+      outline += on_outline && at(x, y);
+      const size_t i = static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x);
+      if (a[i] != b[i]) {
+        ++changed;
+        changed_off_outline += !on_outline;
+      }
+    }
+  }
+  EXPECT_GT(outline, 1000u);
+  EXPECT_EQ(changed_off_outline, 0u);
+  EXPECT_LT(changed, outline / 2) << "of " << outline << " outline pixels";
+  // The wireframe shows the real mesh, over the full mesh.
+  body.scene.meshes[0].wireframe = true;
+  off.render(body.scene, {body.view});
+  EXPECT_EQ(r.triangles_drawn(), 2 * full);
+  body.scene.meshes[0].wireframe = false;
+  // Close up (the head fills the view, a pixel is 0.25 mm): at most the finest level (a fifth
+  // of a millimetre of error, 4/5 of the triangles).
+  BodyScene head(r, w, h, true);
+  off.render(head.scene, {head.view});
+  EXPECT_GT(r.triangles_drawn(), full * 3 / 4);
+  // Small meshes get no levels.
+  cr::Scene box_scene;
+  cr::MeshInstance box;
+  box.mesh = r.upload_mesh(cr::mesh_data(box_vertices(0.2, 0.2, 0.2), box_faces()));
+  box_scene.meshes.push_back(box);
+  off.render(box_scene, {body.view});
+  EXPECT_EQ(r.triangles_drawn(), 12u);
 }
 
 // The shader helper shared by the renderer and the editor's ImGui backend reports the

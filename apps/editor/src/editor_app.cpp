@@ -217,6 +217,7 @@ void EditorApp::sync_meshes() {
     } else {
       renderer_->update_mesh(avatar_mesh_, m);
     }
+    renderer_->prepare_levels(avatar_mesh_);  // for slider drags, now rather than at the first
     uploaded_model_ = core_.current_model();
     uploaded_revision_ = core_.revision();
     uploaded_colour_mode_ = -1;
@@ -561,6 +562,9 @@ void EditorApp::frame(int fb_width, int fb_height) {
     const render::Vec3 dir = view.camera.eye - view.camera.target;
     view.camera.eye = view.camera.target + dir / camera_.zoom;
     view.camera.near_plane = 0.02f;
+    // While a slider is dragged the body is drawn from its simplified levels (under half a pixel
+    // of geometric error); the full mesh returns with the drag's end (docs/performance.md).
+    renderer_->set_level_of_detail(core_.dragging());
     renderer_->draw(build_scene(false, view), view);
     if (side) {
       render::View other = view;

@@ -62,6 +62,8 @@ class EditorApp {
   bool animating() const;
   /// The interactive items of the last frame (tests press them through ImGui's input).
   const std::vector<UiItem>& ui_items() const { return probe_.items(); }
+  /// The renderer of the last frame (tests read what it drew: triangles_drawn()).
+  const render::Renderer& renderer() const { return *renderer_; }
   /// The file dialog (tests read its state).
   const FileDialog& file_dialog() const { return dialog_; }
   /// True while the unsaved-work question is shown.

@@ -68,11 +68,11 @@ GLuint compile_shader(const GlFunctions& gl, GLenum type, const char* source, co
 }  // namespace
 
 GLuint link_program(const GlFunctions& gl, const char* vs, const char* fs, const char* name,
-                    const char* vertex_prelude) {
+                    const char* vertex_prelude, const char* fragment_prelude) {
   GLuint v = compile_shader(gl, GL_VERTEX_SHADER, vs, name, vertex_prelude);
   GLuint f = 0;
   try {
-    f = compile_shader(gl, GL_FRAGMENT_SHADER, fs, name);
+    f = compile_shader(gl, GL_FRAGMENT_SHADER, fs, name, fragment_prelude);
   } catch (...) {
     gl.DeleteShader(v);
     throw;

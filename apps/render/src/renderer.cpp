@@ -3,9 +3,12 @@
 // landmark dots, labels, legend).
 #include "render/renderer.hpp"
 
+#include <meshoptimizer.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <string>
 
@@ -68,23 +71,47 @@ struct GpuMesh {
   bool cull_back_faces = false;
   bool inward = false;  ///< wound clockwise seen from outside (negative signed volume)
   std::vector<std::uint32_t> cpu_indices;  // kept to recompute normals on update_positions
+  /// Index ranges in the index buffer: [0] the full mesh, then simplified levels, coarser and
+  /// coarser, each with its geometric error (mesh units) measured on the shape at upload.
+  struct Level {
+    size_t first = 0;
+    GLsizei count = 0;
+    float error = 0;
+  };
+  std::vector<Level> levels;
+  /// The positions at upload, kept until the levels are made (prepare_levels(), or the first
+  /// draw with level of detail on); empty when the mesh gets none or has them.
+  std::vector<float> level_positions;
+  Eigen::AlignedBox3f box;  ///< of the current positions (the level's depth in a view)
+};
+
+/// One of the two variants of the mesh program (shaders/mesh.*.glsl) and its uniforms' locations:
+/// without per-vertex colours (the normal is the only varying) and with them.
+struct MeshProgram {
+  GLuint id = 0;
+  GLint model = -1, normal = -1, colour = -1, flat = -1;
+  GLint view_projection = -1, inverse_view_projection = -1, viewport = -1, light = -1, eye = -1;
 };
 
 struct Renderer::Impl {
-  GLuint mesh_program = 0, flat_program = 0, overlay_program = 0;
+  MeshProgram mesh_plain, mesh_coloured;
+  GLuint flat_program = 0, overlay_program = 0;
   std::map<MeshHandle, GpuMesh> meshes;
   std::map<TextureHandle, GLuint> textures;
   MeshHandle next_mesh = 1;
   TextureHandle next_texture = 1;
   MeshHandle cube = 0;
   bool cull_closed_meshes = true;
+  bool level_of_detail = false;
+  size_t triangles_drawn = 0;
   GLuint flat_vao = 0, flat_vbo = 0;        // pos3 colour4 uv2
   GLuint overlay_vao = 0, overlay_vbo = 0;  // pos2 colour4 uv2
   std::vector<float> flat_vertices, overlay_vertices;
 
   /// The passes of Renderer::draw, in order, for one view with view-projection `vp_m`:
   /// lit, depth-tested meshes and boxes;
-  void draw_meshes(const GlFunctions& gl, const Scene& scene, const Mat4& vp_m, const Vec3& eye);
+  void draw_meshes(const GlFunctions& gl, const Scene& scene, const Viewport& viewport,
+                   const Mat4& view_m, const Mat4& proj, const Vec3& eye);
   /// the floor grid, the depth-tested lines and the textured quads;
   void draw_flat(const GlFunctions& gl, const Scene& scene, const Mat4& vp_m);
   /// the screen-space overlay of a w x h viewport: on-top lines, points, labels and legend.
@@ -160,8 +187,50 @@ void winding_for_culling(GpuMesh& g, const std::vector<float>& positions,
   g.inward = volume6 < 0;
 }
 
+Eigen::AlignedBox3f bounding_box(const std::vector<float>& positions) {
+  Eigen::AlignedBox3f box;
+  for (size_t i = 0; i + 2 < positions.size(); i += 3) box.extend(Vec3(&positions[i]));
+  return box;
+}
+
+/// The relative errors (of the mesh's extent) of the simplified levels: 1/8192 of a 1.7 m body
+/// is 0.2 mm, a quarter of a pixel where the body fills 1000 pixels; 1/256 is 6.6 mm.
+constexpr float kLevelErrors[] = {1.0f / 8192, 1.0f / 4096, 1.0f / 2048,
+                                  1.0f / 1024, 1.0f / 512,  1.0f / 256};
+
+/// Whether `g` gets simplified levels: closed and of Renderer::kLodMinTriangles or more.
+bool wants_levels(const GpuMesh& g) {
+  return g.cull_back_faces && static_cast<size_t>(g.index_count) / 3 >= Renderer::kLodMinTriangles;
+}
+
+/// Makes the simplified levels of `g` from the positions kept at upload, one for each of
+/// kLevelErrors that keeps at most 85 % of the previous level's triangles, and puts the indices
+/// of all levels, one after the other, in its index buffer (the full mesh's stay first).
+void build_levels(const GlFunctions& gl, GpuMesh& g) {
+  if (g.level_positions.empty()) return;
+  const std::vector<float> positions = std::move(g.level_positions);
+  g.level_positions.clear();
+  const std::vector<std::uint32_t>& full = g.cpu_indices;
+  const float scale = meshopt_simplifyScale(positions.data(), g.vertex_count, 3 * sizeof(float));
+  std::vector<std::uint32_t> all = full, out(full.size());
+  size_t previous = full.size();
+  for (float relative : kLevelErrors) {
+    float error = 0;
+    const size_t n = meshopt_simplify(out.data(), full.data(), full.size(), positions.data(),
+                                      g.vertex_count, 3 * sizeof(float), 0, relative, 0, &error);
+    if (n == 0 || n > previous * 85 / 100) continue;
+    g.levels.push_back(GpuMesh::Level{all.size(), static_cast<GLsizei>(n), error * scale});
+    all.insert(all.end(), out.begin(), out.begin() + static_cast<std::ptrdiff_t>(n));
+    previous = n;
+  }
+  gl.BindVertexArray(g.vao);
+  fill_buffer(gl, g.indices, GL_ELEMENT_ARRAY_BUFFER, all.data(), all.size() * 4);
+  gl.BindVertexArray(0);
+}
+
 void set_mesh_data(const GlFunctions& gl, GpuMesh& g, const MeshData& m) {
   winding_for_culling(g, m.positions, m.indices);
+  g.box = bounding_box(m.positions);
   g.vertex_count = m.positions.size() / 3;
   g.index_count = static_cast<GLsizei>(m.indices.size());
   g.cpu_indices = m.indices;
@@ -182,6 +251,26 @@ void set_mesh_data(const GlFunctions& gl, GpuMesh& g, const MeshData& m) {
   gl.EnableVertexAttribArray(2);
   fill_buffer(gl, g.indices, GL_ELEMENT_ARRAY_BUFFER, m.indices.data(), m.indices.size() * 4);
   gl.BindVertexArray(0);
+  g.levels.assign(1, GpuMesh::Level{0, g.index_count, 0.0f});
+  g.level_positions.clear();
+  if (wants_levels(g)) g.level_positions = m.positions;
+}
+
+MeshProgram link_mesh_program(const GlFunctions& gl, bool vertex_colours) {
+  const char* prelude = vertex_colours ? "#define VERTEX_COLOURS 1" : nullptr;
+  MeshProgram p;
+  p.id = link_program(gl, shaders::kMeshVert, shaders::kMeshFrag,
+                      vertex_colours ? "mesh (vertex colours)" : "mesh", prelude, prelude);
+  p.model = gl.GetUniformLocation(p.id, "u_model");
+  p.normal = gl.GetUniformLocation(p.id, "u_normal_matrix");
+  p.colour = gl.GetUniformLocation(p.id, "u_colour");
+  p.flat = gl.GetUniformLocation(p.id, "u_flat");
+  p.view_projection = gl.GetUniformLocation(p.id, "u_view_projection");
+  p.inverse_view_projection = gl.GetUniformLocation(p.id, "u_inverse_view_projection");
+  p.viewport = gl.GetUniformLocation(p.id, "u_viewport");
+  p.light = gl.GetUniformLocation(p.id, "u_light_direction");
+  p.eye = gl.GetUniformLocation(p.id, "u_eye");
+  return p;
 }
 
 MeshData cube_mesh() {
@@ -230,7 +319,8 @@ void setup_interleaved(const GlFunctions& gl, GLuint vao, GLuint vbo,
 }  // namespace
 
 Renderer::Renderer(const GlFunctions& gl) : gl_(gl), impl_(std::make_unique<Impl>()) {
-  impl_->mesh_program = link_program(gl, shaders::kMeshVert, shaders::kMeshFrag, "mesh");
+  impl_->mesh_plain = link_mesh_program(gl, false);
+  impl_->mesh_coloured = link_mesh_program(gl, true);
   impl_->flat_program =
       link_program(gl, shaders::kFlatVert, shaders::kFlatFrag, "flat", shaders::kUnlitVertex);
   impl_->overlay_program = link_program(gl, shaders::kOverlayVert, shaders::kOverlayFrag, "overlay",
@@ -257,7 +347,8 @@ Renderer::~Renderer() {
   gl.DeleteVertexArrays(1, &impl_->flat_vao);
   gl.DeleteBuffers(1, &impl_->overlay_vbo);
   gl.DeleteVertexArrays(1, &impl_->overlay_vao);
-  gl.DeleteProgram(impl_->mesh_program);
+  gl.DeleteProgram(impl_->mesh_plain.id);
+  gl.DeleteProgram(impl_->mesh_coloured.id);
   gl.DeleteProgram(impl_->flat_program);
   gl.DeleteProgram(impl_->overlay_program);
 }
@@ -297,6 +388,18 @@ void Renderer::set_cull_closed_meshes(bool on) {
 bool Renderer::cull_closed_meshes() const {
   return impl_->cull_closed_meshes;
 }
+void Renderer::set_level_of_detail(bool on) {
+  impl_->level_of_detail = on;
+}
+bool Renderer::level_of_detail() const {
+  return impl_->level_of_detail;
+}
+void Renderer::prepare_levels(MeshHandle handle) {
+  build_levels(gl_, find_mesh(impl_->meshes, handle));
+}
+size_t Renderer::triangles_drawn() const {
+  return impl_->triangles_drawn;
+}
 
 void Renderer::update_positions(MeshHandle handle, const std::vector<float>& positions) {
   GpuMesh& g = find_mesh(impl_->meshes, handle);
@@ -305,6 +408,7 @@ void Renderer::update_positions(MeshHandle handle, const std::vector<float>& pos
                       " floats, got " + std::to_string(positions.size()));
   }
   const std::vector<float> normals = vertex_normals(positions, g.cpu_indices);
+  g.box = bounding_box(positions);
   gl_.BindBuffer(GL_ARRAY_BUFFER, g.positions);
   gl_.BufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(positions.size() * 4),
                     positions.data());
@@ -411,21 +515,54 @@ struct OverlayBatch {
   size_t first, count;
 };
 
-/// The uniforms of the mesh program, looked up once per view.
-struct MeshUniforms {
-  GLint model, normal, colour, vertex_colours, flat;
-};
+/// Sets the uniforms that are the same for every mesh of a view.
+void set_view_uniforms(const GlFunctions& gl, const MeshProgram& p, const Viewport& viewport,
+                       const Mat4& vp_m, const Mat4& inverse_vp, const Vec3& light,
+                       const Vec3& eye) {
+  gl.UseProgram(p.id);
+  gl.UniformMatrix4fv(p.view_projection, 1, GL_FALSE, vp_m.data());
+  gl.UniformMatrix4fv(p.inverse_view_projection, 1, GL_FALSE, inverse_vp.data());
+  const float v[4] = {static_cast<float>(viewport.x), static_cast<float>(viewport.y),
+                      static_cast<float>(viewport.width), static_cast<float>(viewport.height)};
+  gl.Uniform4fv(p.viewport, 1, v);
+  gl.Uniform3fv(p.light, 1, light.data());
+  gl.Uniform3fv(p.eye, 1, eye.data());
+}
 
-/// Draws one mesh with the mesh program in use (and, for `wire`, its edges on top).
-void draw_mesh(const GlFunctions& gl, const MeshUniforms& u, bool cull_closed_meshes,
-               const GpuMesh& g, const Mat4& model, const Rgba& colour, bool vc, bool wire,
-               const Rgba& wire_colour) {
+/// The coarsest level of `g` whose error stays under half a pixel at the mesh's nearest depth
+/// in a view (`view_m`, `proj`, `height` pixels high), for model matrix `model`; 0 (the full
+/// mesh) when the mesh reaches the eye's plane.
+size_t pick_level(const GpuMesh& g, const Mat4& model, const Mat4& view_m, const Mat4& proj,
+                  int height) {
+  if (g.levels.size() < 2 || g.box.isEmpty() || height <= 0) return 0;
+  const Mat4 model_view = view_m * model;
+  float w_min = std::numeric_limits<float>::infinity();  // clip w: the depth (1 when orthographic)
+  for (int c = 0; c < 8; ++c) {
+    const Vec3 corner = g.box.corner(static_cast<Eigen::AlignedBox3f::CornerType>(c));
+    const float z = (model_view * corner.homogeneous()).z();
+    w_min = std::min(w_min, proj(3, 2) * z + proj(3, 3));
+  }
+  const float scale = model.block<3, 3>(0, 0).colwise().norm().maxCoeff();
+  if (!(w_min > 0) || !(scale > 0) || proj(1, 1) == 0) return 0;
+  const float pixel = 2 * w_min / (std::abs(proj(1, 1)) * static_cast<float>(height));
+  const float allowed = 0.5f * pixel / scale;
+  size_t level = 0;
+  for (size_t i = 1; i < g.levels.size(); ++i) {
+    if (g.levels[i].error <= allowed) level = i;
+  }
+  return level;
+}
+
+/// Draws level `level` of one mesh with mesh program `u`, which is in use (and, for `wire`,
+/// the full mesh's edges on top). Returns the triangles submitted.
+size_t draw_mesh(const GlFunctions& gl, const MeshProgram& u, bool cull_closed_meshes,
+                 const GpuMesh& g, size_t level, const Mat4& model, const Rgba& colour, bool wire,
+                 const Rgba& wire_colour) {
   gl.UniformMatrix4fv(u.model, 1, GL_FALSE, model.data());
   const Mat4 n = normal_matrix(model);
   gl.UniformMatrix4fv(u.normal, 1, GL_FALSE, n.data());
   const float c[4] = {colour.r, colour.g, colour.b, colour.a};
   gl.Uniform4fv(u.colour, 1, c);
-  gl.Uniform1i(u.vertex_colours, vc && g.has_colours ? 1 : 0);
   gl.Uniform1i(u.flat, 0);
   if (g.cull_back_faces && cull_closed_meshes) {
     // A mirroring model matrix (negative determinant) reverses the winding on screen.
@@ -441,7 +578,12 @@ void draw_mesh(const GlFunctions& gl, const MeshUniforms& u, bool cull_closed_me
     gl.Enable(GL_POLYGON_OFFSET_FILL);
     gl.PolygonOffset(1.0f, 1.0f);
   }
-  gl.DrawElements(GL_TRIANGLES, g.index_count, GL_UNSIGNED_INT, nullptr);
+  const GpuMesh::Level& l = g.levels.at(wire ? 0 : level);
+  gl.DrawElements(
+      GL_TRIANGLES, l.count, GL_UNSIGNED_INT,
+      // NOLINTNEXTLINE(performance-no-int-to-ptr): GL takes the byte offset as a pointer
+      reinterpret_cast<const void*>(static_cast<std::uintptr_t>(l.first * 4)));
+  size_t triangles = static_cast<size_t>(l.count) / 3;
   if (wire) {
     gl.Disable(GL_POLYGON_OFFSET_FILL);
     gl.PolygonMode(GL_FRONT_AND_BACK, GL_LINE);
@@ -450,7 +592,9 @@ void draw_mesh(const GlFunctions& gl, const MeshUniforms& u, bool cull_closed_me
     gl.Uniform1i(u.flat, 1);
     gl.DrawElements(GL_TRIANGLES, g.index_count, GL_UNSIGNED_INT, nullptr);
     gl.PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    triangles += static_cast<size_t>(g.index_count) / 3;
   }
+  return triangles;
 }
 
 /// Appends the floor grid's lines (pairs of flat vertices).
@@ -577,33 +721,38 @@ void overlay_legend(std::vector<float>& ov, const Legend& lg, int w, int h) {
 
 }  // namespace
 
-void Renderer::Impl::draw_meshes(const GlFunctions& gl, const Scene& scene, const Mat4& vp_m,
+void Renderer::Impl::draw_meshes(const GlFunctions& gl, const Scene& scene,
+                                 const Viewport& viewport, const Mat4& view_m, const Mat4& proj,
                                  const Vec3& eye) {
-  gl.UseProgram(mesh_program);
-  MeshUniforms u;
-  u.model = gl.GetUniformLocation(mesh_program, "u_model");
-  u.normal = gl.GetUniformLocation(mesh_program, "u_normal_matrix");
-  const GLint u_vp = gl.GetUniformLocation(mesh_program, "u_view_projection");
-  u.colour = gl.GetUniformLocation(mesh_program, "u_colour");
-  u.vertex_colours = gl.GetUniformLocation(mesh_program, "u_vertex_colours");
-  u.flat = gl.GetUniformLocation(mesh_program, "u_flat");
-  const GLint u_light = gl.GetUniformLocation(mesh_program, "u_light_direction");
-  const GLint u_eye = gl.GetUniformLocation(mesh_program, "u_eye");
-  gl.UniformMatrix4fv(u_vp, 1, GL_FALSE, vp_m.data());
+  const Mat4 vp_m = proj * view_m;
+  // The inverse in double: the fragment shader maps window coordinates back to the world with it.
+  const Mat4 inverse_vp = vp_m.cast<double>().inverse().cast<float>();
   const Vec3 light = scene.light_direction.normalized();
-  gl.Uniform3fv(u_light, 1, light.data());
-  gl.Uniform3fv(u_eye, 1, eye.data());
+  set_view_uniforms(gl, mesh_coloured, viewport, vp_m, inverse_vp, light, eye);
+  set_view_uniforms(gl, mesh_plain, viewport, vp_m, inverse_vp, light, eye);
+  const MeshProgram* in_use = &mesh_plain;
+  auto use = [&](const MeshProgram& p) -> const MeshProgram& {
+    if (in_use != &p) gl.UseProgram(p.id);
+    in_use = &p;
+    return p;
+  };
   for (const MeshInstance& m : scene.meshes) {
     auto it = meshes.find(m.mesh);
     if (it == meshes.end()) continue;
-    draw_mesh(gl, u, cull_closed_meshes, it->second, m.model, m.colour, m.vertex_colours,
-              m.wireframe, m.wireframe_colour);
+    const GpuMesh& g = it->second;
+    const MeshProgram& p = use(m.vertex_colours && g.has_colours ? mesh_coloured : mesh_plain);
+    if (level_of_detail && !m.wireframe) build_levels(gl, it->second);  // once
+    const size_t level =
+        level_of_detail ? pick_level(g, m.model, view_m, proj, viewport.height) : 0;
+    triangles_drawn += draw_mesh(gl, p, cull_closed_meshes, g, level, m.model, m.colour,
+                                 m.wireframe, m.wireframe_colour);
   }
   const GpuMesh& cube_mesh = meshes.at(cube);
+  const MeshProgram& plain = use(mesh_plain);
   for (const Box& b : scene.boxes) {
     Mat4 s = Mat4::Identity();
     s.diagonal().head<3>() = b.half_extents;
-    draw_mesh(gl, u, cull_closed_meshes, cube_mesh, b.transform * s, b.colour, false, false,
+    draw_mesh(gl, plain, cull_closed_meshes, cube_mesh, 0, b.transform * s, b.colour, false,
               b.colour);
   }
   gl.Disable(GL_CULL_FACE);
@@ -680,12 +829,18 @@ void Renderer::Impl::draw_overlay(const GlFunctions& gl, const Scene& scene, con
 }
 
 void Renderer::draw(const Scene& scene, const std::vector<View>& views) {
-  for (const View& v : views) draw(scene, v);
+  size_t total = 0;
+  for (const View& v : views) {
+    draw(scene, v);
+    total += impl_->triangles_drawn;
+  }
+  impl_->triangles_drawn = total;
 }
 
 void Renderer::draw(const Scene& scene, const View& view) {
   const GlFunctions& gl = gl_;
   const Viewport& vp = view.viewport;
+  impl_->triangles_drawn = 0;
   if (vp.width <= 0 || vp.height <= 0) return;
   gl.Viewport(vp.x, vp.y, vp.width, vp.height);
   gl.Enable(GL_SCISSOR_TEST);
@@ -708,8 +863,8 @@ void Renderer::draw(const Scene& scene, const View& view) {
   gl.Enable(GL_BLEND);
   gl.BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
 
-  impl_->draw_meshes(gl, scene, vp_m, eye);  // lit, depth-tested meshes and boxes
-  impl_->draw_flat(gl, scene, vp_m);         // floor grid, depth-tested lines, textured quads
+  impl_->draw_meshes(gl, scene, vp, view_m, proj, eye);  // lit, depth-tested meshes and boxes
+  impl_->draw_flat(gl, scene, vp_m);  // floor grid, depth-tested lines, textured quads
   impl_->draw_overlay(gl, scene, vp_m, vp.width, vp.height);  // screen space, on top
   gl.BindVertexArray(0);
   gl.UseProgram(0);

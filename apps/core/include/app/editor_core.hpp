@@ -86,6 +86,8 @@ class EditorCore {
   void begin_drag();
   bool drag_value(const std::string& id, double value_si);
   void end_drag();
+  /// Between begin_drag() and end_drag(): the views may draw the body's simplified levels.
+  bool dragging() const { return dragging_; }
   /// The value shown for `id`: the input when it is editable, else the avatar's measurement
   /// (as_typed(): an arm length taken hanging is shown as a hanging one).
   std::optional<double> shown_value(const std::string& id) const;

@@ -136,8 +136,10 @@ struct GlFunctions {
 /// with the compiler's or linker's log, naming `name`; nothing is left allocated on failure.
 /// `vertex_prelude` (e.g. shaders::kUnlitVertex), when given, is compiled into the vertex shader
 /// right after the first line of `vertex_source` (its #version line); the compiler's line
-/// numbers still count the lines of `vertex_source`.
+/// numbers still count the lines of `vertex_source`. `fragment_prelude` does the same for the
+/// fragment shader (e.g. a #define that selects a variant).
 GLuint link_program(const GlFunctions& gl, const char* vertex_source, const char* fragment_source,
-                    const char* name, const char* vertex_prelude = nullptr);
+                    const char* name, const char* vertex_prelude = nullptr,
+                    const char* fragment_prelude = nullptr);
 
 }  // namespace caliper::render

@@ -4,6 +4,7 @@
 /// referred to by handle; update_mesh() re-uploads changed vertices (a slider drag).
 #pragma once
 
+#include <cstddef>
 #include <memory>
 #include <vector>
 
@@ -51,6 +52,25 @@ class Renderer {
   /// inspect a mesh from inside).
   void set_cull_closed_meshes(bool on);
   bool cull_closed_meshes() const;
+
+  /// Closed meshes of kLodMinTriangles triangles or more (every body model) can be drawn from
+  /// simplified index buffers (meshoptimizer's meshopt_simplify over the mesh's own vertices),
+  /// each with its geometric error, measured on the shape given to upload_mesh or update_mesh
+  /// (update_positions keeps them); prepare_levels() or the first draw that wants them makes
+  /// them (about 50 ms for an open model). With level of detail on, a view draws the coarsest
+  /// level whose error is under half a pixel at the mesh's nearest depth: the silhouette stays
+  /// within half a pixel while Mesa's software rasterizer sets up 40 % of a whole body's
+  /// triangles, but small shading detail (the eyes, the lips) coarsens. Off (the default):
+  /// always the full mesh. The editor turns it on only while a slider is dragged; wireframes
+  /// always show the full mesh.
+  static constexpr std::size_t kLodMinTriangles = 8192;
+  void set_level_of_detail(bool on);
+  bool level_of_detail() const;
+  /// Makes the simplified levels of `handle` now (nothing when it gets none or has them), e.g.
+  /// when a model is loaded rather than at the first drag. Throws RenderError on a bad handle.
+  void prepare_levels(MeshHandle handle);
+  /// Triangles the last draw() submitted for the scene's meshes (before back-face culling).
+  std::size_t triangles_drawn() const;
 
   const GlFunctions& gl() const { return gl_; }
 
