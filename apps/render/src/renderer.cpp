@@ -82,7 +82,7 @@ struct GpuMesh {
   /// The positions at upload, kept until the levels are made (prepare_levels(), or the first
   /// draw with level of detail on); empty when the mesh gets none or has them.
   std::vector<float> level_positions;
-  Eigen::AlignedBox3f box;  ///< of the current positions (the level's depth in a view)
+  Eigen::AlignedBox3f box;  ///< of the current positions, for meshes that get levels (depth)
 };
 
 /// One of the two variants of the mesh program (shaders/mesh.*.glsl) and its uniforms' locations:
@@ -230,7 +230,6 @@ void build_levels(const GlFunctions& gl, GpuMesh& g) {
 
 void set_mesh_data(const GlFunctions& gl, GpuMesh& g, const MeshData& m) {
   winding_for_culling(g, m.positions, m.indices);
-  g.box = bounding_box(m.positions);
   g.vertex_count = m.positions.size() / 3;
   g.index_count = static_cast<GLsizei>(m.indices.size());
   g.cpu_indices = m.indices;
@@ -253,7 +252,11 @@ void set_mesh_data(const GlFunctions& gl, GpuMesh& g, const MeshData& m) {
   gl.BindVertexArray(0);
   g.levels.assign(1, GpuMesh::Level{0, g.index_count, 0.0f});
   g.level_positions.clear();
-  if (wants_levels(g)) g.level_positions = m.positions;
+  g.box.setEmpty();
+  if (wants_levels(g)) {
+    g.level_positions = m.positions;
+    g.box = bounding_box(m.positions);
+  }
 }
 
 MeshProgram link_mesh_program(const GlFunctions& gl, bool vertex_colours) {
@@ -408,7 +411,7 @@ void Renderer::update_positions(MeshHandle handle, const std::vector<float>& pos
                       " floats, got " + std::to_string(positions.size()));
   }
   const std::vector<float> normals = vertex_normals(positions, g.cpu_indices);
-  g.box = bounding_box(positions);
+  if (wants_levels(g)) g.box = bounding_box(positions);  // only level picking needs it
   gl_.BindBuffer(GL_ARRAY_BUFFER, g.positions);
   gl_.BufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(positions.size() * 4),
                     positions.data());
@@ -739,9 +742,9 @@ void Renderer::Impl::draw_meshes(const GlFunctions& gl, const Scene& scene,
   for (const MeshInstance& m : scene.meshes) {
     auto it = meshes.find(m.mesh);
     if (it == meshes.end()) continue;
-    const GpuMesh& g = it->second;
+    GpuMesh& g = it->second;
     const MeshProgram& p = use(m.vertex_colours && g.has_colours ? mesh_coloured : mesh_plain);
-    if (level_of_detail && !m.wireframe) build_levels(gl, it->second);  // once
+    if (level_of_detail && !m.wireframe) build_levels(gl, g);  // once
     const size_t level =
         level_of_detail ? pick_level(g, m.model, view_m, proj, viewport.height) : 0;
     triangles_drawn += draw_mesh(gl, p, cull_closed_meshes, g, level, m.model, m.colour,
