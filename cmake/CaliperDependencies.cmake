@@ -56,7 +56,13 @@ if(CALIPER_BUILD_APPS)
   find_package(glm REQUIRED)
   find_package(OpenXR REQUIRED)
   find_package(OpenAL REQUIRED)
-  find_package(meshoptimizer REQUIRED CONFIG)
+  # meshoptimizer (libmeshoptimizer-dev): the body's simplified levels while a slider is dragged
+  # (apps/render, docs/rendering.md).
+  find_package(meshoptimizer CONFIG QUIET)
+  if(NOT meshoptimizer_FOUND)
+    message(FATAL_ERROR "meshoptimizer not found: install Debian's libmeshoptimizer-dev "
+      "(bash .ci/install-deps.sh installs every dependency of the build)")
+  endif()
   pkg_check_modules(OSMESA REQUIRED IMPORTED_TARGET osmesa)
   pkg_check_modules(IMGUI REQUIRED IMPORTED_TARGET imgui)
   pkg_check_modules(FFMPEG REQUIRED IMPORTED_TARGET libavformat libavcodec libswscale libavutil)
